@@ -1,0 +1,138 @@
+/**
+ * @file ctl.h
+ * @brief The 200 us control step: observer, speed controller, three-level DTC.
+ *
+ * ctl_step() is a function of structs: the host SIL, the PIL harness and the
+ * target ISR all call it the same way. Configuration (ctl_cfg, written only by
+ * the background) is kept apart from mutable state (ctl_state, touched only by
+ * the interrupt). Units are SI; speeds are MECHANICAL rad/s unless named _elec.
+ */
+#ifndef DTC_CTL_H
+#define DTC_CTL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "dtc/num.h"
+#include "dtc/observer.h"
+#include "dtc/speed_ctl.h"
+#include "dtc/dtc3l.h"
+#include "hal/hal_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Fault bits (see docs/faults.md for detection and reaction). */
+enum ctl_fault {
+    CTL_FAULT_OVERCURRENT = 1u << 0,  /**< |i| above i_trip_A: gates off this tick */
+    CTL_FAULT_DC_OVERVOLT = 1u << 1,  /**< vc1 + vc2 above vdc_max_V */
+    CTL_FAULT_DC_UNDERVOLT = 1u << 2, /**< vc1 + vc2 below vdc_min_V while running */
+    CTL_FAULT_NP_IMBALANCE = 1u << 3, /**< |vc1 - vc2| above np_trip_V */
+    CTL_FAULT_OVERSPEED = 1u << 4,    /**< |estimated speed| above overspeed_rad_s */
+    CTL_FAULT_STALE_SAMPLE = 1u << 5, /**< the HAL gave no fresh sample this tick */
+    CTL_FAULT_HW = 1u << 6,           /**< hardware fault input active */
+    CTL_FAULT_OVERRUN = 1u << 7,      /**< the previous tick missed its deadline */
+};
+
+/** All tunables of the control core. Written by the background only, through
+ *  the parameter layer, which then calls ctl_cfg_derive(). */
+typedef struct {
+    /* nominal motor model used by the observer and the controllers */
+    motor_model motor;
+    real_t period_s;          /**< control period, s (2e-4) */
+    real_t vdc_nom_V;         /**< nominal DC link, V */
+
+    speed_cfg speed;          /**< speed loop: mode, IP, nominal, RBFN, torque limit */
+    dtc3l_cfg dtc;            /**< flux reference, bands, ripple reduction, NP balance */
+    observer_cfg obs;         /**< observer gains and adaptation */
+
+    /* protection */
+    real_t i_trip_A;          /**< instantaneous phase-current trip, A */
+    real_t vdc_max_V;         /**< DC-link over-voltage trip, V */
+    real_t vdc_min_V;         /**< DC-link under-voltage trip while running, V */
+    real_t np_trip_V;         /**< |vc1 - vc2| trip, V */
+    real_t overspeed_rad_s;   /**< estimated-speed trip, rad/s */
+} ctl_cfg;
+
+/** Inputs of one control step. */
+typedef struct {
+    hal_sample sample;        /**< this tick's measurements */
+    bool sample_fresh;        /**< false when the HAL refused a stale sample */
+    bool run;                 /**< run command: false forces zero torque and gates off */
+    real_t speed_ref_rad_s;   /**< mechanical speed reference, rad/s */
+    bool fault_input;         /**< hardware fault input active */
+} ctl_in;
+
+/** Signals published every tick for telemetry, traces and the scope. */
+typedef struct {
+    real_t speed_ref_rad_s;   /**< reference after the ramp limiter, rad/s */
+    real_t omega_est_rad_s;   /**< estimated mechanical speed, rad/s */
+    real_t te_ref_Nm;         /**< torque command, N m */
+    real_t te_est_Nm;         /**< estimated torque, N m */
+    real_t psi_s_est_Wb;      /**< estimated stator flux magnitude, Wb */
+    real_t psi_ref_Wb;        /**< flux reference, Wb */
+    real_t eps_hat;           /**< RBFN uncertainty estimate, rad/s^2 (eq. 5 units) */
+    real_t w_norm;            /**< |W| of the RBFN */
+    real_t zeta_bar;          /**< adaptive bound of the robust term */
+    real_t rs_est_ohm;        /**< adapted stator resistance, ohm */
+    real_t duty0;             /**< duty of the first vector, 0..1 */
+    uint8_t vector_index;     /**< selected vector 0..26 (state number a*9 + b*3 + c) */
+    uint8_t state;            /**< ctl_run_state */
+    uint32_t faults;          /**< latched ctl_fault bits */
+} ctl_telemetry;
+
+/** Outputs of one control step. */
+typedef struct {
+    hal_actuation act;        /**< vectors and duty for the next period */
+    bool gate_enable;         /**< false: the caller must disable the gates now */
+    ctl_telemetry tel;
+} ctl_out;
+
+/** Run state of the control core. */
+typedef enum {
+    CTL_STOPPED = 0,          /**< gates off */
+    CTL_MAGNETISING = 1,      /**< building flux at zero torque */
+    CTL_RUNNING = 2,          /**< speed control active */
+    CTL_FAULTED = 3,          /**< a fault latched; gates off until ctl_clear_faults */
+} ctl_run_state;
+
+/** Mutable state of the control core, owned by the interrupt. */
+typedef struct {
+    observer obs;
+    speed_ctl speed;
+    dtc3l dtc;
+    ctl_run_state run_state;
+    real_t t_magnetise_s;     /**< time spent magnetising */
+    real_t speed_ref_ramped_rad_s;
+    uint32_t faults;
+    hal_vector last_vector;   /**< last vector applied (to forbid P<->N steps) */
+    hal_actuation last_act;   /**< actuation applied during the current period */
+} ctl_state;
+
+/** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */
+void ctl_cfg_default(ctl_cfg *cfg);
+
+/** Recompute derived quantities (IP gains from wn and zeta, ...) after a change. Context: BG. */
+void ctl_cfg_derive(ctl_cfg *cfg);
+
+/** Initialise the state (stopped, no faults). Context: BG. */
+void ctl_init(ctl_state *s, const ctl_cfg *cfg);
+
+/** Clear latched faults if their cause is gone; returns the remaining fault bits. Context: BG. */
+uint32_t ctl_clear_faults(ctl_state *s);
+
+/**
+ * One control period. Context: ISR. Constant time apart from the bounded RBFN loop.
+ * @param s   state, updated
+ * @param cfg configuration, read only
+ * @param in  this tick's inputs
+ * @param out actuation for the next period and telemetry
+ */
+void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DTC_CTL_H */

@@ -1,0 +1,87 @@
+/**
+ * @file drive.h
+ * @brief The drive application: the 200 us interrupt and the background loop.
+ *
+ * Interrupt (drive_isr): sample -> ctl_step (observe, speed control, DTC,
+ * protect) -> actuate -> publish a telemetry snapshot. It is timed with the
+ * HAL cycle counter; a tick longer than the period sets CTL_FAULT_OVERRUN.
+ *
+ * Background (drive_background): communication, persistence, housekeeping.
+ * The background never writes state the interrupt is using: configuration is
+ * double-buffered (edit the inactive copy, then publish it with one store),
+ * and the interrupt picks the published copy up at the start of its next tick.
+ */
+#ifndef DTC_DRIVE_H
+#define DTC_DRIVE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "dtc/ctl.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Telemetry snapshot guarded by a sequence counter (odd while the ISR writes). */
+typedef struct {
+    volatile uint32_t seq;
+    ctl_telemetry tel;
+    float omega_meas_rad_s;   /**< board speed sensor (diagnostics), rad/s */
+    float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
+    float ia_A, ib_A, ic_A;   /**< measured currents, A */
+    uint32_t tick;            /**< ISR tick counter */
+} drive_snapshot;
+
+/** Interrupt timing, in HAL cycles. */
+typedef struct {
+    uint32_t last_cycles;
+    uint32_t max_cycles;
+    uint32_t overruns;
+} drive_timing;
+
+typedef struct drive {
+    ctl_cfg cfg[2];                 /**< double-buffered configuration */
+    volatile uint32_t cfg_active;   /**< index of the copy the ISR uses (0 or 1) */
+    ctl_state ctl;                  /**< ISR-owned control state */
+    ctl_out out;                    /**< outputs of the last tick */
+    volatile float speed_ref_rad_s; /**< command from background (scenario, CAN), rad/s */
+    volatile bool run;              /**< run command from background */
+    volatile bool clear_faults_req; /**< background asks the ISR to clear faults */
+    uint32_t tick;                  /**< ISR tick counter */
+    drive_snapshot snap;            /**< published each tick */
+    drive_timing timing;
+} drive;
+
+/** Initialise with default configuration, stopped. Context: BG, before hal_tick_start. */
+void drive_init(drive *d);
+
+/** The control interrupt; signature of hal_tick_handler (ctx is the drive). Context: ISR. */
+void drive_isr(void *ctx);
+
+/** The active configuration (read only). Context: ANY. */
+const ctl_cfg *drive_cfg(const drive *d);
+
+/**
+ * Begin editing the configuration: returns the inactive copy, freshly copied
+ * from the active one. Finish with drive_cfg_commit(). Context: BG.
+ */
+ctl_cfg *drive_cfg_edit(drive *d);
+
+/** Derive gains in the edited copy and publish it to the ISR. Context: BG. */
+void drive_cfg_commit(drive *d);
+
+/** Set the mechanical speed reference, rad/s. Context: BG. */
+void drive_set_speed_ref(drive *d, float speed_ref_rad_s);
+
+/** Start (true: magnetise then run) or stop (false: gates off). Context: BG. */
+void drive_set_run(drive *d, bool run);
+
+/** Copy the latest consistent telemetry snapshot. Context: BG. */
+void drive_read_snapshot(const drive *d, drive_snapshot *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DTC_DRIVE_H */

@@ -1,0 +1,60 @@
+/**
+ * @file num.h
+ * @brief The numeric vocabulary of the control code.
+ *
+ * Algorithms use real_t and these helpers only, so that a fixed-point
+ * (Q-format) backend for FPU-less DSPs can replace this header without
+ * rewriting them. Today real_t is IEEE single precision (Cortex-M4F FPU).
+ * Every function is constant-time and may be called from any context.
+ */
+#ifndef DTC_NUM_H
+#define DTC_NUM_H
+
+#include <math.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef float real_t;
+
+/** A literal in the working type: R(0.5) */
+#define R(x) ((real_t)(x##f))
+
+#define NUM_PI R(3.14159265358979)
+#define NUM_SQRT3 R(1.73205080756888)
+#define NUM_INV_SQRT3 R(0.577350269189626)
+
+/** a * b. In a Q backend: widening multiply, shift, saturate. */
+static inline real_t num_mul(real_t a, real_t b) { return a * b; }
+
+/** a * b + c with one rounding where the FPU has fused multiply-add. */
+static inline real_t num_mac(real_t a, real_t b, real_t c) { return fmaf(a, b, c); }
+
+/** a / b for b != 0; callers guarantee b is away from zero. */
+static inline real_t num_div(real_t a, real_t b) { return a / b; }
+
+/** Clamp x to [lo, hi]; requires lo <= hi. */
+static inline real_t num_sat(real_t x, real_t lo, real_t hi)
+{
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+/** Clamp x to [-lim, lim]; requires lim >= 0. */
+static inline real_t num_limit(real_t x, real_t lim) { return num_sat(x, -lim, lim); }
+
+static inline real_t num_abs(real_t x) { return fabsf(x); }
+static inline real_t num_sqrt(real_t x) { return sqrtf(x > R(0.0) ? x : R(0.0)); }
+static inline real_t num_exp(real_t x) { return expf(x); }
+static inline real_t num_sin(real_t x) { return sinf(x); }
+static inline real_t num_cos(real_t x) { return cosf(x); }
+static inline real_t num_atan2(real_t y, real_t x) { return atan2f(y, x); }
+
+/** sign(x): -1, 0 or +1. */
+static inline real_t num_sign(real_t x) { return x > R(0.0) ? R(1.0) : (x < R(0.0) ? R(-1.0) : R(0.0)); }
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DTC_NUM_H */

@@ -1,0 +1,111 @@
+/**
+ * @file drive.c
+ * @brief The drive application: interrupt body and background-side accessors.
+ */
+#include "dtc/drive.h"
+
+#include <string.h>
+
+#include "hal/hal.h"
+
+void drive_init(drive *d)
+{
+    memset(d, 0, sizeof *d);
+    ctl_cfg_default(&d->cfg[0]);
+    ctl_cfg_derive(&d->cfg[0]);
+    d->cfg[1] = d->cfg[0];
+    d->cfg_active = 0u;
+    ctl_init(&d->ctl, &d->cfg[0]);
+}
+
+const ctl_cfg *drive_cfg(const drive *d) { return &d->cfg[d->cfg_active & 1u]; }
+
+ctl_cfg *drive_cfg_edit(drive *d)
+{
+    uint32_t inactive = (d->cfg_active & 1u) ^ 1u;
+    d->cfg[inactive] = d->cfg[inactive ^ 1u];
+    return &d->cfg[inactive];
+}
+
+void drive_cfg_commit(drive *d)
+{
+    uint32_t inactive = (d->cfg_active & 1u) ^ 1u;
+    ctl_cfg_derive(&d->cfg[inactive]);
+    /* One aligned word store: the ISR sees either the old or the new copy. */
+    d->cfg_active = inactive;
+}
+
+void drive_set_speed_ref(drive *d, float speed_ref_rad_s) { d->speed_ref_rad_s = speed_ref_rad_s; }
+
+void drive_set_run(drive *d, bool run)
+{
+    if (run)
+        d->clear_faults_req = true;
+    d->run = run;
+}
+
+static void publish_snapshot(drive *d, const ctl_in *in)
+{
+    drive_snapshot *s = &d->snap;
+    s->seq++; /* odd: being written */
+    s->tel = d->out.tel;
+    s->omega_meas_rad_s = in->sample.speed_meas_rad_s;
+    s->vc1_V = in->sample.vc1_V;
+    s->vc2_V = in->sample.vc2_V;
+    s->ia_A = in->sample.ia_A;
+    s->ib_A = in->sample.ib_A;
+    s->ic_A = in->sample.ic_A;
+    s->tick = d->tick;
+    s->seq++; /* even: consistent */
+}
+
+void drive_isr(void *ctx)
+{
+    drive *d = (drive *)ctx;
+    uint32_t t0 = hal_cycles();
+    const ctl_cfg *cfg = drive_cfg(d);
+
+    if (d->clear_faults_req) {
+        d->clear_faults_req = false;
+        (void)ctl_clear_faults(&d->ctl);
+    }
+
+    ctl_in in;
+    memset(&in, 0, sizeof in);
+    in.sample_fresh = (hal_sample_read(&in.sample) == HAL_OK);
+    in.run = d->run;
+    in.speed_ref_rad_s = d->speed_ref_rad_s;
+    in.fault_input = hal_fault_input_active();
+
+    ctl_step(&d->ctl, cfg, &in, &d->out);
+
+    /* Protection acts in the same tick: gates off before anything else. */
+    if (!d->out.gate_enable) {
+        hal_gate_enable(false);
+    } else {
+        if (!hal_gate_enabled())
+            hal_gate_enable(true);
+    }
+    (void)hal_actuate(&d->out.act);
+
+    d->tick++;
+    publish_snapshot(d, &in);
+
+    uint32_t dt = hal_cycles() - t0;
+    d->timing.last_cycles = dt;
+    if (dt > d->timing.max_cycles)
+        d->timing.max_cycles = dt;
+    uint64_t period_cycles = (uint64_t)hal_cycles_hz() * (uint64_t)(cfg->period_s * 1e6f) / 1000000u;
+    if ((uint64_t)dt > period_cycles)
+        d->timing.overruns++;
+}
+
+void drive_read_snapshot(const drive *d, drive_snapshot *out)
+{
+    uint32_t s0, s1;
+    do {
+        s0 = d->snap.seq;
+        memcpy(out, (const void *)&d->snap, sizeof *out);
+        s1 = d->snap.seq;
+    } while (s0 != s1 || (s0 & 1u));
+}

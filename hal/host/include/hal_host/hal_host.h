@@ -1,0 +1,94 @@
+/**
+ * @file hal_host.h
+ * @brief Host binding of the HAL: a simulated board the SIL engine drives.
+ *
+ * The engine owns a hal_host_board, binds it with hal_host_bind(), and for
+ * every control period: fills the sample (hal_host_set_sample), runs the tick
+ * handler as the interrupt would (hal_host_run_tick), then reads the latched
+ * actuation (hal_host_take_actuation) and integrates the plant over the period.
+ * CAN frames go to a pluggable backend (in-memory loopback for tests, a
+ * SocketCAN raw socket for `dtc-sim --can IFACE`). The NVM is a byte array,
+ * optionally mirrored to a file.
+ */
+#ifndef HAL_HOST_HAL_HOST_H
+#define HAL_HOST_HAL_HOST_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hal/hal.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** A CAN backend: non-blocking send and receive, HAL return codes. */
+typedef struct {
+    void *ctx;
+    int (*send)(void *ctx, const hal_can_frame *f);
+    int (*recv)(void *ctx, hal_can_frame *f);
+} hal_host_can_backend;
+
+#define HAL_HOST_NVM_SIZE 4096u
+
+typedef struct {
+    /* control tick */
+    hal_tick_handler handler;
+    void *handler_ctx;
+    uint32_t period_us;
+    bool tick_running;
+
+    /* sample and actuation */
+    hal_sample sample;
+    bool sample_pending;          /**< set by the engine, cleared by the first read */
+    hal_actuation act_latched;    /**< what the firmware latched for the next period */
+    bool act_written;             /**< the firmware called hal_actuate this tick */
+
+    /* gates and faults */
+    bool gates_enabled;
+    bool fault_input;
+
+    /* time: simulated seconds (advanced by the engine) */
+    double t_s;
+
+    /* CAN */
+    hal_host_can_backend can;     /**< no backend (send/recv NULL): frames are dropped */
+    bool can_open;
+    uint32_t can_bitrate;
+
+    /* non-volatile memory */
+    uint8_t nvm[HAL_HOST_NVM_SIZE];
+    const char *nvm_path;         /**< mirror file (NULL: memory only) */
+    long nvm_write_budget;        /**< bytes that may still be written before a simulated power loss (-1: unlimited) */
+
+    /* watchdog */
+    uint32_t wdg_timeout_ms;
+    double wdg_last_kick_s;
+} hal_host_board;
+
+/** Reset @p b to a powered-down board (gates off, erased NVM = 0xFF, no CAN backend). */
+void hal_host_board_init(hal_host_board *b);
+
+/** Make @p b the board the HAL functions act on (one per process at a time). */
+void hal_host_bind(hal_host_board *b);
+
+/** The bound board, or NULL. */
+hal_host_board *hal_host_bound(void);
+
+/** Engine: provide this period's sample (what the ADC converted at the period start). */
+void hal_host_set_sample(hal_host_board *b, const hal_sample *s);
+
+/** Engine: run the tick handler once, as the interrupt would. No-op unless the tick is started. */
+void hal_host_run_tick(hal_host_board *b);
+
+/** Engine: the actuation to apply during the next period (all legs O when the gates are off). */
+void hal_host_take_actuation(const hal_host_board *b, hal_actuation *act, bool *gates_on);
+
+/** Load the NVM mirror file into memory (missing file: erased NVM). @return HAL_OK or HAL_EIO. */
+int hal_host_nvm_load(hal_host_board *b, const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HAL_HOST_HAL_HOST_H */
