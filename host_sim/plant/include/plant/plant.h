@@ -22,6 +22,26 @@
 extern "C" {
 #endif
 
+/** Leg codes accepted by plant_advance and plant_inverter_output. */
+#define PLANT_LEG_N 0u   /**< leg tied to the negative rail: -vc2 */
+#define PLANT_LEG_O 1u   /**< leg clamped to the neutral point: 0 V */
+#define PLANT_LEG_P 2u   /**< leg tied to the positive rail: +vc1 */
+/**
+ * Gates off: the leg's switches are open and only its diodes conduct. A
+ * current into the motor (i > 0) returns through the lower diodes (leg at N),
+ * a current out of the motor (i < 0) through the upper diodes (leg at P). A
+ * current reaching zero stays zero (a diode does not conduct backwards) and the
+ * phase floats; it conducts again only if its open-circuit voltage would leave
+ * the rails. Simplification: the diode state is decided at the start of each
+ * integration step and a current that crosses zero inside the step is clamped
+ * to zero at its end (the stator leakage flux is corrected; error O(h)).
+ * Codes above 3 are treated as 3 (the safe state).
+ */
+#define PLANT_LEG_OFF 3u
+
+/** Error code of plant_check_config / plant_init (same value as HAL_EINVAL). */
+#define PLANT_EINVAL (-22)
+
 /** T-equivalent circuit and mechanical parameters. */
 typedef struct {
     double Rs_ohm, Rr_ohm;   /**< stator, rotor resistance (> 0) */
@@ -71,7 +91,12 @@ typedef struct {
     plant_sensor_params sensor;
     plant_supply_mode supply;
     plant_sine_params sine;
-    double h_max_s;          /**< largest integration step inside a segment, s (1e-7..1e-4) */
+    /**
+     * Largest RK4 step inside a segment, s (1e-7..1e-4; default 40e-6). The
+     * step used is the largest that divides the segment evenly and is also
+     * no longer than the DC link's time constant R C1 C2/(C1+C2).
+     */
+    double h_max_s;
 } plant_config;
 
 /** Integration state and scheduled-change targets. Owned by the caller. */
@@ -83,13 +108,32 @@ typedef struct {
     double omega_m;          /**< mechanical speed, rad/s */
     double theta_m;          /**< mechanical angle, rad (wrapped to -pi..pi) */
     double vc1, vc2;         /**< capacitor voltages, V */
-    double t_load_Nm;        /**< load torque, N m (opposes positive speed) */
+    /**
+     * Load torque, N m. Enters the mechanics as a plain constant:
+     * J domega/dt = Te - B omega - T_L (it opposes positive speed; at
+     * negative speed it keeps its sign, it is not sign(omega) * T_L).
+     */
+    double t_load_Nm;
     uint64_t rng;            /**< noise generator state */
     /* energy accounting since init (for the power-balance test and metrics) */
     double e_in_J;           /**< electrical energy into the motor terminals */
     double e_cu_J;           /**< stator + rotor copper losses */
     double e_mech_J;         /**< mechanical energy out of the air gap (Te * omega_m) */
-    unsigned long switch_count; /**< leg state changes (each counts one device commutation pair) */
+    /**
+     * Leg commutations between consecutive applied vectors (vec0 -> vec1 and
+     * across periods; zero-length segments are not applied): for each leg,
+     * |new code - old code| with N=0, O=1, P=2, so N<->O and O<->P count 1
+     * (one complementary device pair commutates) and a direct P<->N step counts
+     * 2. Changes to or from gates off (code 3) are not counted. Suggested metric
+     * (the one the SIL uses): device switching frequency =
+     * switch_count / (3 legs * elapsed time) / 2.
+     */
+    unsigned long switch_count;
+    /* bookkeeping (added; read through plant_get_truth) */
+    uint8_t legs_last[3];    /**< last applied vector as given (0..3) */
+    uint8_t legs_valid;      /**< 1 once a vector has been applied */
+    double v_last_V[3];      /**< phase-to-star voltages at the end of the last advance */
+    double i_np_last_A;      /**< neutral-point current at the end of the last advance */
 } plant_state;
 
 /** A snapshot of true values, for metrics and tests (not seen by the firmware). */
@@ -132,11 +176,19 @@ int plant_init(plant_state *s, const plant_config *cfg);
  * duty0 * period_s and then @p vec1 for the rest (each leg: 0 = N, 1 = O, 2 = P).
  * Every switching instant is honoured exactly (one segment per vector).
  * In PLANT_SUPPLY_SINE mode the vectors are ignored.
+ * Bad input changes nothing or is made safe: a period that is not finite and
+ * > 0 does nothing; duty0 is clamped to 0..1 (NaN -> 0); a NULL vector or a
+ * leg code above 3 means gates off. Segments shorter than 1 ps are skipped
+ * (not applied, not counted in switch_count).
  */
 void plant_advance(plant_state *s, const uint8_t vec0[3], const uint8_t vec1[3],
                    double duty0, double period_s);
 
-/** Sample the sensors now (advances the noise generator). */
+/**
+ * Sample the sensors now. Measured value = gain * true + offset + noise, then
+ * quantised as documented in plant_adc. The noise generator advances only when
+ * a noise rms is configured (> 0), so runs without noise draw nothing.
+ */
 void plant_sample(plant_state *s, plant_adc *out);
 
 /** Convert codes back to engineering units with the nominal (ideal) scaling, as the board firmware does. */
@@ -145,7 +197,11 @@ void plant_adc_to_units(const plant_config *cfg, const plant_adc *adc, double i_
 /** True values now. */
 void plant_get_truth(const plant_state *s, plant_truth *out);
 
-/* Scheduled changes (the scenario engine calls these at the event times). */
+/*
+ * Scheduled changes (the scenario engine calls these at the event times).
+ * They edit the working copy s->cfg; a value outside the range
+ * plant_check_config accepts (or not finite) is ignored and the old value kept.
+ */
 void plant_set_load(plant_state *s, double t_load_Nm);
 void plant_set_inertia(plant_state *s, double J_kgm2);
 void plant_set_friction(plant_state *s, double B_Nms);
@@ -157,7 +213,11 @@ void plant_set_rr(plant_state *s, double Rr_ohm);
 /**
  * Motor phase voltages (isolated star) and neutral-point current for one
  * switching state.
- * @param legs  leg states a, b, c (0 = N, 1 = O, 2 = P)
+ * @param legs  leg states a, b, c (0 = N, 1 = O, 2 = P, 3 = gates off: the
+ *              sign of its current picks N or P; with zero current the leg
+ *              floats, is left out of the star-point average and reported as
+ *              0 V, because its true voltage needs the machine's emf, which
+ *              the integration in plant_advance does use)
  * @param vc1, vc2 capacitor voltages, V
  * @param i_abc phase currents, A (for the neutral-point current)
  * @param[out] v_abc phase-to-star voltages, V

@@ -1,0 +1,154 @@
+/**
+ * @file plant_internal.h
+ * @brief Shared pieces of the plant implementation (not part of the API).
+ *
+ * The integrator works on a flat state vector x[PX_N]; every model file
+ * contributes a part of its derivative. Coefficients that are constant over
+ * one switching segment are gathered once in plant_seg so the derivative,
+ * evaluated four times per RK4 step, does only multiply-adds.
+ */
+#ifndef PLANT_INTERNAL_H
+#define PLANT_INTERNAL_H
+
+#include "plant/plant.h"
+
+/* Integration state vector layout. */
+enum {
+    PX_PSA = 0, PX_PSB,  /* stator flux alpha, beta, Wb */
+    PX_PRA, PX_PRB,      /* rotor flux alpha, beta, Wb */
+    PX_W,                /* mechanical speed, rad/s */
+    PX_TH,               /* mechanical angle, rad (unwrapped inside a period) */
+    PX_VC1, PX_VC2,      /* capacitor voltages, V */
+    PX_EIN, PX_ECU, PX_EMECH, /* energy accumulators, J */
+    PX_N
+};
+
+#define PLANT_SQRT3 1.7320508075688772935
+#define PLANT_INV_SQRT3 0.57735026918962576451
+#define PLANT_TWO_PI 6.283185307179586477
+
+/** Per-segment coefficients: machine, DC link and how the supply drives the stator. */
+typedef struct {
+    /* machine: i_s = cLr psi_s - cLm psi_r, i_r = cLs psi_r - cLm psi_s */
+    double cLr, cLm, cLs;   /* Lr/D, Lm/D, Ls/D with D = Ls Lr - Lm^2, 1/H */
+    double lm_lr;           /* Lm/Lr: rotor-flux emf seen by the stator */
+    double d_lr;            /* D/Lr = sigma Ls, H: stator flux per stator current at fixed psi_r */
+    double Rs, Rr, p;       /* ohm, ohm, pole pairs */
+    double inv_J, B, TL;    /* 1/(kg m^2), N m s/rad, N m */
+    /* DC link */
+    double vdc, inv_r, inv_c1, inv_c2;
+    /* supply: sine source, or inverter as a linear map from (vc1, vc2) */
+    int sine;
+    double v_pk, w_e, phase; /* sine: phase peak V, rad/s, rad */
+    /* inverter, all legs connected: v_s = (va1 vc1 - va2 vc2, vb1 vc1 - vb2 vc2),
+     * i_P = gP . i_s, i_N = gN . i_s (alpha-beta) */
+    double va1, va2, vb1, vb2;
+    double gP[2], gN[2];
+    /* per-leg connection for this step: +1 at P, -1 at N, 0 at O, 2 floating */
+    signed char conn[3];
+    unsigned char diode[3]; /* 1: gates off, conducting through its diodes */
+    int n_float;            /* number of floating legs (slow path when > 0) */
+} plant_seg;
+
+/* Unit vectors of the phase axes in alpha-beta (amplitude-invariant: x_k = u_k . x_ab). */
+static const double plant_u[3][2] = {
+    {1.0, 0.0}, {-0.5, 0.5 * PLANT_SQRT3}, {-0.5, -0.5 * PLANT_SQRT3}};
+
+/* --- induction_machine.c --- */
+/** Fill the machine and mechanical coefficients of @p g from @p m and the load. */
+void plant_im_coeffs(const plant_motor_params *m, double t_load_Nm, plant_seg *g);
+/*
+ * The derivative pieces below are evaluated four times per RK4 step (about
+ * a million times per simulated 5 s), so they are static inline here rather
+ * than in their .c files: the integrator compiles to straight-line code.
+ */
+
+/** Stator and rotor currents (alpha-beta, A) from the fluxes in @p x. */
+static inline void plant_im_currents(const plant_seg *g, const double *x,
+                                     double i_s[2], double i_r[2])
+{
+    i_s[0] = g->cLr * x[PX_PSA] - g->cLm * x[PX_PRA];
+    i_s[1] = g->cLr * x[PX_PSB] - g->cLm * x[PX_PRB];
+    i_r[0] = g->cLs * x[PX_PRA] - g->cLm * x[PX_PSA];
+    i_r[1] = g->cLs * x[PX_PRB] - g->cLm * x[PX_PSB];
+}
+
+/**
+ * Machine, mechanics and energy derivatives for stator voltage @p v_s
+ * (alpha-beta, V). Writes dx[PX_PSA..PX_TH] and dx[PX_EIN..PX_EMECH].
+ * Equations: see induction_machine.c.
+ */
+static inline void plant_im_rhs(const plant_seg *restrict g, const double *restrict x,
+                                const double *restrict i_s, const double *restrict i_r,
+                                const double *restrict v_s, double *restrict dx)
+{
+    double w = x[PX_W];
+    double pw = g->p * w;
+    double te = 1.5 * g->p * (x[PX_PSA] * i_s[1] - x[PX_PSB] * i_s[0]);
+
+    dx[PX_PSA] = v_s[0] - g->Rs * i_s[0];
+    dx[PX_PSB] = v_s[1] - g->Rs * i_s[1];
+    dx[PX_PRA] = -g->Rr * i_r[0] - pw * x[PX_PRB];
+    dx[PX_PRB] = -g->Rr * i_r[1] + pw * x[PX_PRA];
+    dx[PX_W] = (te - g->B * w - g->TL) * g->inv_J;
+    dx[PX_TH] = w;
+    dx[PX_EIN] = 1.5 * (v_s[0] * i_s[0] + v_s[1] * i_s[1]);
+    dx[PX_ECU] = 1.5 * (g->Rs * (i_s[0] * i_s[0] + i_s[1] * i_s[1]) +
+                        g->Rr * (i_r[0] * i_r[0] + i_r[1] * i_r[1]));
+    dx[PX_EMECH] = te * w;
+}
+/** Stator emf (Lm/Lr) dpsi_r/dt in alpha-beta, V: what an open stator would show. */
+void plant_im_emf(const plant_seg *g, const double *x, const double i_r[2], double e[2]);
+/** Magnetic energy 0.75 (psi_s . i_s + psi_r . i_r), J. */
+double plant_im_wmag(const double *x, const double i_s[2], const double i_r[2]);
+/** Electromagnetic torque, N m. */
+double plant_im_torque(const plant_seg *g, const double *x, const double i_s[2]);
+
+/* --- npc_inverter.c --- */
+/**
+ * Decide every leg's connection for the next step: driven legs as coded,
+ * gates-off legs from their current sign or, with zero current, floating
+ * unless their open-circuit voltage would pass a rail. Fills g->conn,
+ * g->n_float and the linear maps.
+ */
+void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x);
+/** Stator voltage (alpha-beta) and rail currents i_P, i_N for the state @p x. */
+void plant_npc_drive(const plant_seg *g, const double *x, const double i_s[2],
+                     const double i_r[2], double v_s[2], double *i_P, double *i_N);
+/** plant_npc_drive when every leg is connected (g->n_float == 0): a linear map. */
+static inline void plant_npc_drive_connected(const plant_seg *g, const double *x,
+                                             const double i_s[2], double v_s[2],
+                                             double *i_P, double *i_N)
+{
+    v_s[0] = g->va1 * x[PX_VC1] - g->va2 * x[PX_VC2];
+    v_s[1] = g->vb1 * x[PX_VC1] - g->vb2 * x[PX_VC2];
+    *i_P = g->gP[0] * i_s[0] + g->gP[1] * i_s[1];
+    *i_N = g->gN[0] * i_s[0] + g->gN[1] * i_s[1];
+}
+/** Phase-to-star voltages and NP current in the present connection (for the truth). */
+void plant_npc_phase(const plant_seg *g, const double *x, const double i_s[2],
+                     const double i_r[2], double v_abc[3], double *i_np);
+/**
+ * After a step: legs conducting through diodes whose current reversed, and
+ * floating legs, get their current set to exactly zero (projection of i_s,
+ * correcting the stator leakage flux in @p x).
+ */
+void plant_npc_clamp(const plant_seg *g, double *x);
+
+/* --- dc_link.c --- */
+/** Capacitor derivatives for rail currents i_P, i_N drawn by the inverter (see dc_link.c). */
+static inline void plant_dc_rhs(const plant_seg *restrict g, const double *restrict x,
+                                double i_P, double i_N, double *restrict dx)
+{
+    double i_src = (g->vdc - x[PX_VC1] - x[PX_VC2]) * g->inv_r;
+    dx[PX_VC1] = (i_src - i_P) * g->inv_c1;
+    dx[PX_VC2] = (i_src + i_N) * g->inv_c2;
+}
+/** Fill the DC-link coefficients of @p g. */
+void plant_dc_coeffs(const plant_dc_params *d, plant_seg *g);
+
+/* --- sensors.c --- */
+/** Reseed the noise generator. */
+void plant_rng_seed(plant_state *s, uint32_t seed);
+
+#endif /* PLANT_INTERNAL_H */
