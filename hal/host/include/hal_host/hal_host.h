@@ -84,8 +84,67 @@ void hal_host_run_tick(hal_host_board *b);
 /** Engine: the actuation to apply during the next period (all legs O when the gates are off). */
 void hal_host_take_actuation(const hal_host_board *b, hal_actuation *act, bool *gates_on);
 
-/** Load the NVM mirror file into memory (missing file: erased NVM). @return HAL_OK or HAL_EIO. */
+/**
+ * Load the NVM mirror file into memory (missing file: erased NVM). A file
+ * that is not exactly HAL_HOST_NVM_SIZE bytes, or cannot be read, is left
+ * untouched and the in-memory NVM is not changed.
+ * Does not set b->nvm_path (the caller decides whether writes are mirrored).
+ * @return HAL_OK or HAL_EIO.
+ */
 int hal_host_nvm_load(hal_host_board *b, const char *path);
+
+/**
+ * @return true when the watchdog was started and has not been kicked for
+ * longer than its timeout in simulated time (b->t_s). The engine treats this
+ * as a runtime failure, as the board would reset.
+ */
+bool hal_host_watchdog_expired(const hal_host_board *b);
+
+/* ------------------------------------------------- CAN backend: SocketCAN */
+
+/**
+ * Open a non-blocking PF_CAN/SOCK_RAW/CAN_RAW socket bound to @p iface
+ * (classic 11-bit frames; CAN_RAW_LOOPBACK on so other local sockets see our
+ * frames, CAN_RAW_RECV_OWN_MSGS off so we never receive our own frames;
+ * extended, error and FD frames are skipped on receive).
+ * @param[out] out backend to assign to hal_host_board.can
+ * @return 0, or a negative errno: -EAFNOSUPPORT (97) when the kernel has no
+ *         CAN support, -ENODEV for an unknown interface, -EINVAL for a bad name.
+ */
+int hal_host_socketcan_open(const char *iface, hal_host_can_backend *out);
+
+/** Close a backend opened by hal_host_socketcan_open (idempotent; clears *b). */
+void hal_host_socketcan_close(hal_host_can_backend *b);
+
+/* -------------------------------------------- CAN backend: in-memory pair */
+
+#define HAL_HOST_CAN_QUEUE_LEN 256u /**< frames per direction */
+
+/** A ring buffer of frames (one direction). */
+typedef struct {
+    hal_can_frame frame[HAL_HOST_CAN_QUEUE_LEN];
+    uint32_t head;    /**< next frame to take */
+    uint32_t count;   /**< frames waiting */
+    uint32_t dropped; /**< pushes refused because the ring was full */
+} hal_host_can_queue;
+
+/** Two rings: frames to the drive (injected by a test) and from the drive. */
+typedef struct {
+    hal_host_can_queue to_drive;
+    hal_host_can_queue from_drive;
+} hal_host_can_loopback;
+
+/**
+ * Empty both rings of @p q and make @p out a backend whose send() fills
+ * q->from_drive and whose recv() drains q->to_drive.
+ */
+void hal_host_can_loopback_init(hal_host_can_loopback *q, hal_host_can_backend *out);
+
+/** Queue a frame TO the drive. @return HAL_OK, HAL_EBUSY (full), HAL_EINVAL (id > 0x7FF, dlc > 8). */
+int hal_host_can_loopback_inject(hal_host_can_loopback *q, const hal_can_frame *f);
+
+/** Take the oldest frame FROM the drive. @return HAL_OK or HAL_EAGAIN (none). */
+int hal_host_can_loopback_take(hal_host_can_loopback *q, hal_can_frame *f);
 
 #ifdef __cplusplus
 }

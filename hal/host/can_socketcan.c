@@ -1,0 +1,116 @@
+/**
+ * @file can_socketcan.c
+ * @brief SocketCAN backend for the host HAL (Linux raw CAN socket).
+ *
+ * Classic 11-bit frames only (CANopen uses no extended identifiers). The
+ * socket is non-blocking: send and receive return HAL_EBUSY / HAL_EAGAIN
+ * instead of waiting, as the background loop must never block.
+ */
+#define _DEFAULT_SOURCE
+
+#include "hal_host/hal_host.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+typedef struct {
+    int fd;
+} socketcan_ctx;
+
+static int socketcan_send(void *ctx, const hal_can_frame *f)
+{
+    const socketcan_ctx *c = ctx;
+    if (f->id > 0x7FFu || f->dlc > 8u)
+        return HAL_EINVAL;
+    struct can_frame cf;
+    memset(&cf, 0, sizeof cf);
+    cf.can_id = f->id | (f->rtr ? CAN_RTR_FLAG : 0u);
+    cf.can_dlc = f->dlc;
+    if (!f->rtr)
+        memcpy(cf.data, f->data, f->dlc);
+    ssize_t n = write(c->fd, &cf, sizeof cf);
+    if (n == (ssize_t)sizeof cf)
+        return HAL_OK;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == ENOBUFS))
+        return HAL_EBUSY; /* transmit queue full */
+    return HAL_EIO;
+}
+
+static int socketcan_recv(void *ctx, hal_can_frame *f)
+{
+    const socketcan_ctx *c = ctx;
+    for (;;) {
+        struct can_frame cf;
+        ssize_t n = read(c->fd, &cf, sizeof cf);
+        if (n < 0)
+            return (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) ? HAL_EAGAIN : HAL_EIO;
+        if (n != (ssize_t)sizeof cf)
+            continue; /* not a classic frame */
+        if (cf.can_id & (CAN_EFF_FLAG | CAN_ERR_FLAG))
+            continue; /* extended and error frames are not ours */
+        memset(f, 0, sizeof *f);
+        f->id = (uint16_t)(cf.can_id & CAN_SFF_MASK);
+        f->rtr = (cf.can_id & CAN_RTR_FLAG) != 0u;
+        f->dlc = cf.can_dlc > 8u ? 8u : cf.can_dlc;
+        memcpy(f->data, cf.data, 8u);
+        return HAL_OK;
+    }
+}
+
+int hal_host_socketcan_open(const char *iface, hal_host_can_backend *out)
+{
+    memset(out, 0, sizeof *out);
+    if (iface == NULL || iface[0] == '\0' || strlen(iface) >= IFNAMSIZ)
+        return -EINVAL;
+    int fd = socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
+    if (fd < 0)
+        return -errno;
+    int err = 0;
+    unsigned int ifindex = if_nametoindex(iface);
+    if (ifindex == 0u)
+        err = ENODEV;
+    int on = 1, off = 0;
+    if (err == 0 && (setsockopt(fd, SOL_CAN_RAW, CAN_RAW_LOOPBACK, &on, sizeof on) != 0 ||
+                     setsockopt(fd, SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &off, sizeof off) != 0))
+        err = errno;
+    if (err == 0) {
+        struct sockaddr_can addr;
+        memset(&addr, 0, sizeof addr);
+        addr.can_family = AF_CAN;
+        addr.can_ifindex = (int)ifindex;
+        if (bind(fd, (struct sockaddr *)&addr, sizeof addr) != 0)
+            err = errno;
+    }
+    socketcan_ctx *c = NULL;
+    if (err == 0) {
+        c = malloc(sizeof *c);
+        if (c == NULL)
+            err = ENOMEM;
+    }
+    if (err != 0) {
+        close(fd);
+        return -err;
+    }
+    c->fd = fd;
+    out->ctx = c;
+    out->send = socketcan_send;
+    out->recv = socketcan_recv;
+    return 0;
+}
+
+void hal_host_socketcan_close(hal_host_can_backend *b)
+{
+    if (b->send == socketcan_send && b->ctx != NULL) {
+        socketcan_ctx *c = b->ctx;
+        close(c->fd);
+        free(c);
+    }
+    memset(b, 0, sizeof *b);
+}

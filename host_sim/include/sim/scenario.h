@@ -1,0 +1,189 @@
+/**
+ * @file scenario.h
+ * @brief A SIL scenario: plant, supply, controller, reference, load, events
+ *        and metrics options, parsed from an INI file (docs/scenarios.md).
+ *
+ * Life cycle: scenario_default() -> scenario_parse_file() (or
+ * scenario_parse_string()) -> scenario_set() for each `--set` -> scenario_finish()
+ * (cross-checks, plant_check_config). Every function that can fail returns 0
+ * or SCENARIO_EINPUT and writes ONE line "FILE:LINE: problem" (or
+ * "--set section.key: problem") into the caller's buffer.
+ *
+ * Speeds in the file are in rpm (mechanical); everything in this struct is SI
+ * except where the name says _rpm. The struct is plain data (no heap), so it
+ * can be copied freely.
+ */
+#ifndef SIM_SCENARIO_H
+#define SIM_SCENARIO_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "plant/plant.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SCENARIO_EINPUT (-2)       /**< bad input: the caller exits with status 2 */
+#define SCENARIO_MAX_ENTRIES 64    /**< entries per repeated list (reference, load, events) */
+#define SCENARIO_MAX_CONTROL 64    /**< [control] keys per scenario */
+#define SCENARIO_MAX_WINDOWS 16    /**< [metrics] windows */
+#define SCENARIO_MAX_SCALAR_KEYS 64 /**< size of the line table of scalar keys */
+#define SCENARIO_NAME_LEN 32       /**< window names, including the terminator */
+#define SCENARIO_LINE_SET (-1)     /**< "line" of a value that came from --set */
+
+/** Controllers the firmware offers (values equal the firmware's speed_mode). */
+typedef enum {
+    SCENARIO_CTL_IP = 0,
+    SCENARIO_CTL_NOMINAL = 1,
+    SCENARIO_CTL_RBFN = 2,
+} scenario_controller;
+
+/** One entry of the speed-reference profile. */
+typedef struct {
+    bool ramp;     /**< false: step at t0_s; true: linear from the value at t0_s to rpm at t1_s */
+    double t0_s;   /**< step time or ramp start, s */
+    double t1_s;   /**< ramp end, s (= t0_s for a step) */
+    double rpm;    /**< value reached, rpm (mechanical) */
+    int line;      /**< source line (SCENARIO_LINE_SET for --set) */
+} scenario_ref_entry;
+
+/** A load-torque step: T_L = nm from t_s on. */
+typedef struct {
+    double t_s;
+    double nm;
+    int line;
+} scenario_load_entry;
+
+/** Kinds of parameter events; each multiplies the plant's ORIGINAL value. */
+typedef enum {
+    SCENARIO_EV_J = 0,  /**< J_scale */
+    SCENARIO_EV_B = 1,  /**< B_scale */
+    SCENARIO_EV_RS = 2, /**< Rs_scale */
+    SCENARIO_EV_RR = 3, /**< Rr_scale */
+    SCENARIO_EV_KINDS = 4,
+} scenario_event_kind;
+
+typedef struct {
+    scenario_event_kind kind;
+    double t_s;
+    double factor; /**< > 0 */
+    int line;
+} scenario_event;
+
+/** A metrics window: mean true speed and stator rms current over [t0_s, t1_s). */
+typedef struct {
+    char name[SCENARIO_NAME_LEN];
+    double t0_s, t1_s;
+    int line;
+} scenario_window;
+
+/** A [control] assignment: one firmware tunable (see sim/control_keys.h). */
+typedef struct {
+    int key;       /**< index into sim_control_keys() */
+    double value;  /**< in the key's unit */
+    int line;
+} scenario_control;
+
+typedef struct {
+    char source[1024];            /**< file name used in messages */
+
+    plant_config plant;           /**< motor, DC link, sensors, supply, h_max_s */
+    int supply_mode;              /**< plant_supply_mode (copied into plant by scenario_finish) */
+    double phase_rad;             /**< sine supply phase (file: phase_deg) */
+    double seed;                  /**< noise seed (integer 0..2^32-1, copied into plant) */
+
+    double duration_s;            /**< simulated time, s (0 < x <= 600) */
+    double period_s;              /**< control tick, s (50e-6..1e-3, whole microseconds) */
+    double trace_interval_s;      /**< CSV row interval, s (>= period_s) */
+
+    int controller;               /**< scenario_controller */
+
+    scenario_control control[SCENARIO_MAX_CONTROL];
+    int n_control;
+
+    scenario_ref_entry ref[SCENARIO_MAX_ENTRIES];
+    int n_ref;
+    scenario_load_entry load[SCENARIO_MAX_ENTRIES];
+    int n_load;
+    scenario_event events[SCENARIO_MAX_ENTRIES];
+    int n_events;
+
+    bool has_disturbance;         /**< [metrics] disturbance_t_s given (else derived) */
+    double disturbance_t_s;
+    bool has_startup_end;         /**< [metrics] startup_end_s given (else derived) */
+    double startup_end_s;
+    scenario_window windows[SCENARIO_MAX_WINDOWS];
+    int n_windows;
+
+    /** Source line of each scalar key (index = key table index; 0 = default). */
+    int key_line[SCENARIO_MAX_SCALAR_KEYS];
+} scenario;
+
+/** Fill @p sc with the defaults (the plant's default config, 200 us tick, ...). */
+void scenario_default(scenario *sc);
+
+/** Parse the INI file @p path over @p sc (start from scenario_default()). */
+int scenario_parse_file(scenario *sc, const char *path, char *err, size_t errlen);
+
+/** Parse INI text; @p name is used as FILE in messages. */
+int scenario_parse_string(scenario *sc, const char *name, const char *text, char *err, size_t errlen);
+
+/**
+ * Apply one `--set section.key=value` override. Scalar keys are replaced;
+ * a repeated key replaces its whole list with one entry (reference.step and
+ * reference.ramp replace the whole reference profile; events.X_scale replaces
+ * the events of that kind).
+ */
+int scenario_set(scenario *sc, const char *assignment, char *err, size_t errlen);
+
+/**
+ * Cross-checks after parsing and overrides: time order, windows, trace
+ * interval, plant_check_config (mapped back to the line of the failing key).
+ * Copies supply, phase and seed into sc->plant.
+ */
+int scenario_finish(scenario *sc, char *err, size_t errlen);
+
+/** Reference at @p t_s, rpm: 0 before the first entry, then the profile. */
+double scenario_ref_rpm(const scenario *sc, double t_s);
+
+/** Time of the first load or parameter event after t = 0 (or [metrics]
+ *  disturbance_t_s); returns false when there is none. */
+bool scenario_disturbance(const scenario *sc, double *t_s);
+
+/** Start of the steady window for np_dev_max_v and switching_freq_hz, s:
+ *  [metrics] startup_end_s, else the later of 1.0 s and the end of the first ramp. */
+double scenario_startup_end(const scenario *sc);
+
+/**
+ * The last change of the reference: from @p from_rpm to @p to_rpm, starting
+ * at @p t_s (step time or ramp start). @return false when the reference never changes.
+ */
+bool scenario_last_ref_change(const scenario *sc, double *t_s, double *from_rpm, double *to_rpm);
+
+/** Name of a controller ("ip", "nominal", "rbfn"), or NULL. */
+const char *scenario_controller_name(int controller);
+
+/** Parse a controller name. @return scenario_controller, or -1 if unknown. */
+int scenario_controller_parse(const char *name);
+
+/** One documented scalar key of the file format (for docs checks and --help). */
+typedef struct {
+    const char *section;
+    const char *key;
+    const char *unit;
+} scenario_key_info;
+
+/** Describe scalar key @p i (0-based). @return false past the end. */
+bool scenario_key_info_at(size_t i, scenario_key_info *out);
+
+/** Names of the repeated keys of section @p i ("reference", "step") ... @return false past the end. */
+bool scenario_list_key_at(size_t i, scenario_key_info *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SIM_SCENARIO_H */

@@ -1,0 +1,750 @@
+/**
+ * @file scenario_parse.c
+ * @brief INI scenario parser (libinih), `--set` overrides and the final
+ *        cross-checks. Every error is ONE line naming the file and line.
+ *
+ * inih's handler gets no line number, so the file is fed through a reader
+ * that counts lines: when the handler runs, the counter is the line of the
+ * key being handled. The reader also refuses over-long lines instead of
+ * letting inih split them silently.
+ */
+#include "sim/scenario.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <ini.h>
+
+#include "sim/control_keys.h"
+
+/* ------------------------------------------------------------ key table */
+
+typedef enum {
+    K_REAL,       /**< double */
+    K_INT,        /**< int, whole number */
+    K_SEED,       /**< double holding a whole number 0..2^32-1 */
+    K_SUPPLY,     /**< "inverter" | "sine" -> int */
+    K_CONTROLLER, /**< "ip" | "nominal" | "rbfn" -> int */
+} key_kind;
+
+typedef struct {
+    const char *section;
+    const char *key;
+    key_kind kind;
+    size_t offset;      /**< into scenario */
+    double min, max;
+    bool min_open;      /**< min itself is refused (x > min) */
+    double scale;       /**< stored = value * scale (phase_deg -> rad) */
+    const char *unit;
+    const char *plant_path; /**< field name in plant_check_config messages, or NULL */
+    size_t has_offset;  /**< bool "given" flag in scenario, or 0 */
+} key_def;
+
+#define OFF(f) offsetof(scenario, f)
+#define REALK(sec, k, f, lo, open, hi, unit, ppath) { sec, k, K_REAL, OFF(f), lo, hi, open, 1.0, unit, ppath, 0 }
+/* Physical lower bounds (R > 0, J > 0, B >= 0, ...) of plant values are
+ * judged by plant_check_config in scenario_finish, and its complaint is mapped
+ * back to the key's line; the parser keeps only a sanity ceiling. */
+#define PLANTK(sec, k, f, hi, unit, ppath) { sec, k, K_REAL, OFF(f), -1e300, hi, false, 1.0, unit, ppath, 0 }
+
+static const key_def keys[] = {
+    { "sim", "duration_s", K_REAL, OFF(duration_s), 0.0, 600.0, true, 1.0, "s", NULL, 0 },
+    { "sim", "period_s", K_REAL, OFF(period_s), 50e-6, 1e-3, false, 1.0, "s", NULL, 0 },
+    { "sim", "h_max_s", K_REAL, OFF(plant.h_max_s), 1e-7, 1e-4, false, 1.0, "s", "h_max_s", 0 },
+    { "sim", "trace_interval_s", K_REAL, OFF(trace_interval_s), 50e-6, 600.0, false, 1.0, "s", NULL, 0 },
+    { "sim", "seed", K_SEED, OFF(seed), 0.0, 4294967295.0, false, 1.0, "1", "seed", 0 },
+
+    PLANTK("motor", "Rs_ohm", plant.motor.Rs_ohm, 100.0, "ohm", "Rs_ohm"),
+    PLANTK("motor", "Rr_ohm", plant.motor.Rr_ohm, 100.0, "ohm", "Rr_ohm"),
+    PLANTK("motor", "Lls_H", plant.motor.Lls_H, 10.0, "H", "Lls_H"),
+    PLANTK("motor", "Llr_H", plant.motor.Llr_H, 10.0, "H", "Llr_H"),
+    PLANTK("motor", "Lm_H", plant.motor.Lm_H, 10.0, "H", "Lm_H"),
+    { "motor", "pole_pairs", K_INT, OFF(plant.motor.pole_pairs), 1.0, 32.0, false, 1.0, "1", "pole_pairs", 0 },
+    PLANTK("motor", "J_kgm2", plant.motor.J_kgm2, 1e4, "kg m^2", "J_kgm2"),
+    PLANTK("motor", "B_Nms", plant.motor.B_Nms, 1e3, "N m s/rad", "B_Nms"),
+
+    PLANTK("drive", "vdc_V", plant.dc.vdc_V, 1e4, "V", "vdc_V"),
+    PLANTK("drive", "r_src_ohm", plant.dc.r_src_ohm, 1e3, "ohm", "r_src_ohm"),
+    PLANTK("drive", "c1_F", plant.dc.c1_F, 10.0, "F", "c1_F"),
+    PLANTK("drive", "c2_F", plant.dc.c2_F, 10.0, "F", "c2_F"),
+
+    { "sensors", "adc_bits", K_INT, OFF(plant.sensor.adc_bits), 1.0, 16.0, false, 1.0, "bit", "adc_bits", 0 },
+    PLANTK("sensors", "i_fs_A", plant.sensor.i_fs_A, 1e5, "A", "i_fs_A"),
+    PLANTK("sensors", "v_fs_V", plant.sensor.v_fs_V, 1e5, "V", "v_fs_V"),
+    PLANTK("sensors", "i_gain_a", plant.sensor.i_gain[0], 10.0, "1", "i_gain[0]"),
+    PLANTK("sensors", "i_gain_b", plant.sensor.i_gain[1], 10.0, "1", "i_gain[1]"),
+    PLANTK("sensors", "i_gain_c", plant.sensor.i_gain[2], 10.0, "1", "i_gain[2]"),
+    REALK("sensors", "i_offset_a_A", plant.sensor.i_offset_A[0], -1e4, false, 1e4, "A", "i_offset_A[0]"),
+    REALK("sensors", "i_offset_b_A", plant.sensor.i_offset_A[1], -1e4, false, 1e4, "A", "i_offset_A[1]"),
+    REALK("sensors", "i_offset_c_A", plant.sensor.i_offset_A[2], -1e4, false, 1e4, "A", "i_offset_A[2]"),
+    PLANTK("sensors", "v_gain_1", plant.sensor.v_gain[0], 10.0, "1", "v_gain[0]"),
+    PLANTK("sensors", "v_gain_2", plant.sensor.v_gain[1], 10.0, "1", "v_gain[1]"),
+    REALK("sensors", "v_offset_1_V", plant.sensor.v_offset_V[0], -1e4, false, 1e4, "V", "v_offset_V[0]"),
+    REALK("sensors", "v_offset_2_V", plant.sensor.v_offset_V[1], -1e4, false, 1e4, "V", "v_offset_V[1]"),
+    PLANTK("sensors", "i_noise_A", plant.sensor.i_noise_A, 1e4, "A", "i_noise_A"),
+    PLANTK("sensors", "v_noise_V", plant.sensor.v_noise_V, 1e4, "V", "v_noise_V"),
+
+    { "supply", "mode", K_SUPPLY, OFF(supply_mode), 0.0, 1.0, false, 1.0, "inverter|sine", "supply", 0 },
+    PLANTK("supply", "v_ll_rms_V", plant.sine.v_ll_rms_V, 1e5, "V", "v_ll_rms_V"),
+    PLANTK("supply", "f_Hz", plant.sine.f_Hz, 1e3, "Hz", "f_Hz"),
+    { "supply", "phase_deg", K_REAL, OFF(phase_rad), -360.0, 360.0, false, 3.14159265358979323846 / 180.0,
+      "deg", "phase_rad", 0 },
+
+    { "controller", "name", K_CONTROLLER, OFF(controller), 0.0, 2.0, false, 1.0, "ip|nominal|rbfn", NULL, 0 },
+
+    { "metrics", "disturbance_t_s", K_REAL, OFF(disturbance_t_s), 0.0, 600.0, false, 1.0, "s", NULL,
+      OFF(has_disturbance) },
+    { "metrics", "startup_end_s", K_REAL, OFF(startup_end_s), 0.0, 600.0, false, 1.0, "s", NULL,
+      OFF(has_startup_end) },
+};
+
+#define N_KEYS (sizeof keys / sizeof keys[0])
+_Static_assert(sizeof keys / sizeof keys[0] <= SCENARIO_MAX_SCALAR_KEYS, "raise SCENARIO_MAX_SCALAR_KEYS");
+
+/* Repeated keys: section, key, the tokens they take. */
+typedef enum { L_REF_STEP, L_REF_RAMP, L_LOAD_STEP, L_EVENT, L_WINDOW } list_kind;
+
+typedef struct {
+    const char *section;
+    const char *key;
+    list_kind kind;
+    int event_kind;     /**< for L_EVENT */
+    const char *syntax; /**< for messages and docs */
+} list_def;
+
+static const list_def lists[] = {
+    { "reference", "step", L_REF_STEP, 0, "T_S RPM" },
+    { "reference", "ramp", L_REF_RAMP, 0, "T0_S T1_S RPM" },
+    { "load", "step", L_LOAD_STEP, 0, "T_S NM" },
+    { "events", "J_scale", L_EVENT, SCENARIO_EV_J, "T_S FACTOR" },
+    { "events", "B_scale", L_EVENT, SCENARIO_EV_B, "T_S FACTOR" },
+    { "events", "Rs_scale", L_EVENT, SCENARIO_EV_RS, "T_S FACTOR" },
+    { "events", "Rr_scale", L_EVENT, SCENARIO_EV_RR, "T_S FACTOR" },
+    { "metrics", "window", L_WINDOW, 0, "NAME T0_S T1_S" },
+};
+
+#define N_LISTS (sizeof lists / sizeof lists[0])
+
+static const char *const sections[] = { "sim", "motor", "drive", "sensors", "supply", "controller",
+                                        "control", "reference", "load", "events", "metrics" };
+
+bool scenario_key_info_at(size_t i, scenario_key_info *out)
+{
+    if (i >= N_KEYS)
+        return false;
+    out->section = keys[i].section;
+    out->key = keys[i].key;
+    out->unit = keys[i].unit;
+    return true;
+}
+
+bool scenario_list_key_at(size_t i, scenario_key_info *out)
+{
+    if (i >= N_LISTS)
+        return false;
+    out->section = lists[i].section;
+    out->key = lists[i].key;
+    out->unit = lists[i].syntax;
+    return true;
+}
+
+/* ------------------------------------------------------------ errors */
+
+typedef struct {
+    scenario *sc;
+    char *err;
+    size_t errlen;
+    bool failed;
+    int err_line;          /**< line of the first error */
+    int line;              /**< line being handled (SCENARIO_LINE_SET for --set) */
+    const char *set_name;  /**< "section.key" of the --set being applied */
+    bool from_set;
+    /* reader state */
+    FILE *file;
+    const char *text;
+} parse_ctx;
+
+static void vfail_at(char *err, size_t errlen, const scenario *sc, int line, const char *set_name,
+                     const char *fmt, va_list ap)
+{
+    char msg[384];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    if (line == SCENARIO_LINE_SET)
+        snprintf(err, errlen, "--set %s: %s", set_name ? set_name : "?", msg);
+    else if (line > 0)
+        snprintf(err, errlen, "%s:%d: %s", sc->source, line, msg);
+    else
+        snprintf(err, errlen, "%s: %s", sc->source, msg);
+    /* ONE line: echoed names and values must not break it. */
+    for (char *p = err; *p != '\0'; p++)
+        if ((unsigned char)*p < 0x20u || *p == 0x7f)
+            *p = '?';
+}
+
+static int fail(parse_ctx *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int fail(parse_ctx *c, const char *fmt, ...)
+{
+    if (!c->failed) {
+        va_list ap;
+        va_start(ap, fmt);
+        vfail_at(c->err, c->errlen, c->sc, c->line, c->set_name, fmt, ap);
+        va_end(ap);
+        c->failed = true;
+        c->err_line = c->line;
+    }
+    return 0;
+}
+
+static int fail_line(char *err, size_t errlen, const scenario *sc, int line, const char *set_name,
+                     const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+static int fail_line(char *err, size_t errlen, const scenario *sc, int line, const char *set_name,
+                     const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vfail_at(err, errlen, sc, line, set_name, fmt, ap);
+    va_end(ap);
+    return SCENARIO_EINPUT;
+}
+
+/* ------------------------------------------------------------ values */
+
+/* Copy @p value without a trailing '#' comment and surrounding blanks. */
+static void clean_value(const char *value, char *out, size_t outlen)
+{
+    size_t n = 0;
+    while (*value != '\0' && isspace((unsigned char)*value))
+        value++;
+    while (value[n] != '\0' && value[n] != '#' && n + 1 < outlen)
+        n++;
+    while (n > 0 && isspace((unsigned char)value[n - 1]))
+        n--;
+    memcpy(out, value, n);
+    out[n] = '\0';
+}
+
+/* strtod that must consume the whole token and give a finite number. */
+static bool parse_number(const char *tok, double *out)
+{
+    if (tok[0] == '\0')
+        return false;
+    errno = 0;
+    char *end = NULL;
+    double v = strtod(tok, &end);
+    if (end == tok || *end != '\0' || !isfinite(v) || errno == ERANGE)
+        return false;
+    *out = v;
+    return true;
+}
+
+/* Split @p s (modified) into at most @p max whitespace-separated tokens. */
+static int split_tokens(char *s, char **tok, int max)
+{
+    int n = 0;
+    char *p = s;
+    for (;;) {
+        while (*p != '\0' && (isspace((unsigned char)*p) || *p == ','))
+            p++;
+        if (*p == '\0')
+            return n;
+        if (n == max)
+            return max + 1; /* too many */
+        tok[n++] = p;
+        while (*p != '\0' && !isspace((unsigned char)*p) && *p != ',')
+            p++;
+        if (*p != '\0')
+            *p++ = '\0';
+    }
+}
+
+static bool is_whole(double v) { return v == floor(v); }
+
+static void describe_range(const key_def *k, char *buf, size_t len)
+{
+    const char *sp = strcmp(k->unit, "1") != 0 ? " " : "";
+    const char *unit = strcmp(k->unit, "1") != 0 ? k->unit : "";
+    if (k->min <= -1e299)
+        snprintf(buf, len, "<= %g%s%s", k->max, sp, unit);
+    else
+        snprintf(buf, len, "%s %g and <= %g%s%s", k->min_open ? ">" : ">=", k->min, k->max, sp, unit);
+}
+
+static int set_scalar(parse_ctx *c, size_t ki, const char *value)
+{
+    const key_def *k = &keys[ki];
+    scenario *sc = c->sc;
+    unsigned char *base = (unsigned char *)sc;
+    char v[256];
+    clean_value(value, v, sizeof v);
+    if (v[0] == '\0')
+        return fail(c, "[%s] %s: missing value", k->section, k->key);
+
+    if (!c->from_set && sc->key_line[ki] > 0)
+        return fail(c, "[%s] %s is set twice (first on line %d)", k->section, k->key, sc->key_line[ki]);
+
+    if (k->kind == K_SUPPLY) {
+        int mode;
+        if (strcmp(v, "inverter") == 0)
+            mode = PLANT_SUPPLY_INVERTER;
+        else if (strcmp(v, "sine") == 0)
+            mode = PLANT_SUPPLY_SINE;
+        else
+            return fail(c, "[supply] mode: unknown mode '%s' (expected inverter or sine)", v);
+        memcpy(base + k->offset, &mode, sizeof mode);
+    } else if (k->kind == K_CONTROLLER) {
+        int ctl = scenario_controller_parse(v);
+        if (ctl < 0)
+            return fail(c, "[controller] name: unknown controller '%s' (expected ip, nominal or rbfn)", v);
+        memcpy(base + k->offset, &ctl, sizeof ctl);
+    } else {
+        double x;
+        if (!parse_number(v, &x))
+            return fail(c, "[%s] %s: malformed number '%s'", k->section, k->key, v);
+        bool low = k->min_open ? !(x > k->min) : !(x >= k->min);
+        if (low || x > k->max) {
+            char r[96];
+            describe_range(k, r, sizeof r);
+            return fail(c, "[%s] %s = %s is out of range (must be %s)", k->section, k->key, v, r);
+        }
+        if ((k->kind == K_INT || k->kind == K_SEED) && !is_whole(x))
+            return fail(c, "[%s] %s = %s must be a whole number", k->section, k->key, v);
+        if (k->kind == K_INT) {
+            int iv = (int)x;
+            memcpy(base + k->offset, &iv, sizeof iv);
+        } else {
+            double dv = x * k->scale;
+            memcpy(base + k->offset, &dv, sizeof dv);
+        }
+    }
+    if (k->has_offset != 0) {
+        bool given = true;
+        memcpy(base + k->has_offset, &given, sizeof given);
+    }
+    sc->key_line[ki] = c->line;
+    return 1;
+}
+
+static int set_control(parse_ctx *c, const char *name, const char *value)
+{
+    scenario *sc = c->sc;
+    int ki = sim_control_key_find(name);
+    if (ki < 0)
+        return fail(c, "[control] unknown key '%s' (see docs/scenarios.md for the list)", name);
+    size_t nk;
+    const sim_control_key *k = &sim_control_keys(&nk)[ki];
+    char v[256];
+    clean_value(value, v, sizeof v);
+    if (v[0] == '\0')
+        return fail(c, "[control] %s: missing value", name);
+    double x;
+    if (k->type == SIM_CK_BOOL) {
+        if (strcmp(v, "1") == 0 || strcmp(v, "true") == 0 || strcmp(v, "on") == 0 || strcmp(v, "yes") == 0)
+            x = 1.0;
+        else if (strcmp(v, "0") == 0 || strcmp(v, "false") == 0 || strcmp(v, "off") == 0 || strcmp(v, "no") == 0)
+            x = 0.0;
+        else
+            return fail(c, "[control] %s: expected true or false, got '%s'", name, v);
+    } else {
+        if (!parse_number(v, &x))
+            return fail(c, "[control] %s: malformed number '%s'", name, v);
+        if (x < k->min || x > k->max)
+            return fail(c, "[control] %s = %s is out of range (must be >= %g and <= %g %s)", name, v,
+                        k->min, k->max, k->unit);
+        if (k->type == SIM_CK_U32 && !is_whole(x))
+            return fail(c, "[control] %s = %s must be a whole number", name, v);
+    }
+    for (int i = 0; i < sc->n_control; i++) {
+        if (sc->control[i].key != ki)
+            continue;
+        if (!c->from_set)
+            return fail(c, "[control] %s is set twice (first on line %d)", name, sc->control[i].line);
+        sc->control[i].value = x; /* --set overrides */
+        sc->control[i].line = c->line;
+        return 1;
+    }
+    if (sc->n_control >= SCENARIO_MAX_CONTROL)
+        return fail(c, "[control] too many keys (at most %d)", SCENARIO_MAX_CONTROL);
+    sc->control[sc->n_control++] = (scenario_control){ ki, x, c->line };
+    return 1;
+}
+
+/* Parse exactly @p n numbers (after @p skip leading non-numeric tokens). */
+static int parse_list_numbers(parse_ctx *c, const list_def *l, char **tok, int ntok, int skip, double *x, int n)
+{
+    if (ntok != skip + n)
+        return fail(c, "[%s] %s: expected '%s = %s', got %s%d value%s", l->section, l->key, l->key, l->syntax,
+                    ntok > 7 ? "more than " : "", ntok > 7 ? 7 : ntok, ntok == 1 ? "" : "s");
+    for (int i = 0; i < n; i++)
+        if (!parse_number(tok[skip + i], &x[i]))
+            return fail(c, "[%s] %s: malformed number '%s' (expected %s)", l->section, l->key, tok[skip + i],
+                        l->syntax);
+    return 1;
+}
+
+static int add_list(parse_ctx *c, const list_def *l, const char *value)
+{
+    scenario *sc = c->sc;
+    char v[256];
+    clean_value(value, v, sizeof v);
+    char *tok[8];
+    int ntok = split_tokens(v, tok, 7);
+    double x[3];
+
+    switch (l->kind) {
+    case L_REF_STEP:
+    case L_REF_RAMP: {
+        bool ramp = l->kind == L_REF_RAMP;
+        if (!parse_list_numbers(c, l, tok, ntok, 0, x, ramp ? 3 : 2))
+            return 0;
+        double t0 = x[0], t1 = ramp ? x[1] : x[0], rpm = ramp ? x[2] : x[1];
+        if (t0 < 0.0 || t0 > 600.0)
+            return fail(c, "[reference] %s: time %g s is out of range (0..600 s)", l->key, t0);
+        if (ramp && !(t1 > t0 && t1 <= 600.0))
+            return fail(c, "[reference] ramp: end time %g s must be after the start %g s (and <= 600 s)", t1, t0);
+        if (fabs(rpm) > 100000.0)
+            return fail(c, "[reference] %s: speed %g rpm is out of range (|rpm| <= 100000)", l->key, rpm);
+        if (c->from_set)
+            sc->n_ref = 0; /* --set replaces the whole profile */
+        if (sc->n_ref > 0) {
+            const scenario_ref_entry *p = &sc->ref[sc->n_ref - 1];
+            if (t0 < p->t1_s)
+                return fail(c, "[reference] %s at %g s is out of time order (the entry on line %d ends at %g s)",
+                            l->key, t0, p->line, p->t1_s);
+        }
+        if (sc->n_ref >= SCENARIO_MAX_ENTRIES)
+            return fail(c, "[reference] too many entries (at most %d)", SCENARIO_MAX_ENTRIES);
+        sc->ref[sc->n_ref++] = (scenario_ref_entry){ ramp, t0, t1, rpm, c->line };
+        return 1;
+    }
+    case L_LOAD_STEP:
+        if (!parse_list_numbers(c, l, tok, ntok, 0, x, 2))
+            return 0;
+        if (x[0] < 0.0 || x[0] > 600.0)
+            return fail(c, "[load] step: time %g s is out of range (0..600 s)", x[0]);
+        if (fabs(x[1]) > 10000.0)
+            return fail(c, "[load] step: torque %g N m is out of range (|T| <= 10000 N m)", x[1]);
+        if (c->from_set)
+            sc->n_load = 0;
+        if (sc->n_load > 0 && x[0] < sc->load[sc->n_load - 1].t_s)
+            return fail(c, "[load] step at %g s is out of time order (line %d is at %g s)", x[0],
+                        sc->load[sc->n_load - 1].line, sc->load[sc->n_load - 1].t_s);
+        if (sc->n_load >= SCENARIO_MAX_ENTRIES)
+            return fail(c, "[load] too many entries (at most %d)", SCENARIO_MAX_ENTRIES);
+        sc->load[sc->n_load++] = (scenario_load_entry){ x[0], x[1], c->line };
+        return 1;
+    case L_EVENT: {
+        if (!parse_list_numbers(c, l, tok, ntok, 0, x, 2))
+            return 0;
+        if (x[0] < 0.0 || x[0] > 600.0)
+            return fail(c, "[events] %s: time %g s is out of range (0..600 s)", l->key, x[0]);
+        if (!(x[1] > 0.0 && x[1] <= 1000.0))
+            return fail(c, "[events] %s: factor %g is out of range (must be > 0 and <= 1000)", l->key, x[1]);
+        if (c->from_set) {
+            /* Replace the events of this kind only. */
+            int n = 0;
+            for (int i = 0; i < sc->n_events; i++)
+                if ((int)sc->events[i].kind != l->event_kind)
+                    sc->events[n++] = sc->events[i];
+            sc->n_events = n;
+        } else if (sc->n_events > 0 && x[0] < sc->events[sc->n_events - 1].t_s) {
+            return fail(c, "[events] %s at %g s is out of time order (line %d is at %g s)", l->key, x[0],
+                        sc->events[sc->n_events - 1].line, sc->events[sc->n_events - 1].t_s);
+        }
+        if (sc->n_events >= SCENARIO_MAX_ENTRIES)
+            return fail(c, "[events] too many entries (at most %d)", SCENARIO_MAX_ENTRIES);
+        sc->events[sc->n_events++] = (scenario_event){ (scenario_event_kind)l->event_kind, x[0], x[1], c->line };
+        return 1;
+    }
+    case L_WINDOW: {
+        if (ntok < 1)
+            return fail(c, "[metrics] window: expected '%s'", l->syntax);
+        const char *name = tok[0];
+        size_t len = strlen(name);
+        if (len == 0 || len >= SCENARIO_NAME_LEN)
+            return fail(c, "[metrics] window: name must be 1..%d characters", SCENARIO_NAME_LEN - 1);
+        for (size_t i = 0; i < len; i++)
+            if (!isalnum((unsigned char)name[i]) && name[i] != '_')
+                return fail(c, "[metrics] window: name '%s' may only use letters, digits and '_'", name);
+        if (!parse_list_numbers(c, l, tok, ntok, 1, x, 2))
+            return 0;
+        if (x[0] < 0.0 || !(x[1] > x[0]) || x[1] > 600.0)
+            return fail(c, "[metrics] window %s: need 0 <= T0_S < T1_S <= 600 s, got %g %g", name, x[0], x[1]);
+        if (c->from_set)
+            sc->n_windows = 0;
+        for (int i = 0; i < sc->n_windows; i++)
+            if (strcmp(sc->windows[i].name, name) == 0)
+                return fail(c, "[metrics] window %s is defined twice (first on line %d)", name, sc->windows[i].line);
+        if (sc->n_windows >= SCENARIO_MAX_WINDOWS)
+            return fail(c, "[metrics] too many windows (at most %d)", SCENARIO_MAX_WINDOWS);
+        scenario_window *w = &sc->windows[sc->n_windows++];
+        memset(w, 0, sizeof *w);
+        memcpy(w->name, name, len + 1);
+        w->t0_s = x[0];
+        w->t1_s = x[1];
+        w->line = c->line;
+        return 1;
+    }
+    }
+    return fail(c, "internal error: unhandled list key");
+}
+
+/* Dispatch one `section.key = value`. */
+static int assign(parse_ctx *c, const char *section, const char *name, const char *value)
+{
+    if (section[0] == '\0')
+        return fail(c, "key '%s' outside a section (start the file with a [section])", name);
+    bool known = false;
+    for (size_t i = 0; i < sizeof sections / sizeof sections[0]; i++)
+        if (strcmp(section, sections[i]) == 0)
+            known = true;
+    if (!known)
+        return fail(c, "unknown section [%s] (sections: sim, motor, drive, sensors, supply, controller, "
+                       "control, reference, load, events, metrics)", section);
+    if (strcmp(section, "control") == 0)
+        return set_control(c, name, value);
+    for (size_t i = 0; i < N_KEYS; i++)
+        if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].key, name) == 0)
+            return set_scalar(c, i, value);
+    for (size_t i = 0; i < N_LISTS; i++)
+        if (strcmp(lists[i].section, section) == 0 && strcmp(lists[i].key, name) == 0)
+            return add_list(c, &lists[i], value);
+    return fail(c, "unknown key '%s' in section [%s]", name, section);
+}
+
+/* ------------------------------------------------------------ inih glue */
+
+static int handler(void *user, const char *section, const char *name, const char *value)
+{
+    parse_ctx *c = user;
+    if (c->failed)
+        return 0; /* keep the first error */
+    return assign(c, section, name, value);
+}
+
+/* fgets-style reader that counts lines and refuses over-long ones. */
+static char *reader(char *str, int num, void *stream)
+{
+    parse_ctx *c = stream;
+    if (num < 2)
+        return NULL;
+    if (c->file != NULL) {
+        if (fgets(str, num, c->file) == NULL)
+            return NULL;
+    } else {
+        if (*c->text == '\0')
+            return NULL;
+        int n = 0;
+        while (n < num - 1 && c->text[n] != '\0') {
+            str[n] = c->text[n];
+            if (c->text[n++] == '\n')
+                break;
+        }
+        str[n] = '\0';
+        c->text += n;
+    }
+    c->line++;
+    size_t len = strlen(str);
+    if (len == (size_t)num - 1 && str[len - 1] != '\n') {
+        /* Over-long: swallow the rest so line numbers stay right. */
+        bool more = false;
+        if (c->file != NULL) {
+            int ch;
+            while ((ch = fgetc(c->file)) != EOF && ch != '\n')
+                more = true;
+        } else {
+            while (*c->text != '\0' && *c->text != '\n') {
+                c->text++;
+                more = true;
+            }
+            if (*c->text == '\n')
+                c->text++;
+        }
+        if (more && !c->failed)
+            fail(c, "line too long (at most %d characters)", num - 2);
+    }
+    return str;
+}
+
+static int run_parser(parse_ctx *c)
+{
+    int rc = ini_parse_stream(reader, c, handler, c);
+    if (c->file != NULL && ferror(c->file) && !c->failed) {
+        c->line = 0;
+        fail(c, "read error: %s", strerror(errno));
+    }
+    if (rc > 0 && (!c->failed || rc < c->err_line)) {
+        /* inih's own syntax error came first. */
+        c->failed = false;
+        c->line = rc;
+        fail(c, "syntax error: expected '[section]' or 'key = value'");
+    } else if (rc < 0 && !c->failed) {
+        c->line = 0;
+        fail(c, "out of memory while parsing");
+    }
+    return c->failed ? SCENARIO_EINPUT : 0;
+}
+
+static void set_source(scenario *sc, const char *name)
+{
+    snprintf(sc->source, sizeof sc->source, "%s", name);
+}
+
+int scenario_parse_file(scenario *sc, const char *path, char *err, size_t errlen)
+{
+    set_source(sc, path);
+    parse_ctx c;
+    memset(&c, 0, sizeof c);
+    c.sc = sc;
+    c.err = err;
+    c.errlen = errlen;
+    c.file = fopen(path, "r");
+    if (c.file == NULL)
+        return fail_line(err, errlen, sc, 0, NULL, "cannot open: %s", strerror(errno));
+    int rc = run_parser(&c);
+    fclose(c.file);
+    return rc;
+}
+
+int scenario_parse_string(scenario *sc, const char *name, const char *text, char *err, size_t errlen)
+{
+    set_source(sc, name);
+    parse_ctx c;
+    memset(&c, 0, sizeof c);
+    c.sc = sc;
+    c.err = err;
+    c.errlen = errlen;
+    c.text = text;
+    return run_parser(&c);
+}
+
+int scenario_set(scenario *sc, const char *assignment, char *err, size_t errlen)
+{
+    parse_ctx c;
+    memset(&c, 0, sizeof c);
+    c.sc = sc;
+    c.err = err;
+    c.errlen = errlen;
+    c.line = SCENARIO_LINE_SET;
+    c.from_set = true;
+
+    char name[128];
+    const char *eq = strchr(assignment, '=');
+    size_t nlen = eq != NULL ? (size_t)(eq - assignment) : strlen(assignment);
+    if (nlen >= sizeof name)
+        nlen = sizeof name - 1;
+    memcpy(name, assignment, nlen);
+    name[nlen] = '\0';
+    /* trim the name */
+    char *n0 = name;
+    while (isspace((unsigned char)*n0))
+        n0++;
+    size_t l = strlen(n0);
+    while (l > 0 && isspace((unsigned char)n0[l - 1]))
+        n0[--l] = '\0';
+    c.set_name = n0;
+    if (eq == NULL) {
+        fail(&c, "expected section.key=value (no '=')");
+        return SCENARIO_EINPUT;
+    }
+    char *dot = strchr(n0, '.');
+    if (dot == NULL || dot == n0 || dot[1] == '\0') {
+        fail(&c, "expected section.key=value (no '.' between section and key)");
+        return SCENARIO_EINPUT;
+    }
+    *dot = '\0';
+    const char *section = n0, *key = dot + 1;
+    char full[128];
+    snprintf(full, sizeof full, "%s.%s", section, key);
+    c.set_name = full;
+    assign(&c, section, key, eq + 1);
+    return c.failed ? SCENARIO_EINPUT : 0;
+}
+
+/* ------------------------------------------------------------ final checks */
+
+static int key_index(const char *section, const char *key)
+{
+    for (size_t i = 0; i < N_KEYS; i++)
+        if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].key, key) == 0)
+            return (int)i;
+    return -1;
+}
+
+/* Report a problem with scalar key (section, key) at the line it was set on. */
+static int fail_key(scenario *sc, char *err, size_t errlen, const char *section, const char *key,
+                    const char *msg)
+{
+    int ki = key_index(section, key);
+    int line = ki >= 0 ? sc->key_line[ki] : 0;
+    char set_name[96];
+    snprintf(set_name, sizeof set_name, "%s.%s", section, key);
+    return fail_line(err, errlen, sc, line, set_name, "[%s] %s: %s", section, key, msg);
+}
+
+/* Map a plant_check_config message to the key whose value it names. */
+static int map_plant_error(scenario *sc, const char *what, char *err, size_t errlen)
+{
+    int best = -1;
+    size_t best_len = 0;
+    for (size_t i = 0; i < N_KEYS; i++) {
+        const char *p = keys[i].plant_path;
+        if (p == NULL)
+            continue;
+        const char *hit = strstr(what, p);
+        size_t plen = strlen(p);
+        /* A whole-word match: "Rs_ohm" must not match inside "xRs_ohm". */
+        while (hit != NULL) {
+            bool left = hit == what || !(isalnum((unsigned char)hit[-1]) || hit[-1] == '_');
+            bool right = !(isalnum((unsigned char)hit[plen]) || hit[plen] == '_');
+            if (left && right)
+                break;
+            hit = strstr(hit + 1, p);
+        }
+        if (hit != NULL && plen > best_len) {
+            best = (int)i;
+            best_len = plen;
+        }
+    }
+    if (best < 0)
+        return fail_line(err, errlen, sc, 0, NULL, "invalid plant configuration: %s", what);
+    char set_name[96];
+    snprintf(set_name, sizeof set_name, "%s.%s", keys[best].section, keys[best].key);
+    /* "motor.J_kgm2 must be > 0" -> "[motor] J_kgm2 must be > 0" */
+    const char *rest = strstr(what, keys[best].plant_path);
+    rest = rest != NULL ? rest + strlen(keys[best].plant_path) : "";
+    if (*rest == ' ')
+        rest++;
+    return fail_line(err, errlen, sc, sc->key_line[best], set_name, "[%s] %s %s", keys[best].section,
+                     keys[best].key, *rest != '\0' ? rest : "is rejected by the plant");
+}
+
+int scenario_finish(scenario *sc, char *err, size_t errlen)
+{
+    sc->plant.supply = sc->supply_mode == PLANT_SUPPLY_SINE ? PLANT_SUPPLY_SINE : PLANT_SUPPLY_INVERTER;
+    sc->plant.sine.phase_rad = sc->phase_rad;
+    sc->plant.sensor.seed = (uint32_t)sc->seed;
+
+    double us = sc->period_s * 1e6;
+    if (fabs(us - floor(us + 0.5)) > 1e-6)
+        return fail_key(sc, err, errlen, "sim", "period_s", "must be a whole number of microseconds");
+    if (sc->trace_interval_s < sc->period_s * (1.0 - 1e-9))
+        return fail_key(sc, err, errlen, "sim", "trace_interval_s", "must be >= period_s");
+    if (sc->duration_s < sc->period_s)
+        return fail_key(sc, err, errlen, "sim", "duration_s", "must be at least one control period");
+
+    /* Order of entries that came from different sources (--set) is checked here too. */
+    for (int i = 1; i < sc->n_ref; i++)
+        if (sc->ref[i].t0_s < sc->ref[i - 1].t1_s)
+            return fail_line(err, errlen, sc, sc->ref[i].line, "reference", "[reference] entry at %g s is out of time order",
+                             sc->ref[i].t0_s);
+
+    const char *what = NULL;
+    if (plant_check_config(&sc->plant, &what) != 0)
+        return map_plant_error(sc, what != NULL ? what : "rejected by plant_check_config", err, errlen);
+    return 0;
+}

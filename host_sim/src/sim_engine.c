@@ -1,0 +1,450 @@
+/**
+ * @file sim_engine.c
+ * @brief The SIL loop: plant -> HAL sample -> drive_isr -> background ->
+ *        (one period later) actuation -> plant. See sim/sim.h for the order
+ *        of one tick and the one-period actuation delay.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "sim/sim.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "dtc/drive.h"
+#include "metrics.h"
+#include "open_loop.h"
+#include "plant/plant.h"
+#include "sim/control_keys.h"
+#include "trace.h"
+
+#define PI 3.14159265358979323846
+#define RPM_TO_RAD_S (2.0 * PI / 60.0)
+/* Tolerance for "the event's time has come" at a tick boundary, s. */
+#define T_EPS 1e-9
+
+typedef struct {
+    plant_state ps;
+    hal_host_board board;
+    drive drv;
+    hal_host_can_backend can_sock;
+    bool can_sock_open;
+    metrics_acc acc;
+    bool acc_init;
+    sim_trace trace;
+    bool trace_open;
+    scenario_event events[SCENARIO_MAX_ENTRIES]; /* sorted by time (stable) */
+    int n_events;
+} engine;
+
+void sim_options_default(sim_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->controller = -1;
+}
+
+static int set_error(sim_result *res, int status, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int set_error(sim_result *res, int status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(res->error, sizeof res->error, fmt, ap);
+    va_end(ap);
+    res->status = status;
+    return status;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Push the scenario's motor, DC link, period, controller and [control] keys
+ * into the firmware configuration, the way the background would. */
+static void configure_firmware(engine *e, const scenario *sc, int controller)
+{
+    drive *d = &e->drv;
+    drive_init(d);
+    ctl_cfg *cfg = drive_cfg_edit(d);
+    const plant_motor_params *m = &sc->plant.motor;
+    cfg->motor.Rs_ohm = (real_t)m->Rs_ohm;
+    cfg->motor.Rr_ohm = (real_t)m->Rr_ohm;
+    cfg->motor.Ls_H = (real_t)(m->Lls_H + m->Lm_H);
+    cfg->motor.Lr_H = (real_t)(m->Llr_H + m->Lm_H);
+    cfg->motor.Lm_H = (real_t)m->Lm_H;
+    cfg->motor.pole_pairs = (real_t)m->pole_pairs;
+    cfg->motor.J_kgm2 = (real_t)m->J_kgm2;
+    cfg->motor.B_Nms = (real_t)m->B_Nms;
+    cfg->period_s = (real_t)sc->period_s;
+    cfg->vdc_nom_V = (real_t)sc->plant.dc.vdc_V;
+    cfg->speed.mode = (speed_mode)controller;
+    for (int i = 0; i < sc->n_control; i++)
+        sim_control_key_apply(sc->control[i].key, cfg, sc->control[i].value);
+    drive_cfg_commit(d);
+    /* Re-initialise the control state from the final configuration (no tick has run yet). */
+    ctl_init(&d->ctl, drive_cfg(d));
+}
+
+static void sort_events(engine *e, const scenario *sc)
+{
+    e->n_events = sc->n_events;
+    memcpy(e->events, sc->events, (size_t)sc->n_events * sizeof sc->events[0]);
+    for (int i = 1; i < e->n_events; i++) { /* stable insertion sort */
+        scenario_event x = e->events[i];
+        int j = i - 1;
+        while (j >= 0 && e->events[j].t_s > x.t_s) {
+            e->events[j + 1] = e->events[j];
+            j--;
+        }
+        e->events[j + 1] = x;
+    }
+}
+
+static void apply_event(engine *e, const scenario *sc, const scenario_event *ev)
+{
+    const plant_motor_params *m0 = &sc->plant.motor; /* events scale the ORIGINAL values */
+    switch (ev->kind) {
+    case SCENARIO_EV_J:
+        plant_set_inertia(&e->ps, m0->J_kgm2 * ev->factor);
+        break;
+    case SCENARIO_EV_B:
+        plant_set_friction(&e->ps, m0->B_Nms * ev->factor);
+        break;
+    case SCENARIO_EV_RS:
+        plant_set_rs(&e->ps, m0->Rs_ohm * ev->factor);
+        break;
+    case SCENARIO_EV_RR:
+        plant_set_rr(&e->ps, m0->Rr_ohm * ev->factor);
+        break;
+    case SCENARIO_EV_KINDS:
+        break;
+    }
+}
+
+/* Eq. 5 uncertainty: eps = (-B'/J' + B/J) w + (1/J' - 1/J) Te - T_L/J',
+ * primes = the plant's present values, plain = nominal (scenario start). */
+static double eps_true(const engine *e, const scenario *sc, double omega, double te)
+{
+    double J = sc->plant.motor.J_kgm2, B = sc->plant.motor.B_Nms;
+    double Jp = e->ps.cfg.motor.J_kgm2, Bp = e->ps.cfg.motor.B_Nms;
+    return (-Bp / Jp + B / J) * omega + (1.0 / Jp - 1.0 / J) * te - e->ps.t_load_Nm / Jp;
+}
+
+static int check_writable(const char *path, sim_result *res)
+{
+    size_t n = strlen(path);
+    char *p = malloc(n + 9u);
+    if (p == NULL)
+        return set_error(res, SIM_ERUNTIME, "out of memory");
+    memcpy(p, path, n);
+    memcpy(p + n, ".partial", 9u);
+    FILE *f = fopen(p, "w");
+    int rc = SIM_OK;
+    if (f == NULL)
+        rc = set_error(res, SIM_EINPUT, "%s: cannot create: %s", p, strerror(errno));
+    else {
+        fclose(f);
+        remove(p);
+    }
+    free(p);
+    return rc;
+}
+
+static int open_can(engine *e, const sim_options *o, sim_result *res)
+{
+    if (o->can_iface != NULL) {
+        int rc = hal_host_socketcan_open(o->can_iface, &e->can_sock);
+        if (rc == -EAFNOSUPPORT)
+            return set_error(res, SIM_EINPUT,
+                             "SocketCAN is not available in this kernel (errno %d); use a kernel with vcan "
+                             "or the UML test runner", EAFNOSUPPORT);
+        if (rc == -ENODEV)
+            return set_error(res, SIM_EINPUT, "--can %s: no such CAN interface", o->can_iface);
+        if (rc != 0)
+            return set_error(res, SIM_EINPUT, "--can %s: %s (errno %d)", o->can_iface, strerror(-rc), -rc);
+        e->can_sock_open = true;
+        e->board.can = e->can_sock;
+    } else if (o->can != NULL) {
+        e->board.can = *o->can;
+    }
+    return SIM_OK;
+}
+
+static void pace(struct timespec *next, long period_ns, const volatile sig_atomic_t *stop)
+{
+    next->tv_nsec += period_ns;
+    while (next->tv_nsec >= 1000000000L) {
+        next->tv_nsec -= 1000000000L;
+        next->tv_sec++;
+    }
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    double late = (double)(now.tv_sec - next->tv_sec) + 1e-9 * (double)(now.tv_nsec - next->tv_nsec);
+    if (late > 0.1) {
+        *next = now; /* far behind (suspended, overloaded): resynchronise, no burst */
+        return;
+    }
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, next, NULL) == EINTR)
+        if (stop != NULL && *stop)
+            return;
+}
+
+/* The tick loop. Returns SIM_OK or an error status (res->error set). */
+static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_result *res, bool firmware)
+{
+    const double T = sc->period_s;
+    const long period_ns = (long)llround(T * 1e9);
+    const uint64_t n_ticks = (uint64_t)llround(sc->duration_s / T);
+    const bool forever = o->realtime && o->run_forever;
+    const uint64_t trace_every =
+        (uint64_t)llround(sc->trace_interval_s / T) > 0 ? (uint64_t)llround(sc->trace_interval_s / T) : 1u;
+    const uint8_t legs_off[3] = { 3, 3, 3 };
+
+    hal_actuation prev; /* latched on the previous tick: applied in this period */
+    hal_host_take_actuation(&e->board, &prev, &(bool){ false });
+    int ev_i = 0, load_i = 0;
+    double last_ref_rpm = NAN;
+    drive_snapshot snap;
+    memset(&snap, 0, sizeof snap);
+
+    struct timespec next;
+    clock_gettime(CLOCK_MONOTONIC, &next);
+
+    for (uint64_t k = 0;; k++) {
+        const double t = (double)k * T;
+        if (o->stop != NULL && *o->stop) {
+            if (!o->realtime)
+                return set_error(res, SIM_ERUNTIME, "interrupted at t = %.4f s", t);
+            break; /* realtime: a clean stop */
+        }
+
+        /* 1. sample at the period start */
+        plant_adc adc;
+        plant_sample(&e->ps, &adc);
+        double i_A[3], v_V[2];
+        plant_adc_to_units(&e->ps.cfg, &adc, i_A, v_V);
+        hal_sample s = { (float)i_A[0], (float)i_A[1], (float)i_A[2], (float)v_V[0], (float)v_V[1],
+                         (float)adc.omega_m_rad_s, true, (uint32_t)(k + 1u) };
+        hal_host_set_sample(&e->board, &s);
+        e->board.t_s = t;
+
+        /* 2. events whose time has come */
+        while (ev_i < e->n_events && e->events[ev_i].t_s <= t + T_EPS)
+            apply_event(e, sc, &e->events[ev_i++]);
+        while (load_i < sc->n_load && sc->load[load_i].t_s <= t + T_EPS)
+            plant_set_load(&e->ps, sc->load[load_i++].nm);
+        double ref_rpm = scenario_ref_rpm(sc, t + T_EPS);
+        if (firmware && ref_rpm != last_ref_rpm)
+            drive_set_speed_ref(&e->drv, (float)(ref_rpm * RPM_TO_RAD_S));
+        last_ref_rpm = ref_rpm;
+
+        /* 3. the interrupt, then one background pass */
+        hal_actuation act = prev;
+        bool gates_on = false;
+        if (firmware) {
+            hal_host_run_tick(&e->board);
+            drive_background(&e->drv);
+        }
+        if (o->on_tick != NULL)
+            o->on_tick(o->user, t, firmware ? &e->drv : NULL);
+        if (firmware) {
+            if (hal_host_watchdog_expired(&e->board))
+                return set_error(res, SIM_ERUNTIME, "watchdog expired at t = %.4f s", t);
+            hal_host_take_actuation(&e->board, &act, &gates_on);
+            drive_read_snapshot(&e->drv, &snap);
+        } else if (o->open_loop_hz > 0.0) {
+            open_loop_actuation(t, o->open_loop_hz, k, &act);
+            gates_on = true;
+        }
+
+        /* 5. metrics and trace at the sample instant */
+        plant_truth tr;
+        plant_get_truth(&e->ps, &tr);
+        if (!isfinite(tr.omega_m_rad_s) || !isfinite(tr.ia_A) || !isfinite(tr.vc1_V))
+            return set_error(res, SIM_ERUNTIME, "the plant diverged at t = %.4f s", t);
+        double eps = eps_true(e, sc, tr.omega_m_rad_s, tr.te_Nm);
+        metrics_sample ms = {
+            .t_s = t,
+            .speed_rpm = tr.omega_m_rad_s / RPM_TO_RAD_S,
+            .ref_rpm = ref_rpm,
+            .est_rpm = firmware ? (double)snap.tel.omega_est_rad_s / RPM_TO_RAD_S : 0.0,
+            .te_nm = tr.te_Nm,
+            .is_sq = tr.ia_A * tr.ia_A + tr.ib_A * tr.ib_A + tr.ic_A * tr.ic_A,
+            .eps_hat = firmware ? (double)snap.tel.eps_hat : 0.0,
+            .eps_true = eps,
+            .np_dev_v = fabs(tr.vc1_V - tr.vc2_V),
+            .w_norm = firmware ? (double)snap.tel.w_norm : 0.0,
+            .switch_count = e->ps.switch_count,
+        };
+        metrics_acc_add(&e->acc, &ms);
+        if (e->trace_open && k % trace_every == 0u) {
+            sim_trace_row row = { t, tr.omega_m_rad_s, tr.te_Nm, tr.ia_A, tr.ib_A, tr.ic_A, tr.vc1_V, tr.vc2_V,
+                                  ref_rpm, e->ps.t_load_Nm, eps, firmware ? &snap : NULL };
+            trace_write(&e->trace, &row);
+        }
+        res->ticks = k + 1u;
+        if (!forever && k >= n_ticks)
+            break;
+
+        /* 4. integrate the period with the actuation latched one tick ago */
+        if (e->ps.cfg.supply == PLANT_SUPPLY_SINE)
+            plant_advance(&e->ps, legs_off, legs_off, 1.0, T);
+        else if (!gates_on)
+            plant_advance(&e->ps, legs_off, legs_off, 1.0, T);
+        else
+            plant_advance(&e->ps, prev.vector[0].leg, prev.vector[1].leg, (double)prev.duty0, T);
+        prev = act; /* the zero vector when the gates are off (see hal_host_take_actuation) */
+
+        if (o->realtime)
+            pace(&next, period_ns, o->stop);
+    }
+    return SIM_OK;
+}
+
+static void fill_static_metrics(const engine *e, const scenario *sc, const sim_options *o, bool firmware,
+                                int controller, sim_metrics *m)
+{
+    m->firmware = firmware;
+    snprintf(m->controller, sizeof m->controller, "%s",
+             firmware ? scenario_controller_name(controller) : "none");
+    (void)o;
+    m->np_dev_limit_v = 0.02 * sc->plant.dc.vdc_V;
+    if (firmware) {
+        const ctl_cfg *cfg = drive_cfg(&e->drv);
+        m->m_w = (double)cfg->speed.rbfn.m_w;
+        drive_snapshot snap;
+        drive_read_snapshot(&e->drv, &snap);
+        m->faults = snap.tel.faults;
+        m->isr_max_us = (double)e->drv.timing.max_cycles / (double)hal_cycles_hz() * 1e6;
+        m->isr_overruns = e->drv.timing.overruns;
+    }
+}
+
+int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
+{
+    memset(res, 0, sizeof *res);
+    sim_options o;
+    if (opt != NULL)
+        o = *opt;
+    else
+        sim_options_default(&o);
+
+    const bool sine = sc->plant.supply == PLANT_SUPPLY_SINE;
+    if (o.can_iface != NULL && !o.realtime)
+        return set_error(res, SIM_EINPUT, "--can requires --realtime");
+    if (o.run_forever && !o.realtime)
+        return set_error(res, SIM_EINPUT, "an endless run requires --realtime");
+    if (o.controller < -1 || o.controller > SCENARIO_CTL_RBFN)
+        return set_error(res, SIM_EINPUT, "unknown controller %d", o.controller);
+    if (o.open_loop_hz > 0.0 && sine)
+        return set_error(res, SIM_EINPUT, "the open-loop sequence needs the inverter supply");
+    if (!(sc->period_s >= 50e-6 && sc->period_s <= 1e-3))
+        return set_error(res, SIM_EINPUT, "period_s %g is out of range", sc->period_s);
+    const bool firmware = !sine && !(o.open_loop_hz > 0.0);
+    const int controller = o.controller >= 0 ? o.controller : sc->controller;
+
+    if (o.csv_path != NULL && check_writable(o.csv_path, res) != SIM_OK)
+        return res->status;
+    if (o.metrics_path != NULL && check_writable(o.metrics_path, res) != SIM_OK)
+        return res->status;
+
+    engine *e = calloc(1, sizeof *e);
+    if (e == NULL)
+        return set_error(res, SIM_ERUNTIME, "out of memory");
+
+    int rc = SIM_OK;
+    if (plant_init(&e->ps, &sc->plant) != 0) {
+        const char *what = "rejected";
+        plant_check_config(&sc->plant, &what);
+        rc = set_error(res, SIM_EINPUT, "%s: invalid plant configuration: %s", sc->source, what);
+        goto out;
+    }
+    sort_events(e, sc);
+
+    hal_host_board_init(&e->board);
+    if (o.nvm_path != NULL) {
+        if (hal_host_nvm_load(&e->board, o.nvm_path) != HAL_OK) {
+            rc = set_error(res, SIM_EINPUT, "--nvm %s: not a readable %u-byte NVM image (left untouched)",
+                           o.nvm_path, HAL_HOST_NVM_SIZE);
+            goto out;
+        }
+        e->board.nvm_path = o.nvm_path;
+    }
+    if ((rc = open_can(e, &o, res)) != SIM_OK)
+        goto out;
+    hal_host_bind(&e->board);
+
+    if (firmware) {
+        configure_firmware(e, sc, controller);
+        uint32_t period_us = (uint32_t)llround(sc->period_s * 1e6);
+        if (hal_tick_start(drive_isr, &e->drv, period_us) != HAL_OK) {
+            rc = set_error(res, SIM_EINPUT, "hal_tick_start refused a %u us period", (unsigned)period_us);
+            goto out;
+        }
+        drive_set_run(&e->drv, true);
+    }
+
+    if (metrics_acc_init(&e->acc, sc, sc->period_s) != 0) {
+        rc = set_error(res, SIM_ERUNTIME, "out of memory");
+        goto out;
+    }
+    e->acc_init = true;
+    if (o.csv_path != NULL) {
+        if (trace_open(&e->trace, o.csv_path, res->error, sizeof res->error) != 0) {
+            rc = res->status = SIM_EINPUT;
+            goto out;
+        }
+        e->trace_open = true;
+    }
+
+    double w0 = now_s();
+    rc = run_loop(e, sc, &o, res, firmware);
+    double wall = now_s() - w0;
+    if (rc != SIM_OK)
+        goto out;
+
+    sim_metrics *m = &res->metrics;
+    metrics_acc_finish(&e->acc, m);
+    fill_static_metrics(e, sc, &o, firmware, controller, m);
+    m->sim_seconds = res->ticks > 0u ? (double)(res->ticks - 1u) * sc->period_s : 0.0;
+    m->wall_seconds = wall;
+
+    if (o.metrics_path != NULL) {
+        rc = sim_write_metrics_json(m, o.metrics_path, res->error, sizeof res->error);
+        if (rc != SIM_OK) {
+            res->status = rc;
+            goto out;
+        }
+    }
+    if (e->trace_open) {
+        e->trace_open = false;
+        if (trace_close(&e->trace, true, res->error, sizeof res->error) != 0) {
+            if (o.metrics_path != NULL)
+                remove(o.metrics_path); /* all outputs or none */
+            rc = res->status = SIM_ERUNTIME;
+            goto out;
+        }
+    }
+
+out:
+    if (e->trace_open)
+        trace_close(&e->trace, false, NULL, 0);
+    if (e->acc_init)
+        metrics_acc_free(&e->acc);
+    if (firmware && hal_host_bound() == &e->board)
+        hal_tick_stop();
+    if (hal_host_bound() == &e->board)
+        hal_host_bind(NULL);
+    if (e->can_sock_open)
+        hal_host_socketcan_close(&e->can_sock);
+    free(e);
+    res->status = rc;
+    return rc;
+}

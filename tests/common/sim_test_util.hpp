@@ -1,0 +1,132 @@
+// Helpers shared by the tests that drive the SIL engine or the dtc-sim
+// command line: scenario loading through the library API, temporary
+// directories, files, and running a command with its exit status.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sim/scenario.h"
+#include "sim/sim.h"
+
+namespace simtest {
+
+// Scenarios are a few kB; keep them off the stack.
+using ScenarioPtr = std::unique_ptr<scenario>;
+
+struct Loaded {
+    ScenarioPtr sc;
+    int rc = 0;        // 0 or SCENARIO_EINPUT
+    std::string error; // the one-line message when rc != 0
+};
+
+// Parse @p path, apply @p sets ("section.key=value") and finish, as dtc-sim does.
+inline Loaded load_scenario(const std::string &path, const std::vector<std::string> &sets = {})
+{
+    Loaded l;
+    l.sc = std::make_unique<scenario>();
+    char err[2048] = "";
+    scenario_default(l.sc.get());
+    l.rc = scenario_parse_file(l.sc.get(), path.c_str(), err, sizeof err);
+    for (size_t i = 0; l.rc == 0 && i < sets.size(); ++i)
+        l.rc = scenario_set(l.sc.get(), sets[i].c_str(), err, sizeof err);
+    if (l.rc == 0)
+        l.rc = scenario_finish(l.sc.get(), err, sizeof err);
+    l.error = err;
+    return l;
+}
+
+// The same from INI text; @p name plays the file name in messages.
+inline Loaded parse_text(const std::string &text, const std::vector<std::string> &sets = {},
+                         const std::string &name = "t.ini")
+{
+    Loaded l;
+    l.sc = std::make_unique<scenario>();
+    char err[2048] = "";
+    scenario_default(l.sc.get());
+    l.rc = scenario_parse_string(l.sc.get(), name.c_str(), text.c_str(), err, sizeof err);
+    for (size_t i = 0; l.rc == 0 && i < sets.size(); ++i)
+        l.rc = scenario_set(l.sc.get(), sets[i].c_str(), err, sizeof err);
+    if (l.rc == 0)
+        l.rc = scenario_finish(l.sc.get(), err, sizeof err);
+    l.error = err;
+    return l;
+}
+
+inline std::string source_path(const std::string &rel) { return std::string(DTC_SOURCE_DIR) + "/" + rel; }
+
+// A fresh directory under the system temp dir, removed by the destructor.
+class TempDir {
+public:
+    TempDir()
+    {
+        std::string tmpl = "/tmp/dtc_test_XXXXXX";
+        std::vector<char> buf(tmpl.begin(), tmpl.end());
+        buf.push_back('\0');
+        const char *p = mkdtemp(buf.data());
+        path_ = p != nullptr ? p : "/tmp";
+    }
+    ~TempDir()
+    {
+        if (path_ != "/tmp")
+            std::system(("rm -rf '" + path_ + "'").c_str());
+    }
+    TempDir(const TempDir &) = delete;
+    TempDir &operator=(const TempDir &) = delete;
+    std::string file(const std::string &name) const { return path_ + "/" + name; }
+    const std::string &path() const { return path_; }
+
+private:
+    std::string path_;
+};
+
+inline void write_file(const std::string &path, const std::string &text)
+{
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+}
+
+inline bool file_exists(const std::string &path)
+{
+    std::ifstream f(path);
+    return f.good();
+}
+
+inline std::string read_file(const std::string &path)
+{
+    std::ifstream f(path, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+struct CommandResult {
+    int status = -1;    // exit status, or -1 if it did not exit normally
+    std::string output; // stdout and stderr together
+};
+
+// Run @p cmd through the shell, capturing stdout and stderr.
+inline CommandResult run_command(const std::string &cmd)
+{
+    CommandResult r;
+    FILE *p = popen((cmd + " 2>&1").c_str(), "r");
+    if (p == nullptr)
+        return r;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
+        r.output.append(buf, n);
+    int st = pclose(p);
+    if (st != -1 && WIFEXITED(st))
+        r.status = WEXITSTATUS(st);
+    return r;
+}
+
+} // namespace simtest

@@ -1,0 +1,458 @@
+// Scenario parser: every key, every error path (with the exact line it must
+// name), --set overrides, profile queries, the [control] registry and the
+// documentation. Expected values are written out by hand here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "sim/control_keys.h"
+#include "sim/scenario.h"
+#include "sim_test_util.hpp"
+
+using simtest::parse_text;
+
+namespace {
+
+const double kPi = 3.14159265358979323846;
+
+// "t.ini:LINE: " prefix of an error message.
+std::string at(int line) { return "t.ini:" + std::to_string(line) + ": "; }
+
+void expect_error(const std::string &text, int line, const std::string &what)
+{
+    auto l = parse_text(text);
+    EXPECT_EQ(l.rc, SCENARIO_EINPUT) << text;
+    EXPECT_EQ(l.error.rfind(at(line), 0), 0u) << "message: " << l.error << "\nfor:\n" << text;
+    EXPECT_NE(l.error.find(what), std::string::npos) << "message: " << l.error << "\nwanted: " << what;
+    EXPECT_EQ(l.error.find('\n'), std::string::npos) << "one line only: " << l.error;
+}
+
+} // namespace
+
+TEST(ScenarioParser, DefaultsAreTheTenHorsepowerDrive)
+{
+    auto l = parse_text("");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    const scenario &sc = *l.sc;
+    // docs/motor-10hp.json
+    EXPECT_DOUBLE_EQ(sc.plant.motor.Rs_ohm, 0.288);
+    EXPECT_DOUBLE_EQ(sc.plant.motor.Rr_ohm, 0.158);
+    EXPECT_DOUBLE_EQ(sc.plant.motor.Lls_H, 0.00142);
+    EXPECT_DOUBLE_EQ(sc.plant.motor.Llr_H, 0.00142);
+    EXPECT_DOUBLE_EQ(sc.plant.motor.Lm_H, 0.0416);
+    EXPECT_EQ(sc.plant.motor.pole_pairs, 2);
+    EXPECT_DOUBLE_EQ(sc.plant.motor.J_kgm2, 0.045);
+    EXPECT_DOUBLE_EQ(sc.plant.motor.B_Nms, 0.005);
+    EXPECT_DOUBLE_EQ(sc.plant.dc.vdc_V, 311.0);
+    EXPECT_EQ(sc.plant.supply, PLANT_SUPPLY_INVERTER);
+    EXPECT_DOUBLE_EQ(sc.duration_s, 1.0);
+    EXPECT_DOUBLE_EQ(sc.period_s, 200e-6);
+    EXPECT_DOUBLE_EQ(sc.trace_interval_s, 1e-3);
+    EXPECT_EQ(sc.controller, SCENARIO_CTL_RBFN);
+    EXPECT_EQ(sc.n_ref, 0);
+    EXPECT_EQ(sc.n_load, 0);
+    EXPECT_EQ(sc.n_events, 0);
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(&sc, 0.5), 0.0);
+}
+
+TEST(ScenarioParser, DolStartFile)
+{
+    auto l = simtest::load_scenario(simtest::source_path("host_sim/scenarios/dol_start.ini"));
+    ASSERT_EQ(l.rc, 0) << l.error;
+    const scenario &sc = *l.sc;
+    EXPECT_EQ(sc.plant.supply, PLANT_SUPPLY_SINE);
+    EXPECT_DOUBLE_EQ(sc.plant.sine.v_ll_rms_V, 220.0);
+    EXPECT_DOUBLE_EQ(sc.plant.sine.f_Hz, 60.0);
+    EXPECT_DOUBLE_EQ(sc.duration_s, 1.0);
+    ASSERT_EQ(sc.n_load, 1);
+    EXPECT_DOUBLE_EQ(sc.load[0].t_s, 0.6);
+    EXPECT_DOUBLE_EQ(sc.load[0].nm, 20.0);
+    ASSERT_EQ(sc.n_windows, 2);
+    EXPECT_STREQ(sc.windows[0].name, "noload");
+    EXPECT_STREQ(sc.windows[1].name, "load");
+    EXPECT_DOUBLE_EQ(sc.windows[1].t0_s, 0.85);
+    EXPECT_DOUBLE_EQ(sc.windows[1].t1_s, 1.0);
+}
+
+// Every scalar key, with a valid value and where it must land.
+TEST(ScenarioParser, EveryScalarKeyLands)
+{
+    struct Case {
+        const char *section, *key, *value;
+        std::function<double(const scenario &)> get;
+        double expect;
+    };
+    const std::vector<Case> cases = {
+        { "sim", "duration_s", "2.5", [](const scenario &s) { return s.duration_s; }, 2.5 },
+        { "sim", "period_s", "100e-6", [](const scenario &s) { return s.period_s; }, 100e-6 },
+        { "sim", "h_max_s", "2e-5", [](const scenario &s) { return s.plant.h_max_s; }, 2e-5 },
+        { "sim", "trace_interval_s", "0.002", [](const scenario &s) { return s.trace_interval_s; }, 0.002 },
+        { "sim", "seed", "4294967295", [](const scenario &s) { return (double)s.plant.sensor.seed; }, 4294967295.0 },
+        { "motor", "Rs_ohm", "0.3", [](const scenario &s) { return s.plant.motor.Rs_ohm; }, 0.3 },
+        { "motor", "Rr_ohm", "0.2", [](const scenario &s) { return s.plant.motor.Rr_ohm; }, 0.2 },
+        { "motor", "Lls_H", "0.002", [](const scenario &s) { return s.plant.motor.Lls_H; }, 0.002 },
+        { "motor", "Llr_H", "0.003", [](const scenario &s) { return s.plant.motor.Llr_H; }, 0.003 },
+        { "motor", "Lm_H", "0.05", [](const scenario &s) { return s.plant.motor.Lm_H; }, 0.05 },
+        { "motor", "pole_pairs", "3", [](const scenario &s) { return (double)s.plant.motor.pole_pairs; }, 3 },
+        { "motor", "J_kgm2", "0.063", [](const scenario &s) { return s.plant.motor.J_kgm2; }, 0.063 },
+        { "motor", "B_Nms", "0", [](const scenario &s) { return s.plant.motor.B_Nms; }, 0.0 },
+        { "drive", "vdc_V", "540", [](const scenario &s) { return s.plant.dc.vdc_V; }, 540 },
+        { "drive", "r_src_ohm", "0.1", [](const scenario &s) { return s.plant.dc.r_src_ohm; }, 0.1 },
+        { "drive", "c1_F", "0.001", [](const scenario &s) { return s.plant.dc.c1_F; }, 0.001 },
+        { "drive", "c2_F", "0.0015", [](const scenario &s) { return s.plant.dc.c2_F; }, 0.0015 },
+        { "sensors", "adc_bits", "16", [](const scenario &s) { return (double)s.plant.sensor.adc_bits; }, 16 },
+        { "sensors", "i_fs_A", "100", [](const scenario &s) { return s.plant.sensor.i_fs_A; }, 100 },
+        { "sensors", "v_fs_V", "600", [](const scenario &s) { return s.plant.sensor.v_fs_V; }, 600 },
+        { "sensors", "i_gain_a", "1.01", [](const scenario &s) { return s.plant.sensor.i_gain[0]; }, 1.01 },
+        { "sensors", "i_gain_b", "0.99", [](const scenario &s) { return s.plant.sensor.i_gain[1]; }, 0.99 },
+        { "sensors", "i_gain_c", "1.02", [](const scenario &s) { return s.plant.sensor.i_gain[2]; }, 1.02 },
+        { "sensors", "i_offset_a_A", "-0.1", [](const scenario &s) { return s.plant.sensor.i_offset_A[0]; }, -0.1 },
+        { "sensors", "i_offset_b_A", "0.2", [](const scenario &s) { return s.plant.sensor.i_offset_A[1]; }, 0.2 },
+        { "sensors", "i_offset_c_A", "0.3", [](const scenario &s) { return s.plant.sensor.i_offset_A[2]; }, 0.3 },
+        { "sensors", "v_gain_1", "1.03", [](const scenario &s) { return s.plant.sensor.v_gain[0]; }, 1.03 },
+        { "sensors", "v_gain_2", "0.97", [](const scenario &s) { return s.plant.sensor.v_gain[1]; }, 0.97 },
+        { "sensors", "v_offset_1_V", "1.5", [](const scenario &s) { return s.plant.sensor.v_offset_V[0]; }, 1.5 },
+        { "sensors", "v_offset_2_V", "-2", [](const scenario &s) { return s.plant.sensor.v_offset_V[1]; }, -2 },
+        { "sensors", "i_noise_A", "0.05", [](const scenario &s) { return s.plant.sensor.i_noise_A; }, 0.05 },
+        { "sensors", "v_noise_V", "0.5", [](const scenario &s) { return s.plant.sensor.v_noise_V; }, 0.5 },
+        { "supply", "mode", "sine", [](const scenario &s) { return (double)s.plant.supply; }, PLANT_SUPPLY_SINE },
+        { "supply", "v_ll_rms_V", "380", [](const scenario &s) { return s.plant.sine.v_ll_rms_V; }, 380 },
+        { "supply", "f_Hz", "50", [](const scenario &s) { return s.plant.sine.f_Hz; }, 50 },
+        { "supply", "phase_deg", "90", [](const scenario &s) { return s.plant.sine.phase_rad; }, kPi / 2 },
+        { "controller", "name", "nominal", [](const scenario &s) { return (double)s.controller; }, SCENARIO_CTL_NOMINAL },
+        { "metrics", "disturbance_t_s", "2.5", [](const scenario &s) { return s.has_disturbance ? s.disturbance_t_s : -1; }, 2.5 },
+        { "metrics", "startup_end_s", "1.5", [](const scenario &s) { return s.has_startup_end ? s.startup_end_s : -1; }, 1.5 },
+    };
+    std::set<std::string> covered;
+    for (const auto &c : cases) {
+        std::string text = std::string("[") + c.section + "]\n" + c.key + " = " + c.value + "   # comment\n";
+        auto l = parse_text(text);
+        ASSERT_EQ(l.rc, 0) << c.section << "." << c.key << ": " << l.error;
+        EXPECT_NEAR(c.get(*l.sc), c.expect, 1e-12 * std::fabs(c.expect)) << c.section << "." << c.key;
+        scenario_key_info info;
+        for (size_t i = 0; scenario_key_info_at(i, &info); ++i) {
+            if (std::string(info.section) == c.section && std::string(info.key) == c.key) {
+                EXPECT_EQ(l.sc->key_line[i], 2) << c.key;
+            }
+        }
+        covered.insert(std::string(c.section) + "." + c.key);
+    }
+    // The table above covers every scalar key the parser knows.
+    scenario_key_info info;
+    for (size_t i = 0; scenario_key_info_at(i, &info); ++i)
+        EXPECT_TRUE(covered.count(std::string(info.section) + "." + info.key)) << info.section << "." << info.key;
+}
+
+TEST(ScenarioParser, RepeatedKeysAndProfile)
+{
+    auto l = parse_text("[reference]\n"
+                        "step = 0.1 100\n"
+                        "ramp = 0.5 1.5 600    # 100 -> 600 rpm\n"
+                        "step = 2.0 -300\n"
+                        "[load]\nstep = 1 5\nstep = 2 8\n"
+                        "[events]\nJ_scale = 2.5 1.4\nB_scale = 2.5 1.4\nRs_scale = 3 1.2\nRr_scale = 3 1.5\n"
+                        "[metrics]\nwindow = a 0.2 0.4\nwindow = b_2 1 2\n"
+                        "[sim]\nduration_s = 4\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    const scenario *sc = l.sc.get();
+    ASSERT_EQ(sc->n_ref, 3);
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(sc, 0.0), 0.0);
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(sc, 0.1), 100.0);
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(sc, 0.4), 100.0);
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(sc, 0.5), 100.0);
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(sc, 1.0), 350.0); // halfway
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(sc, 1.5), 600.0);
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(sc, 1.9), 600.0);
+    EXPECT_DOUBLE_EQ(scenario_ref_rpm(sc, 2.0), -300.0);
+    EXPECT_EQ(sc->n_load, 2);
+    ASSERT_EQ(sc->n_events, 4);
+    EXPECT_EQ(sc->events[3].kind, SCENARIO_EV_RR);
+    EXPECT_DOUBLE_EQ(sc->events[3].factor, 1.5);
+    EXPECT_EQ(sc->events[3].line, 12);
+
+    double t;
+    ASSERT_TRUE(scenario_disturbance(sc, &t));
+    EXPECT_DOUBLE_EQ(t, 1.0); // the first load step after 0
+    EXPECT_DOUBLE_EQ(scenario_startup_end(sc), 1.5); // later of 1.0 and the first ramp's end
+    double from, to;
+    ASSERT_TRUE(scenario_last_ref_change(sc, &t, &from, &to));
+    EXPECT_DOUBLE_EQ(t, 2.0);
+    EXPECT_DOUBLE_EQ(from, 600.0);
+    EXPECT_DOUBLE_EQ(to, -300.0);
+    ASSERT_EQ(sc->n_windows, 2);
+    EXPECT_STREQ(sc->windows[1].name, "b_2");
+}
+
+TEST(ScenarioParser, DerivedMetricTimes)
+{
+    auto l = parse_text("[reference]\nramp = 0.2 0.6 500\n[events]\nJ_scale = 0 2\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    double t;
+    EXPECT_FALSE(scenario_disturbance(l.sc.get(), &t)); // an event AT t = 0 is not a disturbance
+    EXPECT_DOUBLE_EQ(scenario_startup_end(l.sc.get()), 1.0);
+    auto m = parse_text("[metrics]\ndisturbance_t_s = 0.3\nstartup_end_s = 0.25\n");
+    ASSERT_EQ(m.rc, 0) << m.error;
+    ASSERT_TRUE(scenario_disturbance(m.sc.get(), &t));
+    EXPECT_DOUBLE_EQ(t, 0.3);
+    EXPECT_DOUBLE_EQ(scenario_startup_end(m.sc.get()), 0.25);
+}
+
+TEST(ScenarioParser, ErrorsNameFileAndLine)
+{
+    expect_error("[sim]\nduration_s = 1\n[foo]\nx = 1\n", 4, "unknown section [foo]");
+    expect_error("[motor]\n# inertia\nfoo = 1\n", 3, "unknown key 'foo'");
+    expect_error("[sim]\nduration_s = 1.0x\n", 2, "malformed number '1.0x'");
+    expect_error("[sim]\nduration_s = nan\n", 2, "malformed number");
+    expect_error("[sim]\nduration_s = inf\n", 2, "malformed number");
+    expect_error("[sim]\nduration_s = -inf\n", 2, "malformed number");
+    expect_error("[sim]\nduration_s = 1e999\n", 2, "malformed number");
+}
+
+TEST(ScenarioParser, MoreErrors)
+{
+    expect_error("[sim]\nduration_s =\n", 2, "missing value");
+    expect_error("[sim]\nduration_s = 0\n", 2, "out of range");
+    expect_error("[sim]\n\nduration_s = 700\n", 3, "out of range");
+    expect_error("[sim]\nperiod_s = 150.5e-6\n", 2, "whole number of microseconds");
+    expect_error("[sim]\nperiod_s = 1e-3\ntrace_interval_s = 2e-4\n", 3, "must be >= period_s");
+    expect_error("[sim]\nperiod_s = 1e-5\n", 2, "out of range");
+    expect_error("[sim]\nseed = -1\n", 2, "out of range");
+    expect_error("[sim]\nseed = 1.5\n", 2, "whole number");
+    expect_error("[sim]\nduration_s = 1\nduration_s = 2\n", 3, "set twice (first on line 2)");
+    expect_error("[motor]\nJ_kgm2 = -0.045\n", 2, "J_kgm2 must be > 0");
+    expect_error("[motor]\nRs_ohm = 0.3\nB_Nms = -1\n", 3, "B_Nms must be >= 0");
+    expect_error("[motor]\npole_pairs = 2.5\n", 2, "whole number");
+    expect_error("[motor]\npole_pairs = 0\n", 2, "out of range");
+    expect_error("[drive]\nc1_F = 0.002\nvdc_V = 0\n", 3, "vdc_V must be > 0");
+    expect_error("[sensors]\ni_gain_b = 0\n", 2, "i_gain_b must be > 0");
+    expect_error("[sensors]\nadc_bits = 17\n", 2, "out of range");
+    expect_error("[supply]\nmode = dc\n", 2, "unknown mode 'dc'");
+    expect_error("[supply]\nf_Hz = -60\n", 2, "f_Hz must be >= 0");
+    expect_error("[controller]\nname = pid\n", 2, "unknown controller 'pid'");
+    expect_error("[events]\nJ_scale = 2.5 1.4\nB_scale = 1.0 1.4\n", 3, "out of time order");
+    expect_error("[events]\nJ_scale = 2.5 0\n", 2, "factor");
+    expect_error("[events]\nJ_scale = -1 2\n", 2, "out of range");
+    expect_error("[events]\nK_scale = 1 2\n", 2, "unknown key 'K_scale'");
+    expect_error("[reference]\nramp = 0 1 500\nstep = 0.5 100\n", 3, "out of time order");
+    expect_error("[reference]\nramp = 1 0.5 500\n", 2, "end time");
+    expect_error("[reference]\nstep = 1\n", 2, "expected 'step = T_S RPM', got 1 value");
+    expect_error("[reference]\nstep = 1 fast\n", 2, "malformed number 'fast'");
+    expect_error("[load]\nstep = 1 2 3\n", 2, "got 3 values");
+    expect_error("[load]\nstep = 2 1\nstep = 1 5\n", 3, "out of time order");
+    expect_error("[metrics]\nwindow = a 1 0.5\n", 2, "T0_S < T1_S");
+    expect_error("[metrics]\nwindow = a-b 0 1\n", 2, "letters, digits");
+    expect_error("[metrics]\nwindow = a 0 1\nwindow = a 1 2\n", 3, "defined twice");
+    expect_error("[metrics]\nwindow = a 0\n", 2, "expected");
+    expect_error("[control]\nfoo = 1\n", 2, "unknown key 'foo'");
+    expect_error("[control]\nip_zeta = -1\n", 2, "out of range");
+    expect_error("[control]\nrbfn_n_nodes = 2.5\n", 2, "whole number");
+    expect_error("[control]\nripple_reduction = maybe\n", 2, "expected true or false");
+    expect_error("[control]\nip_zeta = 0.8\nip_zeta = 0.9\n", 3, "set twice (first on line 2)");
+    expect_error("duration_s = 1\n", 1, "outside a section");
+    expect_error("[sim]\nthis line has no equals sign\n", 2, "syntax error");
+    expect_error("[sim\nduration_s = 1\n", 1, "syntax error");
+    expect_error("[sim]\nduration_s = 1\n# " + std::string(300, 'x') + "\nperiod_s = 1e-4\n", 3, "line too long");
+    expect_error("[sim]\nduration_s = " + std::string(250, '1') + "\n", 2, "line too long");
+}
+
+TEST(ScenarioParser, AcceptsCommentsBlankLinesAndCrLf)
+{
+    auto l = parse_text("; a comment\r\n# another\r\n\r\n[sim]\r\nduration_s = 2 ; inline\r\n"
+                        "period_s = 1e-4 # inline hash\r\n[reference]\r\nstep = 0.5, 300\r\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    EXPECT_DOUBLE_EQ(l.sc->duration_s, 2.0);
+    EXPECT_DOUBLE_EQ(l.sc->period_s, 1e-4);
+    ASSERT_EQ(l.sc->n_ref, 1);
+    EXPECT_DOUBLE_EQ(l.sc->ref[0].rpm, 300.0);
+}
+
+TEST(ScenarioParser, MissingFile)
+{
+    auto l = simtest::load_scenario("/nonexistent/dir/x.ini");
+    EXPECT_EQ(l.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(l.error.rfind("/nonexistent/dir/x.ini: ", 0), 0u) << l.error;
+    EXPECT_NE(l.error.find("cannot open"), std::string::npos) << l.error;
+}
+
+TEST(ScenarioParser, DirectoryIsNotAScenario)
+{
+    auto l = simtest::load_scenario("/tmp");
+    EXPECT_EQ(l.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(l.error.rfind("/tmp:", 0), 0u) << l.error;
+}
+
+TEST(ScenarioSet, OverridesScalarsAndReplacesLists)
+{
+    const std::string file = "[sim]\nduration_s = 3\n[reference]\nramp = 0 1 500\nstep = 2 200\n"
+                             "[events]\nJ_scale = 2.5 1.4\nB_scale = 2.5 1.4\n[control]\nip_zeta = 0.8\n"
+                             "[metrics]\nwindow = a 0 1\nwindow = b 1 2\n";
+    auto l = parse_text(file, { "sim.duration_s=5", "reference.step = 0.5 300", "events.J_scale=1 2",
+                                "control.ip_zeta=1.1", "control.ip_wn_rad_s=30", "metrics.window=c 2 3",
+                                "controller.name=ip", "load.step=1 4" });
+    ASSERT_EQ(l.rc, 0) << l.error;
+    const scenario *sc = l.sc.get();
+    EXPECT_DOUBLE_EQ(sc->duration_s, 5.0);
+    EXPECT_EQ(sc->key_line[0], SCENARIO_LINE_SET);
+    ASSERT_EQ(sc->n_ref, 1); // the whole profile replaced
+    EXPECT_FALSE(sc->ref[0].ramp);
+    EXPECT_DOUBLE_EQ(sc->ref[0].rpm, 300.0);
+    ASSERT_EQ(sc->n_events, 2); // J replaced, B kept
+    int nj = 0, nb = 0;
+    for (int i = 0; i < sc->n_events; ++i) {
+        if (sc->events[i].kind == SCENARIO_EV_J) {
+            ++nj;
+            EXPECT_DOUBLE_EQ(sc->events[i].t_s, 1.0);
+            EXPECT_DOUBLE_EQ(sc->events[i].factor, 2.0);
+        }
+        nb += sc->events[i].kind == SCENARIO_EV_B;
+    }
+    EXPECT_EQ(nj, 1);
+    EXPECT_EQ(nb, 1);
+    ASSERT_EQ(sc->n_control, 2);
+    EXPECT_DOUBLE_EQ(sc->control[0].value, 1.1);
+    EXPECT_EQ(sc->n_windows, 1);
+    EXPECT_STREQ(sc->windows[0].name, "c");
+    EXPECT_EQ(sc->controller, SCENARIO_CTL_IP);
+    EXPECT_EQ(sc->n_load, 1);
+}
+
+TEST(ScenarioSet, Errors)
+{
+    struct Case {
+        const char *set, *prefix, *what;
+    };
+    const Case cases[] = {
+        { "sim.duration_s", "--set sim.duration_s: ", "no '='" },
+        { "duration_s=1", "--set duration_s: ", "no '.'" },
+        { "sim.nokey=1", "--set sim.nokey: ", "unknown key 'nokey'" },
+        { "nosection.x=1", "--set nosection.x: ", "unknown section [nosection]" },
+        { "sim.duration_s=abc", "--set sim.duration_s: ", "malformed number 'abc'" },
+        { "sim.duration_s=-1", "--set sim.duration_s: ", "out of range" },
+        { "sim.duration_s=", "--set sim.duration_s: ", "missing value" },
+        { "motor.J_kgm2=-1", "--set motor.J_kgm2: ", "J_kgm2 must be > 0" },
+        { "control.nokey=1", "--set control.nokey: ", "unknown key 'nokey'" },
+        { "reference.ramp=2 1 5", "--set reference.ramp: ", "end time" },
+        { "=5", "--set : ", "no '.'" },
+    };
+    for (const auto &c : cases) {
+        auto l = parse_text("[sim]\nduration_s = 1\n", { c.set });
+        EXPECT_EQ(l.rc, SCENARIO_EINPUT) << c.set;
+        EXPECT_EQ(l.error.rfind(c.prefix, 0), 0u) << c.set << " -> " << l.error;
+        EXPECT_NE(l.error.find(c.what), std::string::npos) << c.set << " -> " << l.error;
+    }
+}
+
+TEST(ControlKeys, RegistryIsConsistent)
+{
+    size_t n = 0;
+    const sim_control_key *k = sim_control_keys(&n);
+    ASSERT_GT(n, 10u);
+    std::set<std::string> names;
+    for (size_t i = 0; i < n; ++i) {
+        EXPECT_TRUE(names.insert(k[i].name).second) << "duplicate " << k[i].name;
+        EXPECT_LE(k[i].min, k[i].max) << k[i].name;
+        size_t width = k[i].type == SIM_CK_BOOL ? sizeof(bool) : 4u;
+        EXPECT_LE(k[i].offset + width, sizeof(ctl_cfg)) << k[i].name;
+        EXPECT_EQ(sim_control_key_find(k[i].name), (int)i);
+    }
+    EXPECT_EQ(sim_control_key_find("no_such_key"), -1);
+    // Spot checks against the ctl_cfg layout, written by hand.
+    int i = sim_control_key_find("ip_wn_rad_s");
+    ASSERT_GE(i, 0);
+    EXPECT_EQ(k[i].offset, offsetof(ctl_cfg, speed.ip.wn_rad_s));
+    i = sim_control_key_find("psi_ref_Wb");
+    ASSERT_GE(i, 0);
+    EXPECT_EQ(k[i].offset, offsetof(ctl_cfg, dtc.psi_ref_Wb));
+}
+
+TEST(ControlKeys, ApplyWritesTheNamedField)
+{
+    ctl_cfg cfg;
+    std::memset(&cfg, 0, sizeof cfg);
+    sim_control_key_apply(sim_control_key_find("ip_zeta"), &cfg, 0.75);
+    EXPECT_FLOAT_EQ(cfg.speed.ip.zeta, 0.75f);
+    sim_control_key_apply(sim_control_key_find("rbfn_width_3_rad_s"), &cfg, 12.5);
+    EXPECT_FLOAT_EQ(cfg.speed.rbfn.width[3], 12.5f);
+    sim_control_key_apply(sim_control_key_find("rbfn_n_nodes"), &cfg, 7.0);
+    EXPECT_EQ(cfg.speed.rbfn.n_nodes, 7u);
+    sim_control_key_apply(sim_control_key_find("ripple_reduction"), &cfg, 1.0);
+    EXPECT_TRUE(cfg.dtc.ripple_reduction);
+    sim_control_key_apply(sim_control_key_find("i_trip_A"), &cfg, 90.0);
+    EXPECT_FLOAT_EQ(cfg.i_trip_A, 90.0f);
+    // Nothing else moved.
+    EXPECT_FLOAT_EQ(cfg.speed.ip.wn_rad_s, 0.0f);
+    EXPECT_FLOAT_EQ(cfg.speed.rbfn.width[2], 0.0f);
+    EXPECT_DOUBLE_EQ(sim_control_key_read(sim_control_key_find("ip_zeta"), &cfg), 0.75);
+}
+
+TEST(ControlKeys, ParsedIntoTheScenario)
+{
+    auto l = parse_text("[control]\nripple_reduction = off\nrbfn_m_w = 40\nrbfn_n_nodes = 5\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    ASSERT_EQ(l.sc->n_control, 3);
+    EXPECT_EQ(l.sc->control[0].key, sim_control_key_find("ripple_reduction"));
+    EXPECT_DOUBLE_EQ(l.sc->control[0].value, 0.0);
+    EXPECT_DOUBLE_EQ(l.sc->control[1].value, 40.0);
+    EXPECT_EQ(l.sc->control[2].line, 4);
+}
+
+// docs/scenarios.md documents every key the parser accepts.
+TEST(ScenarioDocs, EveryKeyIsDocumented)
+{
+    std::string doc = simtest::read_file(simtest::source_path("docs/scenarios.md"));
+    ASSERT_FALSE(doc.empty());
+    scenario_key_info info;
+    for (size_t i = 0; scenario_key_info_at(i, &info); ++i) {
+        EXPECT_NE(doc.find("## `[" + std::string(info.section) + "]`"), std::string::npos) << info.section;
+        EXPECT_NE(doc.find("`" + std::string(info.key) + "`"), std::string::npos) << info.section << "." << info.key;
+    }
+    for (size_t i = 0; scenario_list_key_at(i, &info); ++i)
+        EXPECT_NE(doc.find("`" + std::string(info.key) + "`"), std::string::npos) << info.section << "." << info.key;
+    size_t n = 0;
+    const sim_control_key *k = sim_control_keys(&n);
+    for (size_t j = 0; j < n; ++j) {
+        std::string name = k[j].name;
+        // Node arrays are documented as a range: rbfn_centre_0_rad_s .. rbfn_centre_8_rad_s.
+        bool node = name.find("_centre_") != std::string::npos || name.find("_width_") != std::string::npos;
+        if (node && name.find("_0_") == std::string::npos && name.find("_8_") == std::string::npos)
+            continue;
+        EXPECT_NE(doc.find("`" + name + "`"), std::string::npos) << "[control] " << name;
+    }
+}
+
+// Random and mangled input never crashes and always gives one clean line.
+TEST(ScenarioParser, GarbageNeverCrashes)
+{
+    const std::vector<std::string> vocab = {
+        "[sim]", "[motor]", "[reference]", "[events]", "[control]", "[metrics]", "[load]", "[", "]",
+        "duration_s", "J_kgm2", "step", "ramp", "window", "J_scale", "ip_zeta", "mode", "=", " = ", ":",
+        "1", "-1", "0.5", "1e-4", "nan", "inf", "1e999", "abc", "#", ";", "\n", "\n", "\n", "\r\n", " ", "\t",
+        std::string(1, '\0'), "\xff\xfe", std::string(120, 'x'),
+    };
+    std::mt19937 rng(12345);
+    for (int iter = 0; iter < 3000; ++iter) {
+        std::string text;
+        int n = (int)(rng() % 40);
+        for (int i = 0; i < n; ++i) {
+            if (rng() % 8 == 0)
+                text.push_back((char)(rng() % 256));
+            else
+                text += vocab[rng() % vocab.size()];
+        }
+        std::string set = vocab[rng() % vocab.size()] + "." + vocab[rng() % vocab.size()] + "=" +
+                          vocab[rng() % vocab.size()];
+        auto l = parse_text(text.c_str(), { set }); // c_str: stop at an embedded NUL like a C caller
+        ASSERT_TRUE(l.rc == 0 || l.rc == SCENARIO_EINPUT);
+        if (l.rc != 0) {
+            EXPECT_FALSE(l.error.empty());
+            EXPECT_EQ(l.error.find('\n'), std::string::npos) << l.error;
+            EXPECT_TRUE(l.error.rfind("t.ini", 0) == 0 || l.error.rfind("--set ", 0) == 0) << l.error;
+        }
+    }
+}
