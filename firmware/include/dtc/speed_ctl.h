@@ -5,6 +5,12 @@
  * Plant model of the speed loop (paper eq. 4-5): d(omega)/dt = A_n omega + B_n Te* + eps,
  * A_n = -B/J, B_n = K_T/J with K_T = 1 (the DTC makes Te follow Te*), so the
  * uncertainty eps is in rad/s^2 (mechanical).
+ *
+ * Sign convention (all controllers): e_x = X_d - X_q (reference minus estimate).
+ * A braking load makes eps < 0, the speed drops, e_x > 0, the RBFN weights fall,
+ * eps_hat goes negative and the torque command rises.
+ *
+ * Design notes, equations, discretisation and tuning: docs/speed_control.md.
  */
 #ifndef DTC_SPEED_CTL_H
 #define DTC_SPEED_CTL_H
@@ -42,21 +48,29 @@ typedef struct {
 /** RBFN controller (eq. 8-14, 21). Input of the network: the speed error e_x, rad/s. */
 typedef struct {
     real_t k;             /**< error gain K, 1/s */
-    real_t gamma_w;       /**< weight adaptation gain */
-    real_t gamma_zeta;    /**< bound adaptation gain */
-    real_t m_w;           /**< projection radius M_w on |W| */
+    real_t gamma_w;       /**< weight adaptation gain, (rad/s^2) / (rad/s) / s */
+    real_t gamma_zeta;    /**< bound adaptation gain, (rad/s^2) / (rad/s) / s */
+    real_t m_w;           /**< projection radius M_w on |W|, rad/s^2 */
     uint32_t n_nodes;     /**< number of nodes, 1..RBFN_NODES_MAX */
     real_t centre[RBFN_NODES_MAX]; /**< Gaussian centres m_q, rad/s of speed error */
     real_t width[RBFN_NODES_MAX];  /**< Gaussian widths sigma_q, rad/s (> 0) */
     real_t boundary_rad_s;         /**< boundary layer of the robust term; 0 = pure sign */
     real_t zeta_dead_zone_rad_s;   /**< |e_x| below this does not grow the bound */
     real_t zeta_max;               /**< ceiling of the adaptive bound, rad/s^2 */
+    real_t zeta_leak;              /**< sigma-leakage of the bound, 1/s (0 = none) */
 } rbfn_cfg;
 
 typedef struct {
     speed_mode mode;      /**< active controller (switchable while running) */
     real_t te_max_Nm;     /**< torque-command limit, N m */
     real_t ramp_rad_s2;   /**< speed-reference slew-rate limit, rad/s^2 (0 = none) */
+    /** Reference model of the nominal and RBFN controllers: X_d and dX_d/dt are
+     *  the states of d2x/dt2 = wn^2 (r - x) - 2 zeta wn dx/dt driven by the
+     *  ramped reference r, i.e. the IP's own closed loop (eq. 1), so all three
+     *  controllers ask for the same speed response. 0 = no model: X_d and
+     *  dX_d/dt are taken from speed_in as they are (paper eq. 6/11 literally). */
+    real_t ref_wn_rad_s;
+    real_t ref_zeta;      /**< damping of the reference model */
     ip_cfg ip;
     nominal_cfg nominal;
     rbfn_cfg rbfn;
@@ -94,23 +108,109 @@ typedef struct {
     speed_mode active;          /**< mode of the last step (a change resets the new one) */
     ip_state ip;
     rbfn_state rbfn;
+    real_t ref_x_rad_s;         /**< reference-model speed X_d, rad/s */
+    real_t ref_v_rad_s2;        /**< reference-model acceleration dX_d/dt, rad/s^2 */
+    real_t te_last_Nm;          /**< torque command of the last step, N m (bumpless switch) */
 } speed_ctl;
+
+/** Error codes of speed_cfg_check() (negative, one per violated rule). */
+enum speed_cfg_error {
+    SPEED_CFG_OK = 0,
+    SPEED_CFG_E_MODE = -1,      /**< mode is not one of speed_mode */
+    SPEED_CFG_E_TE_MAX = -2,    /**< te_max_Nm not > 0 */
+    SPEED_CFG_E_RAMP = -3,      /**< ramp_rad_s2 < 0 */
+    SPEED_CFG_E_IP = -4,        /**< wn_rad_s or zeta not > 0 */
+    SPEED_CFG_E_NOMINAL = -5,   /**< k_x not > 0 */
+    SPEED_CFG_E_RBFN_GAIN = -6, /**< k not > 0, or gamma_w, gamma_zeta, boundary, dead zone, leak < 0 */
+    SPEED_CFG_E_RBFN_NODES = -7,/**< n_nodes outside 1..RBFN_NODES_MAX or a width not > 0 */
+    SPEED_CFG_E_RBFN_BOUND = -8,/**< m_w not > 0 or zeta_max < 0 */
+    SPEED_CFG_E_MOTOR = -9,     /**< motor J not > 0 or B < 0 */
+    SPEED_CFG_E_REF_MODEL = -10,/**< ref_wn_rad_s < 0, or ref_zeta not > 0 with a model */
+};
+
+/**
+ * Fill @p cfg with the default tuning for motor @p m (the tuning that
+ * reproduces the paper's CASE1/CASE2, docs/speed_control.md) and derive the
+ * IP gains. ctl_cfg_default() calls this. Context: BG.
+ */
+void speed_cfg_default(speed_cfg *cfg, const motor_model *m);
 
 /** Compute derived gains (IP ki, kp from wn, zeta, J, B per eq. 3). Context: BG. */
 void speed_cfg_derive(speed_cfg *cfg, const motor_model *m);
 
+/**
+ * Check a configuration before it is published.
+ * @return SPEED_CFG_OK, or the first violated rule (enum speed_cfg_error).
+ * The step functions stay safe (bounded loops, no division by zero) even
+ * with a configuration that fails this check. Context: BG.
+ */
+int speed_cfg_check(const speed_cfg *cfg, const motor_model *m);
+
 /** Initialise all controllers to zero state. Context: BG. */
 void speed_ctl_init(speed_ctl *s, const speed_cfg *cfg);
 
-/** Reset all controller states (weights to 0, bound to 0, integrator to @p te_now_Nm). Context: ISR or BG. */
+/** Reset all controller states (weights to 0, bound to 0, integrator to @p te_now_Nm,
+ *  reference model to rest at 0 rad/s). Context: ISR or BG. */
 void speed_ctl_reset(speed_ctl *s, real_t te_now_Nm);
+
+/** Put the reference model at rest at @p omega_rad_s (e.g. when restarting a
+ *  spinning motor, together with the ramp state). Context: ISR or BG. */
+void speed_ctl_set_ref(speed_ctl *s, real_t omega_rad_s);
 
 /**
  * One speed-loop step with the controller selected by cfg->mode.
+ * The IP uses in->omega_ref_rad_s directly; the nominal and RBFN controllers
+ * use the reference model's X_d, dX_d/dt (see speed_cfg.ref_wn_rad_s). The
+ * model runs in every mode, so a mode change finds it in step.
+ * When cfg->mode differs from the mode of the previous step the new
+ * controller is first initialised from the last torque command (bumpless).
+ * A non-finite input gives a zero torque command and leaves the controller
+ * states untouched; a non-finite result (a NaN gain) gives a zero command and
+ * restarts the controllers from rest, so no NaN stays in a state.
  * @param dt_s step, s (the control period). Context: ISR.
  */
 void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
                     const speed_in *in, speed_out *out);
+
+/**
+ * Slew-rate limiter of the speed reference: moves @p prev_rad_s towards
+ * @p target_rad_s by at most @p max_step_rad_s (>= 0; 0 or less means no limit,
+ * the target is returned). Call once per period with max_step = ramp * dt;
+ * dX_d/dt is then (result - prev) / dt. Pure; context: ANY.
+ */
+real_t speed_ref_ramp(real_t prev_rad_s, real_t target_rad_s, real_t max_step_rad_s);
+
+/* ---- the individual controllers (used by speed_ctl_step; public for tests) ---- */
+
+/**
+ * IP step (eq. 1-3): Te* = integ - kp X, integ += ki e dt,
+ * with conditional integration at the torque limit (anti-windup). Context: ISR.
+ */
+void speed_ip_step(ip_state *s, const ip_cfg *cfg, const motor_model *m, real_t te_max_Nm,
+                   real_t dt_s, const speed_in *in, speed_out *out);
+
+/** Initialise the IP integrator so that its next command equals @p te_now_Nm at speed @p omega_rad_s. Context: ISR or BG. */
+void speed_ip_bumpless(ip_state *s, const ip_cfg *cfg, real_t te_now_Nm, real_t omega_rad_s);
+
+/** Nominal step (eq. 6 with eps = 0). Stateless. Context: ISR. */
+void speed_nominal_step(const nominal_cfg *cfg, const motor_model *m, real_t te_max_Nm,
+                        const speed_in *in, speed_out *out);
+
+/**
+ * RBFN step (eq. 8-14, 21): output U = U_o + U_p limited to +-te_max, then
+ * the weight and bound updates (frozen in the winding-up direction while the
+ * command is limited). Context: ISR.
+ */
+void speed_rbfn_step(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, real_t te_max_Nm,
+                     real_t dt_s, const speed_in *in, speed_out *out);
+
+/**
+ * Initialise the RBFN so that its next command at input @p in equals
+ * @p te_now_Nm: bound to 0, all weights equal to the eps_hat that gives that
+ * command (projected onto |W| <= M_w). Context: ISR or BG.
+ */
+void speed_rbfn_bumpless(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m,
+                         real_t te_now_Nm, const speed_in *in);
 
 #ifdef __cplusplus
 }

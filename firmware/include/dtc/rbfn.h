@@ -1,0 +1,70 @@
+/**
+ * @file rbfn.h
+ * @brief Radial-basis-function network with one input: the normalised
+ *        Gaussian basis (paper eq. 8), its output (eq. 9) and the projected
+ *        weight update (eq. 14 with the projection of eq. 21).
+ *
+ * Pure functions on caller-owned arrays; no state, constant time for a given
+ * node count. Every function may be called from any context (ISR or BG).
+ */
+#ifndef DTC_RBFN_H
+#define DTC_RBFN_H
+
+#include <stdint.h>
+
+#include "dtc/num.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/**
+ * Normalised Gaussian basis (eq. 8):
+ * z_q = exp(-(x - m_q)^2 / (2 s_q^2)) / sum_k exp(-(x - m_k)^2 / (2 s_k^2)).
+ * The exponents are shifted by their smallest value before exp(), so the sum
+ * is >= 1 and no input, however far from the centres, gives 0/0: far away the
+ * nearest node takes all the weight. The z_q sum to 1.
+ * @param centre m_q, same unit as x (n entries)
+ * @param width  s_q > 0 (n entries); a width <= 0 is treated as 1e-6
+ * @param n      number of nodes, >= 1
+ * @param x      network input
+ * @param z      out: z_q (n entries)
+ */
+void rbfn_basis(const real_t *centre, const real_t *width, uint32_t n, real_t x, real_t *z);
+
+/** Network output y = W^T Z (eq. 9). */
+real_t rbfn_output(const real_t *w, const real_t *z, uint32_t n);
+
+/** Euclidean norm |W|. */
+real_t rbfn_norm(const real_t *w, uint32_t n);
+
+/**
+ * Project W onto the ball |W| <= m_w: if |W| > m_w, scale it onto the sphere
+ * (with a margin of a few float ulps so that |W| <= m_w holds exactly after
+ * rounding). m_w <= 0 zeroes W. Returns the norm after projection (an upper
+ * bound within float rounding).
+ */
+real_t rbfn_project(real_t *w, uint32_t n, real_t m_w);
+
+/**
+ * One Euler step of the weight law dW/dt = -gamma_w e Z (eq. 14) with the
+ * projection of eq. 21: W <- W - gamma_w_dt * e * Z, then, if |W| left the
+ * ball, the outward (radial) part of the step is removed (eq. 21, second
+ * line) and the result is placed on the sphere |W| = m_w. For a step that
+ * moves inwards nothing is removed (eq. 21, first line).
+ * @param w          weights, updated (n entries); must satisfy |W| <= m_w on entry
+ *                   for eq. 21's invariance; if not, it is projected anyway
+ * @param z          basis Z (n entries)
+ * @param e          speed error e_x, rad/s
+ * @param gamma_w_dt gamma_w times the step, >= 0
+ * @param m_w        radius M_w > 0
+ * @return |W| after the step (<= m_w)
+ */
+real_t rbfn_update_projected(real_t *w, const real_t *z, uint32_t n, real_t e, real_t gamma_w_dt,
+                             real_t m_w);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DTC_RBFN_H */

@@ -1,0 +1,93 @@
+/**
+ * @file speed_rbfn.c
+ * @brief RBFN speed controller (paper eq. 8-14, 21).
+ *
+ * U = U_o + U_p, limited to +-te_max:
+ *   U_o = B_n^-1 [dX_d/dt - A_n X - eps_hat + K e]          (eq. 11)
+ *   U_p = B_n^-1 zeta_bar s(e),  s = sgn or sat(e / phi)    (eq. 13)
+ * then, for the next tick (forward Euler):
+ *   W        <- Proj_{|W| <= M_w}(W - gamma_w e Z T)          (eq. 14, 21)
+ *   zeta_bar <- min(zeta_max, zeta_bar
+ *               + T [gamma_zeta max(|e| - dead_zone, 0) - leak zeta_bar])
+ * Both updates are skipped while the command is limited and the error would
+ * push it further into the limit (they would only wind up).
+ * e = X_d - X (rad/s), eps and eps_hat in rad/s^2, B_n = 1/J, A_n = -B/J.
+ * Design and tuning: docs/speed_control.md.
+ */
+#include "dtc/speed_ctl.h"
+
+#include "dtc/rbfn.h"
+
+static uint32_t node_count(const rbfn_cfg *cfg)
+{
+    uint32_t n = cfg->n_nodes;
+    if (n < 1u)
+        n = 1u;
+    if (n > RBFN_NODES_MAX)
+        n = RBFN_NODES_MAX;
+    return n;
+}
+
+/* The robust term's switching function: sgn(e), or sat(e / phi) inside the
+ * boundary layer |e| < phi (continuous, so no chattering at e = 0). */
+static real_t robust_switch(real_t e, real_t phi)
+{
+    if (phi > R(0.0))
+        return num_limit(num_div(e, phi), R(1.0));
+    return num_sign(e);
+}
+
+void speed_rbfn_step(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, real_t te_max_Nm,
+                     real_t dt_s, const speed_in *in, speed_out *out)
+{
+    uint32_t n = node_count(cfg);
+    real_t x = in->omega_est_rad_s;
+    real_t e = in->omega_ref_rad_s - x;
+    real_t z[RBFN_NODES_MAX];
+
+    rbfn_basis(cfg->centre, cfg->width, n, e, z);
+    real_t eps_hat = rbfn_output(s->w, z, n);
+    real_t robust = num_mul(s->zeta_bar, robust_switch(e, cfg->boundary_rad_s));
+
+    /* B_n^-1 [...] = J [...]; -A_n X / B_n = B X. */
+    real_t acc = in->domega_ref_rad_s2 - eps_hat + num_mul(cfg->k, e) + robust; /* rad/s^2 */
+    real_t u = num_mac(m->J_kgm2, acc, num_mul(m->B_Nms, x));
+    real_t te = num_limit(u, te_max_Nm);
+
+    /* Adapt unless limited in the direction the error pushes (anti-windup):
+     * at +limit with e > 0 both laws would raise U further. */
+    int wind_up = (u > te_max_Nm && e > R(0.0)) || (u < -te_max_Nm && e < R(0.0));
+    real_t w_norm;
+    if (!wind_up) {
+        w_norm = rbfn_update_projected(s->w, z, n, e, num_mul(cfg->gamma_w, dt_s), cfg->m_w);
+        real_t excess = num_abs(e) - cfg->zeta_dead_zone_rad_s;
+        real_t grow = excess > R(0.0) ? num_mul(cfg->gamma_zeta, excess) : R(0.0);
+        real_t zb = s->zeta_bar + num_mul(grow - num_mul(cfg->zeta_leak, s->zeta_bar), dt_s);
+        s->zeta_bar = num_sat(zb, R(0.0), cfg->zeta_max > R(0.0) ? cfg->zeta_max : R(0.0));
+    } else {
+        w_norm = rbfn_project(s->w, n, cfg->m_w); /* keeps the invariant if M_w was lowered */
+    }
+    s->eps_hat = eps_hat;
+
+    out->te_ref_Nm = te;
+    out->eps_hat = eps_hat;
+    out->w_norm = w_norm;
+    out->zeta_bar = s->zeta_bar;
+}
+
+void speed_rbfn_bumpless(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m,
+                         real_t te_now_Nm, const speed_in *in)
+{
+    uint32_t n = node_count(cfg);
+    real_t x = in->omega_est_rad_s;
+    real_t e = in->omega_ref_rad_s - x;
+    /* With zeta_bar = 0 and equal weights w (the z_q sum to 1, so eps_hat = w):
+     * te_now = J (dX_d/dt - w + K e) + B X  =>  w = dX_d/dt + K e - (te_now - B X) / J. */
+    real_t w = in->domega_ref_rad_s2 + num_mul(cfg->k, e) -
+               num_div(te_now_Nm - num_mul(m->B_Nms, x), m->J_kgm2 > R(0.0) ? m->J_kgm2 : R(1.0));
+    for (uint32_t q = 0u; q < RBFN_NODES_MAX; q++)
+        s->w[q] = q < n ? w : R(0.0);
+    (void)rbfn_project(s->w, n, cfg->m_w);
+    s->zeta_bar = R(0.0);
+    s->eps_hat = s->w[0]; /* equal weights: eps_hat = w for any input */
+}

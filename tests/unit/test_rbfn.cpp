@@ -1,0 +1,245 @@
+// RBFN building blocks (firmware/src/rbfn.c) against an independent
+// double-precision Eigen implementation of eq. 8, 9, 14 and 21 written here.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+extern "C" {
+#include "dtc/rbfn.h"
+#include "dtc/speed_ctl.h"
+}
+
+namespace {
+
+using Vec = Eigen::VectorXd;
+
+// Eq. 8 taken literally (no shift of the exponents): fine in double for the
+// moderate inputs the comparison uses.
+Vec ref_basis(const Vec &m, const Vec &s, double x)
+{
+    Vec phi = (-(x - m.array()).square() / (2.0 * s.array().square())).exp();
+    return phi / phi.sum();
+}
+
+// Euclidean projection onto the ball |W| <= M (the discrete form of eq. 21).
+Vec ref_project(const Vec &w, double M)
+{
+    double n = w.norm();
+    return n > M ? Vec(w * (M / n)) : w;
+}
+
+// Eq. 21 integrated literally over one tick with many small Euler substeps:
+// dW/dt = -g e Z, minus the radial part when on the sphere and moving out.
+Vec ref_eq21_continuous(Vec w, const Vec &z, double e, double g, double dt, double M, int sub)
+{
+    double h = dt / sub;
+    for (int i = 0; i < sub; ++i) {
+        Vec d = -g * e * z;
+        double n = w.norm();
+        if (n >= M * (1.0 - 1e-12) && e * w.dot(z) < 0.0)
+            d += g * e * w * w.dot(z) / (n * n);
+        w += h * d;
+    }
+    return w;
+}
+
+struct Rng {
+    std::mt19937 gen{12345u};
+    double uni(double a, double b) { return std::uniform_real_distribution<double>(a, b)(gen); }
+    int uint(int a, int b) { return std::uniform_int_distribution<int>(a, b)(gen); }
+};
+
+} // namespace
+
+TEST(RbfnBasis, MatchesEigenReferenceOnRandomInputs)
+{
+    Rng r;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const int n = r.uint(1, RBFN_NODES_MAX);
+        float c[RBFN_NODES_MAX], s[RBFN_NODES_MAX], z[RBFN_NODES_MAX];
+        Vec mc(n), ms(n);
+        for (int q = 0; q < n; ++q) {
+            c[q] = (float)r.uni(-20.0, 20.0);
+            s[q] = (float)r.uni(1.0, 8.0);
+            mc[q] = c[q];
+            ms[q] = s[q];
+        }
+        const float x = (float)r.uni(-30.0, 30.0);
+        rbfn_basis(c, s, (uint32_t)n, x, z);
+        Vec zr = ref_basis(mc, ms, x);
+        double sum = 0.0;
+        for (int q = 0; q < n; ++q) {
+            ASSERT_NEAR(z[q], zr[q], 2e-6) << "trial " << trial << " node " << q;
+            sum += z[q];
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-6);
+    }
+}
+
+TEST(RbfnBasis, FarInputsStayFiniteAndPickTheNearestNode)
+{
+    const float c[3] = {-10.0f, 0.0f, 10.0f};
+    const float s[3] = {1.0f, 1.0f, 1.0f};
+    float z[3];
+    // Plain eq. 8 would give 0/0 here: every exp() underflows.
+    for (float x : {1e3f, -1e3f, 1e30f, -1e30f, 3e38f}) {
+        rbfn_basis(c, s, 3u, x, z);
+        for (float v : z)
+            ASSERT_TRUE(std::isfinite(v)) << x;
+        EXPECT_NEAR(z[0] + z[1] + z[2], 1.0f, 1e-6f) << x;
+        if (std::abs(x) < 1e6f) { // beyond that float cannot tell the centres apart
+            EXPECT_NEAR(x > 0 ? z[2] : z[0], 1.0f, 1e-6f) << x;
+        }
+    }
+    // A zero or negative width must not divide by zero.
+    const float bad_s[3] = {0.0f, -1.0f, 1.0f};
+    rbfn_basis(c, bad_s, 3u, 0.3f, z);
+    EXPECT_TRUE(std::isfinite(z[0]) && std::isfinite(z[1]) && std::isfinite(z[2]));
+}
+
+TEST(RbfnOutput, IsTheDotProductOfEq9)
+{
+    Rng r;
+    for (int trial = 0; trial < 500; ++trial) {
+        const int n = r.uint(1, RBFN_NODES_MAX);
+        float w[RBFN_NODES_MAX], z[RBFN_NODES_MAX];
+        Vec ew(n), ez(n);
+        for (int q = 0; q < n; ++q) {
+            w[q] = (float)r.uni(-500.0, 500.0);
+            z[q] = (float)r.uni(0.0, 1.0);
+            ew[q] = w[q];
+            ez[q] = z[q];
+        }
+        EXPECT_NEAR(rbfn_output(w, z, (uint32_t)n), ew.dot(ez), 1e-3);
+        EXPECT_NEAR(rbfn_norm(w, (uint32_t)n), ew.norm(), 1e-3);
+    }
+}
+
+TEST(RbfnUpdate, ManyStepsMatchEigenProjectedGradient)
+{
+    Rng r;
+    const int n = 7;
+    float c[n], s[n], w[n] = {0};
+    Vec mc(n), ms(n), wr = Vec::Zero(n);
+    for (int q = 0; q < n; ++q) {
+        c[q] = (float)(-9.0 + 3.0 * q);
+        s[q] = 2.0f;
+        mc[q] = c[q];
+        ms[q] = s[q];
+    }
+    const float M = 300.0f, g = 5000.0f, dt = 2e-4f;
+    int projected = 0;
+    double worst = 0.0;
+    for (int k = 0; k < 20000; ++k) {
+        // A drifting error with noise: spends time both inside and on the sphere.
+        const float e = (float)(8.0 * std::sin(k * 1e-3) + r.uni(-2.0, 2.0));
+        float z[n];
+        rbfn_basis(c, s, n, e, z);
+        rbfn_update_projected(w, z, n, e, g * dt, M);
+        Vec zr = ref_basis(mc, ms, e);
+        Vec step = wr - double(g) * double(dt) * double(e) * zr;
+        if (step.norm() > M)
+            ++projected;
+        wr = ref_project(step, M);
+        for (int q = 0; q < n; ++q)
+            worst = std::max(worst, std::abs(double(w[q]) - wr[q]));
+    }
+    EXPECT_GT(projected, 100) << "the sequence must exercise the projection";
+    EXPECT_LT(worst, 1e-3 * M) << "float update drifted from the double reference";
+}
+
+TEST(RbfnUpdate, OneTickOnTheSphereAgreesWithContinuousEq21)
+{
+    Rng r;
+    const int n = 5;
+    const double M = 100.0, dt = 2e-4;
+    for (int trial = 0; trial < 300; ++trial) {
+        float w[n], z[n];
+        Vec wr(n), zr(n);
+        for (int q = 0; q < n; ++q) {
+            wr[q] = r.uni(-1.0, 1.0);
+            zr[q] = r.uni(0.0, 1.0);
+        }
+        zr /= zr.sum();
+        wr *= M / wr.norm(); // on the sphere
+        for (int q = 0; q < n; ++q) {
+            w[q] = (float)wr[q];
+            z[q] = (float)zr[q];
+        }
+        const double e = r.uni(-5.0, 5.0), g = 2000.0;
+        rbfn_update_projected(w, z, n, (float)e, (float)(g * dt), (float)M);
+        Vec wc = ref_eq21_continuous(wr, zr, e, g, dt, M, 2000);
+        // The step is g e dt |Z| <= 2 rad/s^2; the two differ at second order.
+        const double step = g * std::abs(e) * dt * zr.norm();
+        for (int q = 0; q < n; ++q)
+            EXPECT_NEAR(w[q], wc[q], 1e-4 * M + step * step / M * 2.0) << trial;
+    }
+}
+
+TEST(RbfnUpdate, InwardStepIsNotModified)
+{
+    float w[3] = {30.0f, -40.0f, 0.0f}; // |W| = 50 < 100
+    const float z[3] = {0.2f, 0.5f, 0.3f};
+    rbfn_update_projected(w, z, 3u, 2.0f, 1.0f, 100.0f);
+    EXPECT_FLOAT_EQ(w[0], 30.0f - 0.4f);
+    EXPECT_FLOAT_EQ(w[1], -40.0f - 1.0f);
+    EXPECT_FLOAT_EQ(w[2], 0.0f - 0.6f);
+}
+
+TEST(RbfnUpdate, NormNeverExceedsBoundForAdversarialSequences)
+{
+    Rng r;
+    const float bounds[] = {1e-3f, 0.7f, 1.0f, 180.0f, 1000.0f, 3.3e4f};
+    for (float M : bounds) {
+        for (int n = 1; n <= RBFN_NODES_MAX; ++n) {
+            float w[RBFN_NODES_MAX] = {0}, z[RBFN_NODES_MAX], c[RBFN_NODES_MAX], s[RBFN_NODES_MAX];
+            for (int q = 0; q < n; ++q) {
+                c[q] = (float)r.uni(-5.0, 5.0);
+                s[q] = (float)r.uni(0.1, 3.0);
+            }
+            for (int k = 0; k < 5000; ++k) {
+                // Huge gains and errors, alternating signs and bursts.
+                const float e = (float)((k % 7 == 0 ? -1.0 : 1.0) * r.uni(0.0, 1e4));
+                const float gdt = (float)std::pow(10.0, r.uni(-3.0, 6.0));
+                rbfn_basis(c, s, (uint32_t)n, (float)r.uni(-10.0, 10.0), z);
+                const float ret = rbfn_update_projected(w, z, (uint32_t)n, e, gdt, M);
+                double norm = 0.0;
+                for (int q = 0; q < n; ++q)
+                    norm += double(w[q]) * double(w[q]);
+                norm = std::sqrt(norm);
+                ASSERT_LE(norm, double(M)) << "M " << M << " n " << n << " k " << k;
+                ASSERT_LE(double(ret), double(M));
+            }
+        }
+    }
+}
+
+TEST(RbfnController, WeightNormBoundedAfterEveryStepWithHugeGains)
+{
+    Rng r;
+    motor_model m{};
+    m.J_kgm2 = 0.045f;
+    m.B_Nms = 0.005f;
+    speed_cfg cfg;
+    speed_cfg_default(&cfg, &m);
+    cfg.rbfn.gamma_w = 1e7f;
+    cfg.rbfn.m_w = 250.0f;
+    cfg.te_max_Nm = 1e9f; // never limited, so adaptation always runs
+    rbfn_state st{};
+    for (int k = 0; k < 100000; ++k) {
+        speed_in in{};
+        in.omega_ref_rad_s = (float)r.uni(-200.0, 200.0);
+        in.omega_est_rad_s = (float)r.uni(-200.0, 200.0);
+        in.domega_ref_rad_s2 = (float)r.uni(-1e3, 1e3);
+        speed_out out{};
+        speed_rbfn_step(&st, &cfg.rbfn, &m, cfg.te_max_Nm, 2e-4f, &in, &out);
+        double norm = 0.0;
+        for (uint32_t q = 0; q < cfg.rbfn.n_nodes; ++q)
+            norm += double(st.w[q]) * double(st.w[q]);
+        ASSERT_LE(std::sqrt(norm), double(cfg.rbfn.m_w)) << k;
+        ASSERT_LE(out.w_norm, cfg.rbfn.m_w);
+    }
+}
