@@ -1,0 +1,89 @@
+/**
+ * @file semihost.c
+ * @brief ARM semihosting calls (write, command line, exit) and a line builder.
+ */
+#include "semihost.h"
+
+#define SYS_WRITE0 0x04
+#define SYS_GET_CMDLINE 0x15
+#define SYS_EXIT_EXTENDED 0x20
+#define ADP_STOPPED_APPLICATION_EXIT 0x20026u
+
+static int semihost_call(int op, void *arg)
+{
+    register int r0 __asm("r0") = op;
+    register void *r1 __asm("r1") = arg;
+    __asm volatile("bkpt 0xAB" : "+r"(r0) : "r"(r1) : "memory");
+    return r0;
+}
+
+void semihost_write0(const char *s) { (void)semihost_call(SYS_WRITE0, (void *)(uintptr_t)s); }
+
+int semihost_cmdline(char *buf, size_t size)
+{
+    uint32_t block[2] = {(uint32_t)(uintptr_t)buf, (uint32_t)size};
+    if (size == 0u)
+        return -1;
+    if (semihost_call(SYS_GET_CMDLINE, block) != 0) {
+        buf[0] = '\0';
+        return -1;
+    }
+    return 0;
+}
+
+void semihost_exit(int code)
+{
+    uint32_t block[2] = {ADP_STOPPED_APPLICATION_EXIT, (uint32_t)code};
+    (void)semihost_call(SYS_EXIT_EXTENDED, block);
+    for (;;) {
+    }
+}
+
+/* ------------------------------------------------------------ line builder */
+
+static void line_char(pil_line *l, char c)
+{
+    if (l->len + 1u < sizeof l->buf)
+        l->buf[l->len++] = c;
+}
+
+void line_str(pil_line *l, const char *s)
+{
+    while (*s != '\0')
+        line_char(l, *s++);
+}
+
+void line_u32(pil_line *l, uint32_t v)
+{
+    char digits[10];
+    unsigned n = 0u;
+    do {
+        digits[n++] = (char)('0' + v % 10u);
+        v /= 10u;
+    } while (v != 0u);
+    while (n > 0u)
+        line_char(l, digits[--n]);
+}
+
+void line_hex32(pil_line *l, uint32_t v)
+{
+    static const char hex[] = "0123456789abcdef";
+    line_str(l, "0x");
+    for (int shift = 28; shift >= 0; shift -= 4)
+        line_char(l, hex[(v >> shift) & 0xFu]);
+}
+
+void line_tenths(pil_line *l, uint32_t tenths)
+{
+    line_u32(l, tenths / 10u);
+    line_char(l, '.');
+    line_char(l, (char)('0' + tenths % 10u));
+}
+
+void line_flush(pil_line *l)
+{
+    line_char(l, '\n');
+    l->buf[l->len] = '\0';
+    semihost_write0(l->buf);
+    l->len = 0u;
+}
