@@ -15,7 +15,10 @@ void drive_init(drive *d)
     ctl_cfg_derive(&d->cfg[0]);
     d->cfg[1] = d->cfg[0];
     d->cfg_active = 0u;
-    ctl_init(&d->ctl, &d->cfg[0]);
+    scope_init(&d->scope);
+    co_dev_init(&d->co);
+    (void)persist_load(d); /* defaults, then the stored set; status in d->persist */
+    ctl_init(&d->ctl, drive_cfg(d));
 }
 
 const ctl_cfg *drive_cfg(const drive *d) { return &d->cfg[d->cfg_active & 1u]; }
@@ -56,6 +59,8 @@ static void publish_snapshot(drive *d, const ctl_in *in)
     s->ib_A = in->sample.ib_A;
     s->ic_A = in->sample.ic_A;
     s->tick = d->tick;
+    s->speed_err_rad_s = d->out.tel.speed_ref_rad_s - d->out.tel.omega_est_rad_s;
+    s->vdc_diff_V = in->sample.vc1_V - in->sample.vc2_V;
     s->seq++; /* even: consistent */
 }
 
@@ -90,12 +95,15 @@ void drive_isr(void *ctx)
 
     d->tick++;
     publish_snapshot(d, &in);
+    scope_sample(&d->scope, &d->snap, in.speed_ref_rad_s, d->out.tel.faults, d->tick);
 
     uint32_t dt = hal_cycles() - t0;
     d->timing.last_cycles = dt;
     if (dt > d->timing.max_cycles)
         d->timing.max_cycles = dt;
-    uint64_t period_cycles = (uint64_t)hal_cycles_hz() * (uint64_t)(cfg->period_s * 1e6f) / 1000000u;
+    /* Through uint32_t: a float -> uint64 cast would pull in soft-double code on the M4F. */
+    uint32_t period_us = (uint32_t)(cfg->period_s * 1e6f + 0.5f);
+    uint64_t period_cycles = (uint64_t)hal_cycles_hz() * period_us / 1000000u;
     if ((uint64_t)dt > period_cycles)
         d->timing.overruns++;
 }
@@ -108,4 +116,10 @@ void drive_read_snapshot(const drive *d, drive_snapshot *out)
         memcpy(out, (const void *)&d->snap, sizeof *out);
         s1 = d->snap.seq;
     } while (s0 != s1 || (s0 & 1u));
+}
+
+void drive_background(drive *d)
+{
+    co_dev_process(d);
+    hal_watchdog_kick();
 }

@@ -17,7 +17,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "dtc/canopen/co_dev.h"
 #include "dtc/ctl.h"
+#include "dtc/persist.h"
+#include "dtc/scope.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -31,6 +34,8 @@ typedef struct {
     float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
     float ia_A, ib_A, ic_A;   /**< measured currents, A */
     uint32_t tick;            /**< ISR tick counter */
+    float speed_err_rad_s;    /**< tel.speed_ref_rad_s - tel.omega_est_rad_s (the controllers' e_x), rad/s */
+    float vdc_diff_V;         /**< vc1_V - vc2_V (neutral-point deviation), V */
 } drive_snapshot;
 
 /** Interrupt timing, in HAL cycles. */
@@ -51,9 +56,17 @@ typedef struct drive {
     uint32_t tick;                  /**< ISR tick counter */
     drive_snapshot snap;            /**< published each tick */
     drive_timing timing;
+    scope scope;                    /**< triggered capture, sampled in drive_isr */
+    co_dev co;                      /**< CANopen device, run by drive_background */
+    persist_state persist;          /**< stored parameter set (status for 0x2510:1) */
+    drive_snapshot bg_snap;         /**< background copy of snap, taken once per drive_background pass */
 } drive;
 
-/** Initialise with default configuration, stopped. Context: BG, before hal_tick_start. */
+/**
+ * Initialise with default configuration, stopped, then load the persisted
+ * parameters (the newest valid NVM set; defaults if none). Bind the board
+ * (and load any NVM image) before calling. Context: BG, before hal_tick_start.
+ */
 void drive_init(drive *d);
 
 /** The control interrupt; signature of hal_tick_handler (ctx is the drive). Context: ISR. */
@@ -76,6 +89,13 @@ void drive_set_speed_ref(drive *d, float speed_ref_rad_s);
 
 /** Start (true: magnetise then run) or stop (false: gates off). Context: BG. */
 void drive_set_run(drive *d, bool run);
+
+/**
+ * One pass of the background loop: communication, persistence, housekeeping,
+ * watchdog. Never blocks. The SIL calls it once per control period; the
+ * target calls it in its main loop. Context: BG.
+ */
+void drive_background(drive *d);
 
 /** Copy the latest consistent telemetry snapshot. Context: BG. */
 void drive_read_snapshot(const drive *d, drive_snapshot *out);

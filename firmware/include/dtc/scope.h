@@ -1,0 +1,134 @@
+/**
+ * @file scope.h
+ * @brief A triggered capture of up to 4 telemetry signals x 1024 samples,
+ *        sampled in the control interrupt in constant time.
+ *
+ * The background arms it (scope_arm) with the channels resolved to byte
+ * offsets in the telemetry snapshot; the interrupt (scope_sample) stores one
+ * value per channel every `decimation` ticks into a ring, watches the
+ * trigger (a change of the commanded speed reference, a new fault, or a
+ * manual request) and, pretrigger samples after arming at the earliest,
+ * captures the rest of the record and freezes it (state DONE). The background
+ * reads a frozen record only (scope_value); arming again discards it.
+ *
+ * Sharing rule: the background writes the capture settings only while the
+ * interrupt ignores them (state IDLE or DONE) and publishes them with the
+ * state store; the interrupt writes the buffer only in ARMED or TRIGGERED
+ * and publishes DONE after its last store.
+ */
+#ifndef DTC_SCOPE_H
+#define DTC_SCOPE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "dtc/num.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SCOPE_CHANNELS 4u
+#define SCOPE_SAMPLES 1024u
+
+/** Settings (parameters 0x2600), used at the next scope_arm. */
+typedef struct {
+    uint8_t channel[SCOPE_CHANNELS]; /**< telemetry signal numbers (0x3000 subindex), 0 = off */
+    uint8_t trigger;                 /**< scope_trigger */
+    uint16_t pretrigger;             /**< samples kept before the trigger, 0..SCOPE_SAMPLES-1 */
+    uint16_t decimation;             /**< one sample every N ticks, >= 1 */
+} scope_cfg;
+
+typedef enum {
+    SCOPE_IDLE = 0,
+    SCOPE_ARMED = 1,      /**< filling the pretrigger part, waiting for the trigger */
+    SCOPE_TRIGGERED = 2,  /**< capturing after the trigger */
+    SCOPE_DONE = 3,       /**< record frozen, ready to read */
+} scope_state;
+
+typedef enum {
+    SCOPE_TRIG_MANUAL = 0,
+    SCOPE_TRIG_REF = 1,   /**< the commanded speed reference changed */
+    SCOPE_TRIG_FAULT = 2, /**< a fault bit latched (0 -> non-zero) */
+} scope_trigger;
+
+/** How the interrupt reads one channel from the snapshot. */
+typedef enum {
+    SCOPE_SRC_F32 = 0,
+    SCOPE_SRC_U32 = 1,
+    SCOPE_SRC_U8 = 2,
+} scope_src_kind;
+
+typedef struct {
+    uint16_t offset; /**< byte offset in the snapshot */
+    uint8_t kind;    /**< scope_src_kind */
+} scope_src;
+
+typedef struct {
+    scope_cfg cfg;                      /**< settings (BG only) */
+
+    /* capture settings: written by BG in IDLE/DONE, read by the ISR */
+    scope_src src[SCOPE_CHANNELS];
+    uint8_t armed_channel[SCOPE_CHANNELS]; /**< signal numbers of the capture (for the reader) */
+    uint8_t n_ch;                       /**< channels in use */
+    uint8_t trigger;                    /**< scope_trigger of the capture */
+    uint16_t pretrigger;
+    uint16_t decimation;
+
+    /* hand-over */
+    volatile uint8_t state;             /**< scope_state */
+    volatile bool trig_req;             /**< BG asks for a manual trigger */
+
+    /* interrupt-owned */
+    uint16_t pos;                       /**< next ring index */
+    uint16_t filled;                    /**< samples stored since arming (saturates) */
+    uint16_t remaining;                 /**< samples still to take after the trigger */
+    uint16_t dec_count;                 /**< ticks since the last stored sample */
+    uint16_t start;                     /**< ring index of the oldest sample (DONE) */
+    bool pending;                       /**< trigger seen, taken at the next stored sample */
+    bool primed;                        /**< last_ref/last_faults valid */
+    real_t last_ref_rad_s;
+    uint32_t last_faults;
+    uint32_t trigger_tick;              /**< tick counter at the trigger sample */
+    float buf[SCOPE_CHANNELS][SCOPE_SAMPLES];
+} scope;
+
+/** Idle, no channels; settings untouched. Context: BG. */
+void scope_init(scope *s);
+
+/**
+ * Arm a capture with the present settings and the given sources (one per
+ * cfg.channel that is not 0, in channel order; @p n_src of them); a running
+ * capture is discarded. Context: BG.
+ */
+void scope_arm(scope *s, const scope_src *src, uint8_t n_src);
+
+/** Trigger now (honoured once pretrigger samples are stored). Context: BG. */
+void scope_trigger_now(scope *s);
+
+/** Stop and discard any capture. Context: BG. */
+void scope_stop(scope *s);
+
+/** @return the scope_state. Context: BG. */
+uint8_t scope_get_state(const scope *s);
+
+/**
+ * Sample j (0 = oldest) of capture channel @p ch of a DONE record, as stored
+ * (SI units); 0 when not DONE or out of range. Context: BG.
+ */
+float scope_value(const scope *s, uint32_t ch, uint32_t j);
+
+/**
+ * Interrupt part: trigger detection and one store per channel every
+ * decimation ticks. Constant time. @p base is the telemetry snapshot the
+ * source offsets refer to, @p ref_cmd_rad_s the commanded (not ramped) speed
+ * reference, @p faults the latched fault bits, @p tick the tick counter.
+ * Context: ISR.
+ */
+void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t faults, uint32_t tick);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DTC_SCOPE_H */

@@ -1,0 +1,66 @@
+/**
+ * @file co_emcy.c
+ * @brief Emergency producer and error register, driven by the table's EMCY codes.
+ */
+#include "dtc/canopen/co_emcy.h"
+
+#include <string.h>
+
+#include "dtc/canopen/co_dev.h"
+#include "dtc/param_table.h"
+
+#define EMCY_BASE 0x080u
+
+void co_emcy_init(co_emcy *e) { memset(e, 0, sizeof *e); }
+
+uint8_t co_emcy_error_register(const co_emcy *e, uint32_t faults)
+{
+    uint32_t reg = e->extra_reg;
+    for (uint32_t i = 0u; i < CO_EMCY_COUNT; i++)
+        if ((co_emcy_table[i].fault_bit & faults) != 0u)
+            reg |= 1u << co_emcy_table[i].reg_bit;
+    if (reg != 0u || faults != 0u)
+        reg |= 1u; /* generic error: set whenever any error is present */
+    return (uint8_t)reg;
+}
+
+int co_emcy_send(uint8_t node_id, uint16_t code, uint8_t error_register, uint32_t faults)
+{
+    uint8_t b[8] = {(uint8_t)code, (uint8_t)(code >> 8), error_register, (uint8_t)faults,
+                    (uint8_t)(faults >> 8), (uint8_t)(faults >> 16), (uint8_t)(faults >> 24), 0u};
+    return co_dev_send((uint16_t)(EMCY_BASE + node_id), 8u, b);
+}
+
+void co_emcy_poll(co_emcy *e, uint8_t node_id, uint32_t faults)
+{
+    uint32_t fresh = faults & ~e->reported;
+    uint32_t known = 0u;
+    uint8_t reg = co_emcy_error_register(e, faults);
+    for (uint32_t i = 0u; i < CO_EMCY_COUNT; i++) {
+        uint32_t bit = co_emcy_table[i].fault_bit;
+        known |= bit;
+        if ((bit & fresh) != 0u && co_emcy_send(node_id, co_emcy_table[i].code, reg, faults) == 0)
+            e->reported |= bit; /* a refused message is retried on the next pass */
+    }
+    /* Fault bits without a table entry are announced with the generic code. */
+    uint32_t unknown = fresh & ~known;
+    if (unknown != 0u && co_emcy_send(node_id, 0x1000u, reg, faults) == 0)
+        e->reported |= unknown;
+    if (faults == 0u) {
+        if (e->reported != 0u && co_emcy_send(node_id, 0x0000u, reg, 0u) == 0)
+            e->reported = 0u;
+    } else {
+        e->reported &= faults; /* a bit that cleared is announced again if it returns */
+    }
+}
+
+void co_emcy_event(co_emcy *e, uint8_t node_id, uint32_t table_index, uint32_t faults, bool latch)
+{
+    if (table_index >= CO_EMCY_COUNT)
+        return;
+    if (latch)
+        e->extra_reg = (uint8_t)(e->extra_reg | (1u << co_emcy_table[table_index].reg_bit) | 1u);
+    (void)co_emcy_send(node_id, co_emcy_table[table_index].code, co_emcy_error_register(e, faults), faults);
+}
+
+void co_emcy_clear_extra(co_emcy *e) { e->extra_reg = 0u; }

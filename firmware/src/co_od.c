@@ -1,0 +1,439 @@
+/**
+ * @file co_od.c
+ * @brief Object dictionary: lookup, conversion between bus (raw) and C
+ *        (internal) values, and the checked write path.
+ */
+#include "dtc/canopen/co_od.h"
+
+#include <string.h>
+
+#include "dtc/canopen/co_dev.h"
+#include "dtc/drive.h"
+#include "dtc/param_table.h"
+
+size_t co_dtype_size(uint8_t dtype)
+{
+    switch (dtype) {
+    case CO_DT_BOOLEAN:
+    case CO_DT_INTEGER8:
+    case CO_DT_UNSIGNED8:
+        return 1u;
+    case CO_DT_INTEGER16:
+    case CO_DT_UNSIGNED16:
+        return 2u;
+    case CO_DT_INTEGER32:
+    case CO_DT_UNSIGNED32:
+    case CO_DT_REAL32:
+        return 4u;
+    default:
+        return 0u;
+    }
+}
+
+static uint32_t key_of(uint16_t index, uint8_t sub) { return ((uint32_t)index << 8) | sub; }
+
+const co_param *co_od_find(uint16_t index, uint8_t sub, uint32_t *abort)
+{
+    /* The table is sorted by (index, sub): binary search for the key, and
+     * remember whether the index exists at all for the right abort code. */
+    uint32_t key = key_of(index, sub);
+    uint32_t lo = 0u, hi = CO_PARAM_COUNT;
+    bool index_seen = false;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2u;
+        const co_param *p = &co_params[mid];
+        uint32_t k = key_of(p->index, p->sub);
+        if (p->index == index)
+            index_seen = true;
+        if (k == key) {
+            if (abort != NULL)
+                *abort = CO_ABORT_NONE;
+            return p;
+        }
+        if (k < key)
+            lo = mid + 1u;
+        else
+            hi = mid;
+    }
+    if (!index_seen) {
+        /* The search may have skipped the index's entries: look at the
+         * neighbours of the insertion point. */
+        if (lo < CO_PARAM_COUNT && co_params[lo].index == index)
+            index_seen = true;
+        if (lo > 0u && co_params[lo - 1u].index == index)
+            index_seen = true;
+    }
+    if (abort != NULL)
+        *abort = index_seen ? CO_ABORT_NO_SUB : CO_ABORT_NO_OBJECT;
+    return NULL;
+}
+
+const co_param *co_od_find_name(const char *name)
+{
+    if (name == NULL)
+        return NULL;
+    for (uint32_t i = 0u; i < CO_PARAM_COUNT; i++)
+        if (strcmp(co_params[i].name, name) == 0)
+            return &co_params[i];
+    return NULL;
+}
+
+bool co_od_running(const struct drive *d)
+{
+    ctl_run_state st = d->ctl.run_state; /* one aligned read of ISR state */
+    return d->run || st == CTL_MAGNETISING || st == CTL_RUNNING;
+}
+
+/* ------------------------------------------------------------- encoding */
+
+void co_num_encode(uint8_t dtype, const co_num *v, uint8_t *buf)
+{
+    uint32_t u = v->u; /* same bits for f, u and i */
+    size_t n = co_dtype_size(dtype);
+    for (size_t i = 0u; i < n; i++)
+        buf[i] = (uint8_t)(u >> (8u * i));
+}
+
+co_num co_num_decode(uint8_t dtype, const uint8_t *buf)
+{
+    co_num v;
+    uint32_t u = 0u;
+    size_t n = co_dtype_size(dtype);
+    for (size_t i = 0u; i < n; i++)
+        u |= (uint32_t)buf[i] << (8u * i);
+    v.u = u;
+    /* Sign-extend the short signed types so v.i holds the value. */
+    if (dtype == CO_DT_INTEGER8)
+        v.i = (int32_t)(int8_t)(uint8_t)u;
+    else if (dtype == CO_DT_INTEGER16)
+        v.i = (int32_t)(int16_t)(uint16_t)u;
+    return v;
+}
+
+/* ------------------------------------------------------- bound C fields */
+
+/* Where a bound entry lives for reading: the active configuration, the
+ * settings, the background snapshot or the drive. */
+static const uint8_t *read_base(const struct drive *d, const co_param *p)
+{
+    switch (p->bind) {
+    case CO_BIND_CFG:
+        return (const uint8_t *)drive_cfg(d);
+    case CO_BIND_COMM:
+        return (const uint8_t *)&d->co.comm;
+    case CO_BIND_SCOPE:
+        return (const uint8_t *)&d->scope.cfg;
+    case CO_BIND_SNAP:
+        return (const uint8_t *)&d->bg_snap;
+    case CO_BIND_DRIVE:
+        return (const uint8_t *)d;
+    default:
+        return NULL;
+    }
+}
+
+/* Where a writable entry lives: the configuration copy being edited or the settings. */
+static uint8_t *write_base(struct drive *d, const co_param *p, ctl_cfg *edit)
+{
+    switch (p->bind) {
+    case CO_BIND_CFG:
+        return (uint8_t *)edit;
+    case CO_BIND_COMM:
+        return (uint8_t *)&d->co.comm;
+    case CO_BIND_SCOPE:
+        return (uint8_t *)&d->scope.cfg;
+    default:
+        return NULL;
+    }
+}
+
+static co_num field_get(const uint8_t *ptr, const co_param *p)
+{
+    co_num v;
+    v.u = 0u;
+    switch (p->ckind) {
+    case CO_CK_FLOAT:
+        memcpy(&v.f, ptr, sizeof v.f);
+        break;
+    case CO_CK_BOOL:
+        v.u = ptr[0] != 0u ? 1u : 0u;
+        break;
+    case CO_CK_UINT:
+        if (p->csize == 1u) {
+            v.u = ptr[0];
+        } else if (p->csize == 2u) {
+            uint16_t x;
+            memcpy(&x, ptr, 2u);
+            v.u = x;
+        } else {
+            memcpy(&v.u, ptr, 4u);
+        }
+        break;
+    case CO_CK_SINT:
+        if (p->csize == 1u) {
+            v.i = (int8_t)ptr[0];
+        } else if (p->csize == 2u) {
+            int16_t x;
+            memcpy(&x, ptr, 2u);
+            v.i = x;
+        } else {
+            memcpy(&v.i, ptr, 4u);
+        }
+        break;
+    default:
+        break;
+    }
+    return v;
+}
+
+static void field_set(uint8_t *ptr, const co_param *p, const co_num *v)
+{
+    switch (p->ckind) {
+    case CO_CK_FLOAT:
+        memcpy(ptr, &v->f, sizeof v->f);
+        break;
+    case CO_CK_BOOL: {
+        bool b = v->u != 0u;
+        memcpy(ptr, &b, sizeof b);
+        break;
+    }
+    case CO_CK_UINT:
+    case CO_CK_SINT:
+        if (p->csize == 1u) {
+            ptr[0] = (uint8_t)v->u;
+        } else if (p->csize == 2u) {
+            uint16_t x = (uint16_t)v->u;
+            memcpy(ptr, &x, 2u);
+        } else {
+            memcpy(ptr, &v->u, 4u);
+        }
+        break;
+    default:
+        break;
+    }
+}
+
+/* ------------------------------------------------ raw <-> internal values */
+
+static bool dtype_signed(uint8_t dt)
+{
+    return dt == CO_DT_INTEGER8 || dt == CO_DT_INTEGER16 || dt == CO_DT_INTEGER32;
+}
+
+/* Range of an integer bus type, as floats for saturating a scaled value. */
+static void dtype_range_f(uint8_t dt, float *lo, float *hi)
+{
+    switch (dt) {
+    case CO_DT_INTEGER8: *lo = -128.0f; *hi = 127.0f; break;
+    case CO_DT_INTEGER16: *lo = -32768.0f; *hi = 32767.0f; break;
+    case CO_DT_INTEGER32: *lo = -2147483648.0f; *hi = 2147483520.0f; break; /* largest float below 2^31 */
+    case CO_DT_UNSIGNED8: case CO_DT_BOOLEAN: *lo = 0.0f; *hi = 255.0f; break;
+    case CO_DT_UNSIGNED16: *lo = 0.0f; *hi = 65535.0f; break;
+    default: *lo = 0.0f; *hi = 4294967040.0f; break; /* largest float below 2^32 */
+    }
+}
+
+/* Truncate or saturate an integer to the bus type: unsigned types keep the
+ * low bits (fault words, wrapping counters), signed types saturate. */
+static co_num int_to_dtype(uint8_t dt, int64_t x)
+{
+    co_num v;
+    switch (dt) {
+    case CO_DT_INTEGER8: v.i = (int32_t)(x < -128 ? -128 : (x > 127 ? 127 : x)); break;
+    case CO_DT_INTEGER16: v.i = (int32_t)(x < -32768 ? -32768 : (x > 32767 ? 32767 : x)); break;
+    case CO_DT_INTEGER32:
+        v.i = (int32_t)(x < INT32_MIN ? INT32_MIN : (x > INT32_MAX ? INT32_MAX : x));
+        break;
+    case CO_DT_BOOLEAN: v.u = x != 0 ? 1u : 0u; break;
+    case CO_DT_UNSIGNED8: v.u = (uint32_t)x & 0xFFu; break;
+    case CO_DT_UNSIGNED16: v.u = (uint32_t)x & 0xFFFFu; break;
+    default: v.u = (uint32_t)x; break;
+    }
+    return v;
+}
+
+/* Internal value -> bus raw value: scale by k, round half away from zero,
+ * saturate to the type (NaN reads as 0). */
+static co_num to_raw(const co_param *p, co_num in)
+{
+    co_num out;
+    if (p->dtype == CO_DT_REAL32) {
+        out.f = (p->ckind == CO_CK_FLOAT ? in.f : (float)in.u) * p->k;
+        return out;
+    }
+    if (p->ckind == CO_CK_FLOAT) {
+        float x = in.f * p->k;
+        float lo, hi;
+        dtype_range_f(p->dtype, &lo, &hi);
+        if (!(x == x)) /* NaN */
+            x = 0.0f;
+        x = x >= 0.0f ? x + 0.5f : x - 0.5f;
+        x = x < lo ? lo : (x > hi ? hi : x);
+        if (dtype_signed(p->dtype))
+            return int_to_dtype(p->dtype, (int64_t)(int32_t)x);
+        return int_to_dtype(p->dtype, (int64_t)(uint32_t)x);
+    }
+    if (p->ckind == CO_CK_SINT)
+        return int_to_dtype(p->dtype, (int64_t)in.i);
+    return int_to_dtype(p->dtype, (int64_t)in.u);
+}
+
+/* Checked bus raw value -> internal value. */
+static co_num to_internal(const co_param *p, const co_num *raw)
+{
+    co_num out;
+    if (p->ckind != CO_CK_FLOAT) {
+        out = *raw; /* integers bound to integers are never scaled */
+        return out;
+    }
+    float x;
+    if (p->dtype == CO_DT_REAL32)
+        x = raw->f;
+    else if (dtype_signed(p->dtype))
+        x = (float)raw->i;
+    else
+        x = (float)raw->u;
+    out.f = p->k != 1.0f ? x / p->k : x;
+    return out;
+}
+
+/* ---------------------------------------------------------------- reads */
+
+uint32_t co_od_read_num(struct drive *d, const co_param *p, co_num *out)
+{
+    if (co_dtype_size(p->dtype) == 0u)
+        return CO_ABORT_LENGTH;
+    switch (p->bind) {
+    case CO_BIND_CONST:
+        *out = p->def;
+        return CO_ABORT_NONE;
+    case CO_BIND_NODEID:
+        out->u = p->def.u + d->co.node_id;
+        return CO_ABORT_NONE;
+    case CO_BIND_FN: {
+        co_num in;
+        uint32_t rc = co_fn_read(d, p, &in);
+        if (rc == CO_ABORT_NONE)
+            *out = to_raw(p, in);
+        return rc;
+    }
+    default: {
+        const uint8_t *base = read_base(d, p);
+        if (base == NULL)
+            return CO_ABORT_GENERAL;
+        *out = to_raw(p, field_get(base + p->offset, p));
+        return CO_ABORT_NONE;
+    }
+    }
+}
+
+uint32_t co_od_read(struct drive *d, const co_param *p, uint8_t *buf, size_t cap, size_t *len)
+{
+    *len = 0u;
+    if ((p->flags & CO_F_READ) == 0u)
+        return CO_ABORT_WRITE_ONLY;
+    if (p->dtype == CO_DT_VISIBLE_STRING) {
+        size_t n = p->str != NULL ? strlen(p->str) : 0u;
+        if (n > cap)
+            return CO_ABORT_GENERAL;
+        memcpy(buf, p->str, n);
+        *len = n;
+        return CO_ABORT_NONE;
+    }
+    size_t n = co_dtype_size(p->dtype);
+    if (n == 0u || n > cap)
+        return CO_ABORT_GENERAL; /* domains are streamed by the SDO server */
+    co_num v;
+    uint32_t rc = co_od_read_num(d, p, &v);
+    if (rc != CO_ABORT_NONE)
+        return rc;
+    co_num_encode(p->dtype, &v, buf);
+    *len = n;
+    return CO_ABORT_NONE;
+}
+
+/* --------------------------------------------------------------- writes */
+
+uint32_t co_od_check(const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin, co_num *v)
+{
+    if (origin != CO_WR_LOAD && (p->flags & CO_F_WRITE) == 0u)
+        return CO_ABORT_READ_ONLY;
+    size_t n = co_dtype_size(p->dtype);
+    if (n == 0u)
+        return CO_ABORT_READ_ONLY; /* strings and domains are never written */
+    if (len != n)
+        return CO_ABORT_LENGTH;
+    *v = co_num_decode(p->dtype, data);
+    if (p->dtype == CO_DT_REAL32 && !(v->f - v->f == 0.0f)) /* NaN or infinity */
+        return CO_ABORT_INVALID_VALUE;
+    if (p->dtype == CO_DT_BOOLEAN && v->u > 1u)
+        return CO_ABORT_INVALID_VALUE;
+    if ((p->flags & CO_F_LIMITS) != 0u) {
+        if (p->dtype == CO_DT_REAL32) {
+            if (v->f > p->max.f)
+                return CO_ABORT_VALUE_HIGH;
+            if (v->f < p->min.f)
+                return CO_ABORT_VALUE_LOW;
+        } else if (dtype_signed(p->dtype)) {
+            if (v->i > p->max.i)
+                return CO_ABORT_VALUE_HIGH;
+            if (v->i < p->min.i)
+                return CO_ABORT_VALUE_LOW;
+        } else {
+            if (v->u > p->max.u)
+                return CO_ABORT_VALUE_HIGH;
+            if (v->u < p->min.u)
+                return CO_ABORT_VALUE_LOW;
+        }
+    }
+    if (p->allowed != NULL) {
+        bool ok = false;
+        for (uint32_t i = 0u; i < p->n_allowed; i++)
+            ok = ok || (p->allowed[i] == v->u);
+        if (!ok)
+            return CO_ABORT_INVALID_VALUE;
+    }
+    return CO_ABORT_NONE;
+}
+
+void co_od_apply(struct drive *d, const co_param *p, const co_num *v, ctl_cfg *edit)
+{
+    co_num in = to_internal(p, v);
+    if (p->bind == CO_BIND_FN) {
+        (void)co_fn_write(d, p, &in);
+        return;
+    }
+    uint8_t *base = write_base(d, p, edit);
+    if (base == NULL)
+        return;
+    field_set(base + p->offset, p, &in);
+}
+
+uint32_t co_od_write(struct drive *d, const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin)
+{
+    co_num v;
+    uint32_t rc = co_od_check(p, data, len, origin, &v);
+    if (rc != CO_ABORT_NONE)
+        return rc;
+    if (origin != CO_WR_LOAD && (p->flags & CO_F_RUNTIME) == 0u && co_od_running(d))
+        return CO_ABORT_STATE;
+    if (p->bind == CO_BIND_FN) {
+        co_num in = to_internal(p, &v);
+        return co_fn_write(d, p, &in);
+    }
+    if (p->bind != CO_BIND_CFG) {
+        co_od_apply(d, p, &v, NULL);
+        return CO_ABORT_NONE;
+    }
+    /* Configuration: edit the inactive copy, refuse a change that makes a
+     * consistent configuration inconsistent (ctl_cfg_check: e.g. a width of
+     * 0 for a node in use, vdc_min above vdc_max) -- the copy is then simply
+     * not published -- else publish it with one store. */
+    bool was_ok = ctl_cfg_check(drive_cfg(d)) == CTL_CFG_OK;
+    ctl_cfg *e = drive_cfg_edit(d);
+    co_od_apply(d, p, &v, e);
+    if (was_ok && ctl_cfg_check(e) != CTL_CFG_OK)
+        return CO_ABORT_PARAM_INCOMPAT;
+    drive_cfg_commit(d);
+    return CO_ABORT_NONE;
+}

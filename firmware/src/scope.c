@@ -1,0 +1,137 @@
+/**
+ * @file scope.c
+ * @brief Triggered capture of telemetry signals: constant-time sampling in
+ *        the interrupt, arming and reading in the background.
+ */
+#include "dtc/scope.h"
+
+#include <stdatomic.h>
+#include <string.h>
+
+/* Compiler barrier: keeps plain stores on the right side of the state store
+ * that publishes them (single core: the interrupt only preempts). */
+static inline void publish_fence(void) { atomic_signal_fence(memory_order_seq_cst); }
+
+void scope_init(scope *s)
+{
+    scope_cfg keep = s->cfg;
+    memset(s, 0, sizeof *s);
+    s->cfg = keep;
+    s->decimation = 1u;
+    s->state = SCOPE_IDLE;
+}
+
+void scope_stop(scope *s)
+{
+    s->state = SCOPE_IDLE;
+    publish_fence();
+}
+
+void scope_arm(scope *s, const scope_src *src, uint8_t n_src)
+{
+    scope_stop(s); /* from here on the interrupt leaves everything below alone */
+    uint8_t n = n_src <= SCOPE_CHANNELS ? n_src : (uint8_t)SCOPE_CHANNELS;
+    uint8_t k = 0u;
+    for (uint32_t ch = 0u; ch < SCOPE_CHANNELS; ch++) {
+        if (s->cfg.channel[ch] != 0u && k < n)
+            s->armed_channel[k++] = s->cfg.channel[ch];
+    }
+    for (uint32_t ch = k; ch < SCOPE_CHANNELS; ch++)
+        s->armed_channel[ch] = 0u;
+    for (uint32_t i = 0u; i < n; i++)
+        s->src[i] = src[i];
+    s->n_ch = n;
+    s->trigger = s->cfg.trigger;
+    s->pretrigger = s->cfg.pretrigger < SCOPE_SAMPLES ? s->cfg.pretrigger : (uint16_t)(SCOPE_SAMPLES - 1u);
+    s->decimation = s->cfg.decimation >= 1u ? s->cfg.decimation : 1u;
+    s->pos = 0u;
+    s->filled = 0u;
+    s->remaining = 0u;
+    s->dec_count = 0u;
+    s->start = 0u;
+    s->pending = false;
+    s->trig_req = false;
+    s->trigger_tick = 0u;
+    publish_fence();
+    s->state = SCOPE_ARMED;
+}
+
+void scope_trigger_now(scope *s) { s->trig_req = true; }
+
+uint8_t scope_get_state(const scope *s) { return s->state; }
+
+float scope_value(const scope *s, uint32_t ch, uint32_t j)
+{
+    if (s->state != SCOPE_DONE || ch >= s->n_ch || j >= SCOPE_SAMPLES)
+        return 0.0f;
+    return s->buf[ch][(s->start + j) % SCOPE_SAMPLES];
+}
+
+static inline float read_src(const uint8_t *base, scope_src src)
+{
+    switch (src.kind) {
+    case SCOPE_SRC_U32: {
+        uint32_t u;
+        memcpy(&u, base + src.offset, sizeof u);
+        return (float)u;
+    }
+    case SCOPE_SRC_U8:
+        return (float)base[src.offset];
+    default: {
+        float f;
+        memcpy(&f, base + src.offset, sizeof f);
+        return f;
+    }
+    }
+}
+
+void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t faults, uint32_t tick)
+{
+    /* Trigger events are watched every tick, whatever the state, so that the
+     * first tick after arming compares with a valid previous value. */
+    bool ref_changed = s->primed && ref_cmd_rad_s != s->last_ref_rad_s;
+    bool fault_edge = s->primed && faults != 0u && s->last_faults == 0u;
+    s->last_ref_rad_s = ref_cmd_rad_s;
+    s->last_faults = faults;
+    s->primed = true;
+
+    uint8_t st = s->state;
+    if (st != SCOPE_ARMED && st != SCOPE_TRIGGERED)
+        return;
+    if (st == SCOPE_ARMED && s->filled >= s->pretrigger) {
+        bool manual = s->trig_req;
+        if (manual)
+            s->trig_req = false;
+        if (manual || (s->trigger == SCOPE_TRIG_REF && ref_changed) ||
+            (s->trigger == SCOPE_TRIG_FAULT && fault_edge))
+            s->pending = true;
+    }
+    if (++s->dec_count < s->decimation)
+        return;
+    s->dec_count = 0u;
+
+    const uint8_t *b = (const uint8_t *)base;
+    uint16_t pos = s->pos;
+    for (uint32_t ch = 0u; ch < s->n_ch; ch++) /* at most SCOPE_CHANNELS stores */
+        s->buf[ch][pos] = read_src(b, s->src[ch]);
+    s->pos = (uint16_t)((pos + 1u) % SCOPE_SAMPLES);
+    if (s->filled < SCOPE_SAMPLES)
+        s->filled++;
+
+    if (st == SCOPE_ARMED) {
+        if (!s->pending)
+            return;
+        s->pending = false;
+        s->trigger_tick = tick;
+        s->start = (uint16_t)((pos + SCOPE_SAMPLES - s->pretrigger) % SCOPE_SAMPLES);
+        s->remaining = (uint16_t)(SCOPE_SAMPLES - 1u - s->pretrigger);
+        if (s->remaining > 0u) {
+            s->state = SCOPE_TRIGGERED;
+            return;
+        }
+    } else if (--s->remaining > 0u) {
+        return;
+    }
+    publish_fence();
+    s->state = SCOPE_DONE;
+}
