@@ -33,6 +33,24 @@ enum ctl_fault {
     CTL_FAULT_STALE_SAMPLE = 1u << 5, /**< the HAL gave no fresh sample this tick */
     CTL_FAULT_HW = 1u << 6,           /**< hardware fault input active */
     CTL_FAULT_OVERRUN = 1u << 7,      /**< the previous tick missed its deadline */
+    CTL_FAULT_SAMPLE_INVALID = 1u << 8, /**< a sampled value is not a finite number */
+};
+
+/** Fault bits that ctl_step latches (OVERRUN from ctl_in.overrun). */
+#define CTL_FAULTS_DETECTED                                                                 \
+    (CTL_FAULT_OVERCURRENT | CTL_FAULT_DC_OVERVOLT | CTL_FAULT_DC_UNDERVOLT |               \
+     CTL_FAULT_NP_IMBALANCE | CTL_FAULT_OVERSPEED | CTL_FAULT_STALE_SAMPLE | CTL_FAULT_HW | \
+     CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID)
+
+/** Error codes of ctl_cfg_check() (negative, first violated rule). */
+enum ctl_cfg_error {
+    CTL_CFG_OK = 0,
+    CTL_CFG_E_MOTOR = -1,     /**< a motor parameter not > 0, or Ls, Lr not > Lm */
+    CTL_CFG_E_PERIOD = -2,    /**< period_s outside 20e-6..2e-3 or vdc_nom_V not > 0 */
+    CTL_CFG_E_DTC = -3,       /**< psi_ref not > 0, a band < 0, band2 <= band, level_down >= level_up, duty_min outside 0..0.45 */
+    CTL_CFG_E_OBSERVER = -4,  /**< k_gain < 1, a gain < 0 or speed_lpf_hz < 0 */
+    CTL_CFG_E_PROTECTION = -5,/**< a trip level not > 0, or vdc_min_V >= vdc_max_V */
+    CTL_CFG_E_SPEED = -6,     /**< speed_cfg_check failed */
 };
 
 /** All tunables of the control core. Written by the background only, through
@@ -42,6 +60,7 @@ typedef struct {
     motor_model motor;
     real_t period_s;          /**< control period, s (2e-4) */
     real_t vdc_nom_V;         /**< nominal DC link, V */
+    real_t c_dc_F;            /**< each of the two DC-link capacitors, F (NP prediction; 0 = none) */
 
     speed_cfg speed;          /**< speed loop: mode, IP, nominal, RBFN, torque limit */
     dtc3l_cfg dtc;            /**< flux reference, bands, ripple reduction, NP balance */
@@ -53,6 +72,13 @@ typedef struct {
     real_t vdc_min_V;         /**< DC-link under-voltage trip while running, V */
     real_t np_trip_V;         /**< |vc1 - vc2| trip, V */
     real_t overspeed_rad_s;   /**< estimated-speed trip, rad/s */
+
+    /* derived by ctl_cfg_derive() */
+    real_t psi_ramp_Wb_s;     /**< flux-reference slew rate, Wb/s: keeps the magnetising
+                                   current transient (the rotor flux lags the stator flux
+                                   by sigma Tr) below a fifth of i_trip_A */
+    real_t np_V_per_A;        /**< period_s / c_dc_F: change of vc1 - vc2 per ampere of NP current over one period */
+    real_t inv_period_per_s;  /**< 1 / period_s */
 } ctl_cfg;
 
 /** Inputs of one control step. */
@@ -62,6 +88,7 @@ typedef struct {
     bool run;                 /**< run command: false forces zero torque and gates off */
     real_t speed_ref_rad_s;   /**< mechanical speed reference, rad/s */
     bool fault_input;         /**< hardware fault input active */
+    bool overrun;             /**< the previous tick missed its deadline (set by the caller's timing) */
 } ctl_in;
 
 /** Signals published every tick for telemetry, traces and the scope. */
@@ -107,7 +134,13 @@ typedef struct {
     real_t speed_ref_ramped_rad_s;
     uint32_t faults;
     hal_vector last_vector;   /**< last vector applied (to forbid P<->N steps) */
-    hal_actuation last_act;   /**< actuation applied during the current period */
+    hal_actuation last_act;   /**< actuation applied during the current period (latched at tick k-1) */
+    hal_actuation prev_act;   /**< actuation applied during the period that just ended (latched at k-2) */
+    uint32_t faults_active;   /**< fault conditions present at the last step (ctl_clear_faults keeps these) */
+    real_t psi_ref_ramped_Wb; /**< flux reference after the slew-rate limit */
+    real_t te_ref_Nm;         /**< torque command of the last step */
+    observer_out obs_out;     /**< observer outputs of the last step */
+    dtc3l_out dtc_out;        /**< DTC outputs of the last step */
 } ctl_state;
 
 /** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */
@@ -116,14 +149,31 @@ void ctl_cfg_default(ctl_cfg *cfg);
 /** Recompute derived quantities (IP gains from wn and zeta, ...) after a change. Context: BG. */
 void ctl_cfg_derive(ctl_cfg *cfg);
 
+/**
+ * Check a configuration before it is published (ctl_step stays bounded with a
+ * bad one, but it would not control). @return CTL_CFG_OK or the first
+ * violated rule (enum ctl_cfg_error). Context: BG.
+ */
+int ctl_cfg_check(const ctl_cfg *cfg);
+
 /** Initialise the state (stopped, no faults). Context: BG. */
 void ctl_init(ctl_state *s, const ctl_cfg *cfg);
 
-/** Clear latched faults if their cause is gone; returns the remaining fault bits. Context: BG. */
+/**
+ * Clear latched faults if their cause is gone (judged by the conditions of the
+ * last ctl_step); a FAULTED core with nothing left goes to STOPPED and starts
+ * again (magnetising) at the next step with run set. Returns the remaining
+ * fault bits. Context: BG, or the ISR before ctl_step (never concurrently).
+ */
 uint32_t ctl_clear_faults(ctl_state *s);
 
 /**
  * One control period. Context: ISR. Constant time apart from the bounded RBFN loop.
+ * Order: protect (a fault turns the gates off in this call) -> run state ->
+ * observer (advanced to t_{k+1} with the actuation latched at k-1, which the
+ * inverter applies during the period now starting) -> speed loop (filtered
+ * estimate; zero torque while magnetising) -> DTC on the state predicted for
+ * t_{k+1} -> P<->N guard -> the actuation for t_{k+1}..t_{k+2}.
  * @param s   state, updated
  * @param cfg configuration, read only
  * @param in  this tick's inputs

@@ -2,6 +2,63 @@
  * @file dtc3l.h
  * @brief Three-level direct torque control: comparators, sector, 19-vector table,
  *        neutral-point balancing and low-speed torque-ripple reduction.
+ *
+ * Vocabulary
+ *  - state: one of the 27 switching states, numbered a*9 + b*3 + c with the leg
+ *    codes N = 0, O = 1, P = 2 (hal_leg_state).
+ *  - space vector ("sv"): one of the 19 distinct voltage vectors:
+ *      0       zero            (NNN, OOO, PPP)
+ *      1..6    small  Vdc/3        at (sv-1)*60 deg  (two states: P-type, N-type)
+ *      7..12   medium Vdc/sqrt(3)  at 30 + (sv-7)*60 deg (one state)
+ *      13..18  large  2 Vdc/3      at (sv-13)*60 deg (one state)
+ *  - direction: 0..11, the angle of a non-zero sv in steps of 30 deg; even
+ *    directions hold small and large vectors, odd directions medium ones.
+ *  - sector: 0..11, the stator-flux angle in 30 deg sectors centred on
+ *    direction s (sector s spans s*30 - 15 .. s*30 + 15 deg); sector6: 0..5,
+ *    60 deg sectors centred on the small vectors (s6*60 - 30 .. s6*60 + 30).
+ *
+ * Selection rule (dtc3l_select). To move the torque up the chosen vector lies
+ * +60 deg (flux up) or +120 deg (flux down) from a reference direction, to move
+ * it down -60 / -120 deg:
+ *  - LOW level, demands +-1: the reference is the small vector nearest to the
+ *    flux (6 sectors of 60 deg, dtc3l_sector6) and the vector is small; over
+ *    the sector it is 30..90 deg (90..150 deg) from the flux. Small vectors are
+ *    one commutation away from a zero state and all balance the neutral point.
+ *  - HIGH level, and the strong demands +-2 at any level: the reference is the
+ *    centre of the 30 deg sector (12 sectors, dtc3l_sector); the vector is
+ *    large (even sectors) or medium (odd sectors), 45..75 deg (105..135 deg)
+ *    from the flux over the whole sector.
+ * Holding the torque uses a zero vector, or at the LOW level a small vector
+ * along the flux (dtc3l_table_flux_hold) when the flux has dropped below its
+ * band (the Rs is drop that zero vectors cause at low speed).
+ * The LOW level is meant for a back-emf below about half of Vdc/3 (500 rpm at
+ * rated flux and 311 V, up to about 12 N m at the sector edges; a larger
+ * torque error calls the strong vectors); tests/unit/test_dtc3l.cpp checks
+ * every entry there and at the HIGH level at 700..1100 rpm.
+ *
+ * Redundant states (dtc3l_choose_state): a small vector's P-type and N-type
+ * states draw opposite neutral-point currents; outside np_band_V the one that
+ * drives vc1 - vc2 towards zero is taken (d(vc1 - vc2)/dt = i_np / C), inside
+ * the band the one with the fewest leg commutations. No leg ever steps
+ * directly between P and N: states that would are excluded, and when the
+ * wanted vector has no such state the offending legs are held at O. When
+ * the balancing state of a small vector is such a step away (PPO -> ONN),
+ * the P<->N-safe intermediate (OON) is used instead if it balances too.
+ * At the HIGH level (large and medium vectors, which cannot balance) an
+ * unbalanced link is pulled back during the holds, by the balancing state of
+ * the small vector nearest to +-flux instead of a zero state.
+ *
+ * Ripple reduction (below ripple_speed_max_rad_s): the torque comparator's
+ * band edge crossing is placed inside the period instead of at its end. The
+ * period is split into the running vector for the time the torque needs to
+ * reach the band edge (from the predicted torque and the slope dTe/dt of that
+ * vector) and the next vector for the rest, so the torque ripple is the band
+ * itself and not band + one period of slope; switching events are not added,
+ * only moved. When the vector after a hold would also overshoot the opposite
+ * edge within the period, it starts later instead, so that the period ends on
+ * that edge: d = (Te_edge - Te - s_hold T) / ((s_act - s_hold) T), the duty
+ * from the torque error and the two slopes. The slopes come from the
+ * observer model at the predicted state (dte0 + dte_dv . v).
  */
 #ifndef DTC_DTC3L_H
 #define DTC_DTC3L_H
@@ -16,15 +73,182 @@
 extern "C" {
 #endif
 
+#define DTC3L_N_STATES 27u   /**< switching states */
+#define DTC3L_N_VECTORS 19u  /**< distinct space vectors */
+#define DTC3L_N_SECTORS 12u  /**< flux sectors of 30 deg */
+#define DTC3L_STATE_OOO 13u  /**< all legs at the neutral point */
+
+/** Magnitude class of a space vector. */
+typedef enum {
+    DTC3L_CLASS_ZERO = 0,
+    DTC3L_CLASS_SMALL = 1,
+    DTC3L_CLASS_MEDIUM = 2,
+    DTC3L_CLASS_LARGE = 3,
+} dtc3l_class;
+
+/** Voltage level chosen from the speed. */
+typedef enum {
+    DTC3L_LEVEL_LOW = 0,  /**< small vectors, 6 sectors */
+    DTC3L_LEVEL_HIGH = 1, /**< large and medium vectors, 12 sectors */
+} dtc3l_level;
+
 typedef struct {
     real_t psi_ref_Wb;        /**< stator-flux reference, Wb */
     real_t premag_s;          /**< pre-magnetisation time before speed control, s */
     real_t flux_band_Wb;      /**< flux hysteresis band (half width), Wb */
     real_t torque_band_Nm;    /**< torque comparator band (half width of the inner level), N m */
     bool ripple_reduction;    /**< duty-split ripple reduction at low speed */
-    real_t ripple_speed_max_rad_s; /**< apply ripple reduction below this |speed|, rad/s */
+    real_t ripple_speed_max_rad_s; /**< apply ripple reduction below this |speed|, rad/s (mechanical) */
     real_t np_band_V;         /**< |vc1 - vc2| below which the small vector is left to alternate, V */
+    /* added by the DTC implementation */
+    real_t torque_band2_Nm;   /**< |torque error| above which the comparator asks for the strong
+                                   vectors (level +-2), N m; > torque_band_Nm */
+    real_t level_up;          /**< back-emf |omega_e| psi_ref over Vdc/3 above which the HIGH level is used */
+    real_t level_down;        /**< ... below which the LOW level returns (< level_up) */
+    real_t duty_min;          /**< shortest vector segment, fraction of the period (0..0.5) */
 } dtc3l_cfg;
+
+/** Comparator and level memory (caller owned). */
+typedef struct {
+    int8_t torque_state;      /**< -2..+2: down strong, down, hold, up, up strong */
+    int8_t flux_state;        /**< +1 raise, -1 lower */
+    uint8_t level;            /**< dtc3l_level */
+} dtc3l;
+
+/** Inputs of one DTC step: the observer's prediction for the start of the period being chosen. */
+typedef struct {
+    real_t te_ref_Nm;         /**< torque command, N m */
+    real_t psi_ref_Wb;        /**< flux command, Wb */
+    real_t te_Nm;             /**< predicted torque, N m */
+    real_t psi_s_Wb[2];       /**< predicted stator flux alpha, beta, Wb */
+    real_t is_A[2];           /**< predicted stator current alpha, beta, A */
+    real_t dte0_Nm_s;         /**< dTe/dt under the zero vector, N m/s */
+    real_t dte_dv[2];         /**< dTe/dt per volt of v_alpha, v_beta, N m/(s V) */
+    real_t rs_ohm;            /**< stator resistance, ohm */
+    real_t omega_e_rad_s;     /**< electrical speed estimate, rad/s (voltage level) */
+    real_t omega_m_rad_s;     /**< mechanical speed estimate, rad/s (ripple-reduction range) */
+    real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
+    real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
+    uint8_t prev_state;       /**< state in force when the chosen period starts (0..26) */
+} dtc3l_in;
+
+typedef struct {
+    hal_actuation act;        /**< the two vectors and the duty of the first */
+    uint8_t state[2];         /**< the same as state numbers */
+    uint8_t sector;           /**< 0..11 */
+    int8_t torque_cmp;        /**< comparator output used for the first vector, -2..2 */
+    int8_t flux_cmp;          /**< +1 / -1 */
+    uint8_t level;            /**< dtc3l_level */
+    bool split;               /**< the period was split (ripple reduction or flux pulse) */
+} dtc3l_out;
+
+/* ------------------------------------------------ vectors (dtc3l_vectors.c) */
+
+/** Leg codes of @p state (0..26) into @p v. Context: ANY. */
+void dtc3l_legs(uint8_t state, hal_vector *v);
+
+/** State number of @p v; 0xFF when a leg code is above HAL_LEG_P. Context: ANY. */
+uint8_t dtc3l_state_of(const hal_vector *v);
+
+/** Space vector 0..18 of @p state. Context: ANY. */
+uint8_t dtc3l_state_sv(uint8_t state);
+
+/** Class of space vector @p sv. Context: ANY. */
+dtc3l_class dtc3l_sv_class(uint8_t sv);
+
+/** States realising @p sv, preferred first (OOO; P-type small); returns the count 1..3. Context: ANY. */
+uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3]);
+
+/**
+ * Stator voltage (alpha, beta; isolated star) of @p state for the capacitor
+ * voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
+ */
+void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2]);
+
+/** Neutral-point current drawn by @p state: the sum of the phase currents of its legs at O, A. Context: ANY. */
+real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3]);
+
+/** True when going from @p from to @p to steps some leg directly between P and N. Context: ANY. */
+bool dtc3l_pn_step(uint8_t from, uint8_t to);
+
+/** Number of leg commutations from @p from to @p to (N<->O and O<->P count 1). Context: ANY. */
+uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to);
+
+/** @p to with every leg that would step between P and N from @p from held at O. Context: ANY. */
+uint8_t dtc3l_pn_safe(uint8_t from, uint8_t to);
+
+/* ---------------------------------------------------- table (dtc3l_table.c) */
+
+/** Sector 0..11 of the flux (psi_alpha, psi_beta): 30 deg sectors centred on
+ *  30 deg * sector. No trigonometry. Context: ANY. */
+uint8_t dtc3l_sector(real_t psi_alpha, real_t psi_beta);
+
+/** Sector 0..5 of the flux: 60 deg sectors centred on the small vectors,
+ *  60 deg * sector. No trigonometry. Context: ANY. */
+uint8_t dtc3l_sector6(real_t psi_alpha, real_t psi_beta);
+
+/**
+ * The 12-sector table of the large and medium vectors: space vector for
+ * @p sector (0..11), torque demand @p torque (-2..2; 0 = hold: the zero
+ * vector), flux demand @p flux (+1 raise, -1 lower). @p level is accepted for
+ * symmetry with dtc3l_select and does not change the result. Context: ANY.
+ */
+uint8_t dtc3l_table(uint8_t sector, int8_t torque, int8_t flux, uint8_t level);
+
+/** The 6-sector table of the small vectors (LOW level): space vector for
+ *  @p sector6 (0..5), @p torque (sign only; 0 = zero vector), @p flux. Context: ANY. */
+uint8_t dtc3l_table6(uint8_t sector6, int8_t torque, int8_t flux);
+
+/** Flux-holding small vector: the small vector nearest to the flux, whose
+ *  tangential part is at most half of it. Context: ANY. */
+uint8_t dtc3l_table_flux_hold(uint8_t sector6);
+
+/**
+ * The switching table as the DTC uses it: the 6-sector small-vector table for
+ * the LOW level and demands +-1, the 12-sector table otherwise.
+ * @return space vector 0..18. Context: ANY.
+ */
+uint8_t dtc3l_select(real_t psi_alpha, real_t psi_beta, int8_t torque, int8_t flux, uint8_t level);
+
+/* ------------------------------------------- neutral point (dtc3l_np.c) */
+
+/**
+ * Pick the switching state for space vector @p sv after @p prev_state:
+ * never a direct P<->N leg step; for small vectors with |np_dev_V| > np_band_V
+ * the state whose neutral-point current drives np_dev_V = vc1 - vc2 towards 0
+ * (possibly the small intermediate described above, a different vector);
+ * otherwise the fewest leg commutations (NP direction breaks ties). For the
+ * zero vector with |np_dev_V| above half the band, the zero state on the way to
+ * the balancing state of the small vector @p prev_state belongs to.
+ * @param i_abc phase currents during the segment, A
+ * Context: ANY.
+ */
+uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                           const real_t i_abc[3]);
+
+/* ------------------------------------- ripple reduction (dtc3l_ripple.c) */
+
+/**
+ * Fraction of the period @p period_s after which a torque starting at
+ * @p te_Nm with slope @p slope_Nm_s reaches @p edge_Nm: in 0..1 (0 when it is
+ * on the edge), or 2 when it does not get there within the period, stands
+ * still or moves away from the edge. Context: ANY.
+ */
+real_t dtc3l_edge_fraction(real_t te_Nm, real_t slope_Nm_s, real_t edge_Nm, real_t period_s);
+
+/** dTe/dt under space vector state @p state, N m/s (dte0 + dte_dv . v). Context: ANY. */
+real_t dtc3l_state_slope(const dtc3l_in *in, uint8_t state);
+
+/* ----------------------------------------------------- step (dtc3l.c) */
+
+/** Reset the comparators (hold, raise flux, LOW level). Context: ANY. */
+void dtc3l_init(dtc3l *s);
+
+/**
+ * One DTC decision for the period starting one control period from now.
+ * @param dt_s control period, s. Context: ISR.
+ */
+void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in, dtc3l_out *out);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,118 @@
+/**
+ * @file dtc3l_np.c
+ * @brief Choice among redundant switching states: neutral-point balance,
+ *        fewest commutations, and never a direct P<->N leg step.
+ *
+ * With C1 = C2 = C the neutral point obeys d(vc1 - vc2)/dt = i_np / C, where
+ * i_np is the current the legs at O draw from the neutral point. A small
+ * vector's P-type and N-type states put complementary legs at O, so their
+ * i_np have opposite signs (POO draws ib + ic = -ia, ONN draws ia): the one
+ * with i_np (vc1 - vc2) < 0 pulls the capacitors towards balance.
+ * Zero vectors draw no NP current, but the choice among NNN, OOO and PPP
+ * decides which small states stay reachable without a P<->N step.
+ */
+#include "dtc/dtc3l.h"
+
+/* weight of one commutation against the NP preference inside the band */
+#define SCORE_PER_CHANGE 4u
+#define SCORE_NP_TIE 1u
+#define SCORE_NP_FORCED 100u
+/* The zero state looks ahead once |vc1 - vc2| exceeds this fraction of the band. */
+#define NP_LOOKAHEAD_FRACTION R(0.5)
+
+/* The zero state with the fewest commutations from @p prev (OOO on ties). */
+static uint8_t min_change_zero(uint8_t prev)
+{
+    static const uint8_t zeros[3] = {DTC3L_STATE_OOO, 0u, 26u};
+    uint8_t best = DTC3L_STATE_OOO;
+    uint8_t best_c = 0xFFu;
+    for (unsigned i = 0; i < 3u; i++) {
+        if (dtc3l_pn_step(prev, zeros[i]))
+            continue;
+        uint8_t c = dtc3l_leg_changes(prev, zeros[i]);
+        if (c < best_c) {
+            best_c = c;
+            best = zeros[i];
+        }
+    }
+    return best;
+}
+
+uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                           const real_t i_abc[3])
+{
+    uint8_t st[3];
+    uint8_t n = dtc3l_sv_states(sv, st);
+    bool small = dtc3l_sv_class(sv) == DTC3L_CLASS_SMALL;
+    bool np_out = num_abs(np_dev_V) > np_band_V;
+    bool np_forced = small && np_out;
+
+    if (prev_state >= DTC3L_N_STATES)
+        prev_state = DTC3L_STATE_OOO;
+
+    /* Zero vector: from NNN (PPP) the P-type (N-type) small states are a
+     * P<->N step away. When the neutral point needs attention, pick the zero
+     * state on the way to the balancing state of the small vector just used
+     * (the likely next one), so that state stays reachable. */
+    if (sv == 0u && num_abs(np_dev_V) > num_mul(NP_LOOKAHEAD_FRACTION, np_band_V)) {
+        uint8_t prev_sv = dtc3l_state_sv(prev_state);
+        if (dtc3l_sv_class(prev_sv) != DTC3L_CLASS_SMALL)
+            return np_out ? (uint8_t)DTC3L_STATE_OOO : min_change_zero(prev_state);
+        uint8_t pair[3];
+        (void)dtc3l_sv_states(prev_sv, pair);
+        real_t inp0 = dtc3l_np_current(pair[0], i_abc);
+        uint8_t target = num_mul(inp0, np_dev_V) <= R(0.0) ? pair[0] : pair[1];
+        static const uint8_t zeros[3] = {DTC3L_STATE_OOO, 0u, 26u};
+        uint8_t best_z = DTC3L_STATE_OOO;
+        unsigned best_c = ~0u;
+        for (unsigned i = 0; i < 3u; i++) {
+            uint8_t z = zeros[i];
+            if (dtc3l_pn_step(prev_state, z) || dtc3l_pn_step(z, target))
+                continue;
+            unsigned c = 2u * dtc3l_leg_changes(z, target) + dtc3l_leg_changes(prev_state, z);
+            if (c < best_c) {
+                best_c = c;
+                best_z = z;
+            }
+        }
+        return best_z;
+    }
+    uint8_t best = 0xFFu;
+    unsigned best_score = ~0u;
+
+    for (uint8_t i = 0u; i < n; i++) {
+        uint8_t c = st[i];
+        if (dtc3l_pn_step(prev_state, c))
+            continue;
+        unsigned score = SCORE_PER_CHANGE * dtc3l_leg_changes(prev_state, c);
+        if (small) {
+            real_t inp = dtc3l_np_current(c, i_abc);
+            bool toward = num_mul(inp, np_dev_V) <= R(0.0);
+            if (!toward)
+                score += np_forced ? SCORE_NP_FORCED : SCORE_NP_TIE;
+        }
+        if (score < best_score) {
+            best_score = score;
+            best = c;
+        }
+    }
+    /* The balancing state is a P<->N step away (e.g. PPO -> ONN): rather than
+     * push the neutral point the wrong way for a period, go through the
+     * P<->N-safe intermediate (here OON, the other state of the vector just
+     * used) when that one balances. */
+    if (np_forced && best != 0xFFu && num_mul(dtc3l_np_current(best, i_abc), np_dev_V) > R(0.0)) {
+        for (uint8_t i = 0u; i < n; i++) {
+            if (st[i] == best)
+                continue;
+            uint8_t m = dtc3l_pn_safe(prev_state, st[i]);
+            if (dtc3l_sv_class(dtc3l_state_sv(m)) == DTC3L_CLASS_SMALL &&
+                num_mul(dtc3l_np_current(m, i_abc), np_dev_V) < R(0.0))
+                best = m;
+        }
+    }
+    /* Every state of the wanted vector would step a leg P<->N (a medium or
+     * large vector after its opposite): hold those legs at O for now. */
+    if (best == 0xFFu)
+        best = dtc3l_pn_safe(prev_state, st[0]);
+    return best;
+}

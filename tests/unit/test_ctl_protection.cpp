@@ -1,0 +1,290 @@
+// Protection and run-state machine of ctl_step: every fault of
+// docs/faults.md latches its bit and turns the gates off in the very tick it
+// is detected, the core stays FAULTED until ctl_clear_faults finds the cause
+// gone, and bad samples change nothing else.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "dtc/ctl.h"
+#include "dtc/dtc3l.h"
+
+namespace {
+
+struct Core {
+    ctl_cfg cfg;
+    ctl_state s;
+    ctl_out out;
+    Core()
+    {
+        ctl_cfg_default(&cfg);
+        ctl_init(&s, &cfg);
+        std::memset(&out, 0, sizeof out);
+    }
+    static ctl_in nominal(bool run = true)
+    {
+        ctl_in in;
+        std::memset(&in, 0, sizeof in);
+        in.sample.vc1_V = 155.5f;
+        in.sample.vc2_V = 155.5f;
+        in.sample_fresh = true;
+        in.run = run;
+        return in;
+    }
+    void step(const ctl_in &in) { ctl_step(&s, &cfg, &in, &out); }
+    void run_ticks(int n)
+    {
+        ctl_in in = nominal();
+        for (int i = 0; i < n; ++i)
+            step(in);
+    }
+};
+
+bool all_legs_o(const hal_actuation &a)
+{
+    for (int v = 0; v < 2; ++v)
+        for (int k = 0; k < 3; ++k)
+            if (a.vector[v].leg[k] != HAL_LEG_O)
+                return false;
+    return true;
+}
+
+TEST(CtlDefaults, ProtectionLevelsOfThe10hpDrive)
+{
+    ctl_cfg c;
+    ctl_cfg_default(&c);
+    EXPECT_FLOAT_EQ(c.i_trip_A, 100.0f);
+    EXPECT_FLOAT_EQ(c.vdc_max_V, 400.0f);
+    EXPECT_FLOAT_EQ(c.vdc_min_V, 200.0f);
+    EXPECT_FLOAT_EQ(c.np_trip_V, 30.0f);
+    EXPECT_FLOAT_EQ(c.overspeed_rad_s, 250.0f);
+    EXPECT_FLOAT_EQ(c.motor.Ls_H, 0.00142f + 0.0416f);
+    EXPECT_FLOAT_EQ(c.dtc.psi_ref_Wb, 0.45f);
+    EXPECT_FLOAT_EQ(c.period_s, 200e-6f);
+    EXPECT_EQ(ctl_cfg_check(&c), CTL_CFG_OK);
+}
+
+TEST(CtlConfig, CheckNamesTheFirstViolatedRule)
+{
+    ctl_cfg c;
+    ctl_cfg_default(&c);
+    ctl_cfg bad = c;
+    bad.motor.Ls_H = bad.motor.Lm_H; // no leakage: sigma = 0
+    EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_MOTOR);
+    bad = c;
+    bad.period_s = 0.0f;
+    EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_PERIOD);
+    bad = c;
+    bad.dtc.torque_band2_Nm = bad.dtc.torque_band_Nm;
+    EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_DTC);
+    bad = c;
+    bad.dtc.psi_ref_Wb = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_DTC);
+    bad = c;
+    bad.obs.k_gain = 0.5f;
+    EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_OBSERVER);
+    bad = c;
+    bad.vdc_min_V = 500.0f;
+    EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_PROTECTION);
+    bad = c;
+    bad.speed.te_max_Nm = -1.0f;
+    EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_SPEED);
+}
+
+TEST(CtlRunState, StoppedMagnetisingRunningStopped)
+{
+    Core c;
+    ctl_in in = Core::nominal(false);
+    c.step(in);
+    EXPECT_EQ(c.out.tel.state, CTL_STOPPED);
+    EXPECT_FALSE(c.out.gate_enable);
+
+    in.run = true;
+    c.step(in);
+    EXPECT_EQ(c.out.tel.state, CTL_MAGNETISING);
+    EXPECT_TRUE(c.out.gate_enable);
+    EXPECT_FLOAT_EQ(c.out.tel.te_ref_Nm, 0.0f); // zero torque while magnetising
+
+    // premag_s later the speed loop takes over
+    int n = int(std::lround(c.cfg.dtc.premag_s / c.cfg.period_s));
+    for (int i = 0; i < n - 2; ++i)
+        c.step(in);
+    EXPECT_EQ(c.out.tel.state, CTL_MAGNETISING);
+    c.step(in);
+    c.step(in);
+    EXPECT_EQ(c.out.tel.state, CTL_RUNNING);
+
+    in.run = false; // stop: gates off at once
+    c.step(in);
+    EXPECT_EQ(c.out.tel.state, CTL_STOPPED);
+    EXPECT_FALSE(c.out.gate_enable);
+    EXPECT_TRUE(all_legs_o(c.out.act));
+}
+
+// Magnetising at standstill builds the flux with the DTC and never asks for
+// a P<->N step, from the first tick on.
+TEST(CtlRunState, FirstVectorsAfterStartAreSafe)
+{
+    Core c;
+    ctl_in in = Core::nominal();
+    uint8_t prev = DTC3L_STATE_OOO; // the board holds OOO while the gates are off
+    for (int i = 0; i < 50; ++i) {
+        c.step(in);
+        ASSERT_TRUE(c.out.gate_enable);
+        uint8_t s0 = dtc3l_state_of(&c.out.act.vector[0]);
+        uint8_t s1 = dtc3l_state_of(&c.out.act.vector[1]);
+        ASSERT_LT(s0, 27);
+        ASSERT_LT(s1, 27);
+        EXPECT_FALSE(dtc3l_pn_step(prev, s0));
+        EXPECT_FALSE(dtc3l_pn_step(s0, s1));
+        prev = s1;
+    }
+}
+
+struct FaultCase {
+    const char *name;
+    uint32_t bit;
+    void (*inject)(ctl_in &in, ctl_state &s);
+};
+
+const FaultCase kFaults[] = {
+    {"overcurrent a", CTL_FAULT_OVERCURRENT, [](ctl_in &in, ctl_state &) { in.sample.ia_A = 100.5f; }},
+    {"overcurrent b negative", CTL_FAULT_OVERCURRENT, [](ctl_in &in, ctl_state &) { in.sample.ib_A = -100.5f; }},
+    {"overcurrent c", CTL_FAULT_OVERCURRENT, [](ctl_in &in, ctl_state &) { in.sample.ic_A = 150.0f; }},
+    {"dc overvoltage", CTL_FAULT_DC_OVERVOLT,
+     [](ctl_in &in, ctl_state &) { in.sample.vc1_V = in.sample.vc2_V = 200.5f; }},
+    {"dc undervoltage", CTL_FAULT_DC_UNDERVOLT,
+     [](ctl_in &in, ctl_state &) { in.sample.vc1_V = in.sample.vc2_V = 99.5f; }},
+    {"np imbalance", CTL_FAULT_NP_IMBALANCE,
+     [](ctl_in &in, ctl_state &) {
+         in.sample.vc1_V = 171.0f;
+         in.sample.vc2_V = 140.0f;
+     }},
+    {"overspeed", CTL_FAULT_OVERSPEED, [](ctl_in &, ctl_state &s) { s.obs.omega_m_filt_rad_s = -251.0f; }},
+    {"stale sample", CTL_FAULT_STALE_SAMPLE, [](ctl_in &in, ctl_state &) { in.sample_fresh = false; }},
+    {"hardware input", CTL_FAULT_HW, [](ctl_in &in, ctl_state &) { in.fault_input = true; }},
+    {"overrun", CTL_FAULT_OVERRUN, [](ctl_in &in, ctl_state &) { in.overrun = true; }},
+    {"NaN current", CTL_FAULT_SAMPLE_INVALID,
+     [](ctl_in &in, ctl_state &) { in.sample.ib_A = std::numeric_limits<float>::quiet_NaN(); }},
+    {"infinite voltage", CTL_FAULT_SAMPLE_INVALID,
+     [](ctl_in &in, ctl_state &) { in.sample.vc2_V = std::numeric_limits<float>::infinity(); }},
+};
+
+TEST(CtlProtection, EachFaultLatchesAndDisablesTheGatesInTheSameTick)
+{
+    for (const FaultCase &f : kFaults) {
+        SCOPED_TRACE(f.name);
+        Core c;
+        c.run_ticks(20); // magnetising, gates on
+        ASSERT_TRUE(c.out.gate_enable);
+        ASSERT_EQ(c.out.tel.faults, 0u);
+
+        ctl_in in = Core::nominal();
+        f.inject(in, c.s);
+        c.step(in);
+        EXPECT_FALSE(c.out.gate_enable);
+        EXPECT_EQ(c.out.tel.faults, f.bit);
+        EXPECT_EQ(c.out.tel.state, CTL_FAULTED);
+        EXPECT_TRUE(all_legs_o(c.out.act));
+
+        // the cause disappears: still latched, gates stay off, even with run
+        ctl_in ok = Core::nominal();
+        c.s.obs.omega_m_filt_rad_s = 0.0f;
+        for (int i = 0; i < 5; ++i) {
+            c.step(ok);
+            EXPECT_FALSE(c.out.gate_enable);
+            EXPECT_EQ(c.out.tel.faults, f.bit);
+        }
+        // cleared by the background: stopped, then a normal start
+        EXPECT_EQ(ctl_clear_faults(&c.s), 0u);
+        c.step(ok);
+        EXPECT_EQ(c.out.tel.faults, 0u);
+        EXPECT_EQ(c.out.tel.state, CTL_MAGNETISING);
+        EXPECT_TRUE(c.out.gate_enable);
+    }
+}
+
+TEST(CtlProtection, ClearKeepsAFaultWhoseCauseIsStillThere)
+{
+    Core c;
+    c.run_ticks(5);
+    ctl_in in = Core::nominal();
+    in.sample.vc1_V = in.sample.vc2_V = 210.0f; // 420 V > 400 V
+    c.step(in);
+    c.step(in); // still there at the last step
+    EXPECT_EQ(ctl_clear_faults(&c.s), (uint32_t)CTL_FAULT_DC_OVERVOLT);
+    c.step(Core::nominal());
+    EXPECT_EQ(c.out.tel.state, CTL_FAULTED);
+    EXPECT_FALSE(c.out.gate_enable);
+    EXPECT_EQ(ctl_clear_faults(&c.s), 0u); // gone at the last step
+    c.step(Core::nominal());
+    EXPECT_TRUE(c.out.gate_enable);
+}
+
+TEST(CtlProtection, SeveralCausesLatchTogether)
+{
+    Core c;
+    c.run_ticks(5);
+    ctl_in in = Core::nominal();
+    in.sample.ia_A = 120.0f;
+    in.fault_input = true;
+    in.sample.vc1_V = 175.0f;
+    in.sample.vc2_V = 140.0f;
+    c.step(in);
+    EXPECT_EQ(c.out.tel.faults, (uint32_t)(CTL_FAULT_OVERCURRENT | CTL_FAULT_HW | CTL_FAULT_NP_IMBALANCE));
+    EXPECT_FALSE(c.out.gate_enable);
+}
+
+// Levels just inside the limits do not trip.
+TEST(CtlProtection, NoTripInsideTheLimits)
+{
+    Core c;
+    c.run_ticks(5);
+    ctl_in in = Core::nominal();
+    in.sample.ia_A = 99.0f;
+    in.sample.ib_A = -50.0f;
+    in.sample.ic_A = -49.0f;
+    in.sample.vc1_V = 199.0f + 14.0f; // vc1 + vc2 = 398 V, vc1 - vc2 = 28 V
+    in.sample.vc2_V = 185.0f;
+    c.step(in);
+    EXPECT_EQ(c.out.tel.faults, 0u);
+    EXPECT_TRUE(c.out.gate_enable);
+}
+
+// Under-voltage counts only while the drive runs: a link that is still
+// charging does not latch a fault in STOPPED.
+TEST(CtlProtection, UndervoltageOnlyWhileActive)
+{
+    Core c;
+    ctl_in in = Core::nominal(false);
+    in.sample.vc1_V = in.sample.vc2_V = 50.0f;
+    for (int i = 0; i < 10; ++i)
+        c.step(in);
+    EXPECT_EQ(c.out.tel.faults, 0u);
+    EXPECT_EQ(c.out.tel.state, CTL_STOPPED);
+    in.run = true;
+    c.step(in); // starting on a low link: the first active tick trips
+    c.step(in);
+    EXPECT_EQ(c.out.tel.faults, (uint32_t)CTL_FAULT_DC_UNDERVOLT);
+    EXPECT_FALSE(c.out.gate_enable);
+}
+
+// A refused or invalid sample changes nothing but the fault word: the
+// observer and the actuation memory are those of the tick before.
+TEST(CtlProtection, BadSampleLosesNothing)
+{
+    Core c;
+    c.run_ticks(30);
+    observer before = c.s.obs;
+    ctl_in in = Core::nominal();
+    in.sample.ia_A = std::numeric_limits<float>::quiet_NaN();
+    c.step(in);
+    EXPECT_EQ(std::memcmp(&before, &c.s.obs, sizeof before), 0);
+    EXPECT_EQ(c.out.tel.faults, (uint32_t)CTL_FAULT_SAMPLE_INVALID);
+    EXPECT_TRUE(std::isfinite(c.out.tel.te_ref_Nm));
+    EXPECT_TRUE(std::isfinite(c.out.tel.omega_est_rad_s));
+}
+
+} // namespace

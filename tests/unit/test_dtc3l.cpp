@@ -1,0 +1,611 @@
+// Three-level DTC: vectors, sector, switching table, neutral-point choice and
+// the P<->N rule, checked against the PLANT (plant_inverter_output,
+// plant_advance) and the machine equations written in the test
+// (tests/common/im_ref.hpp), never against the firmware's own arithmetic.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "dtc/ctl.h"
+#include "dtc/dtc3l.h"
+#include "im_ref.hpp"
+#include "plant/plant.h"
+
+namespace {
+
+using cd = std::complex<double>;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kT = 200e-6;
+
+// Leg codes of a state number, written out independently: state = a*9 + b*3 + c.
+void legs_of(int state, uint8_t legs[3])
+{
+    legs[0] = uint8_t(state / 9);
+    legs[1] = uint8_t((state / 3) % 3);
+    legs[2] = uint8_t(state % 3);
+}
+
+bool pn_step(int from, int to)
+{
+    uint8_t a[3], b[3];
+    legs_of(from, a);
+    legs_of(to, b);
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(int(a[k]) - int(b[k])) == 2)
+            return true;
+    return false;
+}
+
+int state_of(const hal_vector &v) { return v.leg[0] * 9 + v.leg[1] * 3 + v.leg[2]; }
+
+// Stator voltage of a state from the plant (isolated star), alpha-beta.
+cd plant_voltage(int state, double vc1, double vc2, const double i_abc[3] = nullptr, double *i_np = nullptr)
+{
+    uint8_t legs[3];
+    legs_of(state, legs);
+    double zero[3] = {0, 0, 0}, v[3], inp = 0;
+    plant_inverter_output(legs, vc1, vc2, i_abc ? i_abc : zero, v, &inp);
+    if (i_np)
+        *i_np = inp;
+    Eigen::Vector2d ab = imref::clarke(v);
+    return {ab[0], ab[1]};
+}
+
+// ------------------------------------------------------------------ vectors
+
+TEST(Dtc3lVectors, VoltagesAndNpCurrentMatchThePlant)
+{
+    const double vc1 = 161.0, vc2 = 149.0; // deliberately unbalanced
+    const double i_abc[3] = {12.5, -3.0, -9.5};
+    for (int st = 0; st < 27; ++st) {
+        double inp_plant;
+        cd vp = plant_voltage(st, vc1, vc2, i_abc, &inp_plant);
+        float vf[2];
+        dtc3l_state_voltage(uint8_t(st), float(vc1), float(vc2), vf);
+        float iabc_f[3] = {12.5f, -3.0f, -9.5f};
+        SCOPED_TRACE(st);
+        EXPECT_NEAR(vf[0], vp.real(), 1e-3);
+        EXPECT_NEAR(vf[1], vp.imag(), 1e-3);
+        EXPECT_NEAR(dtc3l_np_current(uint8_t(st), iabc_f), inp_plant, 1e-5);
+        hal_vector hv;
+        dtc3l_legs(uint8_t(st), &hv);
+        EXPECT_EQ(state_of(hv), st);
+        EXPECT_EQ(dtc3l_state_of(&hv), st);
+    }
+}
+
+// The 19 space vectors: magnitude class and direction as documented in dtc3l.h,
+// every redundant state of a vector giving the same voltage (balanced link).
+TEST(Dtc3lVectors, SpaceVectorClassesAndDirections)
+{
+    const double vdc = 311.0;
+    int seen[27] = {0};
+    for (int sv = 0; sv < 19; ++sv) {
+        uint8_t st[3];
+        int n = dtc3l_sv_states(uint8_t(sv), st);
+        ASSERT_GE(n, 1);
+        double mag_want, ang_want;
+        if (sv == 0) {
+            mag_want = 0;
+            ang_want = 0;
+            EXPECT_EQ(n, 3);
+        } else if (sv <= 6) {
+            mag_want = vdc / 3;
+            ang_want = (sv - 1) * 60.0;
+            EXPECT_EQ(n, 2);
+            EXPECT_EQ(dtc3l_sv_class(uint8_t(sv)), DTC3L_CLASS_SMALL);
+        } else if (sv <= 12) {
+            mag_want = vdc / std::sqrt(3.0);
+            ang_want = 30.0 + (sv - 7) * 60.0;
+            EXPECT_EQ(n, 1);
+            EXPECT_EQ(dtc3l_sv_class(uint8_t(sv)), DTC3L_CLASS_MEDIUM);
+        } else {
+            mag_want = 2 * vdc / 3;
+            ang_want = (sv - 13) * 60.0;
+            EXPECT_EQ(n, 1);
+            EXPECT_EQ(dtc3l_sv_class(uint8_t(sv)), DTC3L_CLASS_LARGE);
+        }
+        for (int i = 0; i < n; ++i) {
+            SCOPED_TRACE(testing::Message() << "sv " << sv << " state " << int(st[i]));
+            seen[st[i]]++;
+            EXPECT_EQ(dtc3l_state_sv(st[i]), sv);
+            cd v = plant_voltage(st[i], vdc / 2, vdc / 2);
+            EXPECT_NEAR(std::abs(v), mag_want, 1e-6);
+            if (sv != 0) {
+                cd dir = std::polar(1.0, ang_want * kPi / 180.0);
+                EXPECT_NEAR(std::arg(v / dir), 0.0, 1e-9);
+            }
+        }
+    }
+    for (int s = 0; s < 27; ++s)
+        EXPECT_EQ(seen[s], 1) << "state " << s << " must belong to exactly one vector";
+}
+
+TEST(Dtc3lSector, TwelveSectorsOfThirtyDegrees)
+{
+    for (double deg = -720.0; deg < 720.0; deg += 0.25) {
+        double rel = std::fmod(deg + 15.0 + 720.0, 30.0);
+        if (rel < 0.05 || rel > 29.95)
+            continue; // boundaries may go either way
+        int want = int(std::floor((deg + 15.0 + 720.0) / 30.0)) % 12;
+        for (double r : {0.001, 0.45, 3.0}) {
+            float a = float(r * std::cos(deg * kPi / 180)), b = float(r * std::sin(deg * kPi / 180));
+            ASSERT_EQ(dtc3l_sector(a, b), want) << deg << " deg";
+        }
+    }
+}
+
+// -------------------------------------------------------- switching table
+
+// A steady operating point of the machine (synchronous frame, rotor flux on
+// the real axis), scaled to |psi_s| and turned so that psi_s lies at theta.
+struct OpPoint {
+    double omega_e;
+    cd is, psi_r, psi_s;
+};
+
+OpPoint op_point(double omega_e, double torque, double psi_s_abs, double theta)
+{
+    imref::Params P;
+    auto at_slip = [&](double wsl) {
+        cd psr = 1.0;
+        cd ir = cd(0, -wsl) * psr / P.Rr;
+        cd is = (psr - P.Lr() * ir) / P.Lm;
+        cd pss = P.Ls() * is + P.Lm * ir;
+        double k = psi_s_abs / std::abs(pss);
+        OpPoint o{omega_e, is * k, psr * k, pss * k};
+        return o;
+    };
+    auto te = [&](const OpPoint &o) { return 1.5 * P.p * std::imag(std::conj(o.psi_s) * o.is); };
+    double lo = -30.0, hi = 30.0; // slip frequency, rad/s (well below pull-out)
+    for (int i = 0; i < 100; ++i) {
+        double mid = 0.5 * (lo + hi);
+        (te(at_slip(mid)) < torque ? lo : hi) = mid;
+    }
+    OpPoint o = at_slip(0.5 * (lo + hi));
+    cd rot = std::polar(1.0, theta - std::arg(o.psi_s));
+    o.is *= rot;
+    o.psi_r *= rot;
+    o.psi_s *= rot;
+    return o;
+}
+
+struct Slopes {
+    double dte, dpsi; // dTe/dt, N m/s; d|psi_s|/dt, Wb/s
+};
+
+// Instantaneous derivatives under the plant's voltage for state @p st.
+Slopes slopes(const OpPoint &o, int st, double vc1, double vc2)
+{
+    imref::Params P;
+    double i_abc[3] = {o.is.real(), -0.5 * o.is.real() + 0.5 * std::sqrt(3.0) * o.is.imag(),
+                       -0.5 * o.is.real() - 0.5 * std::sqrt(3.0) * o.is.imag()};
+    cd v = plant_voltage(st, vc1, vc2, i_abc);
+    imref::Vec4 x;
+    x << o.is.real(), o.is.imag(), o.psi_r.real(), o.psi_r.imag();
+    imref::Vec4 dx = imref::deriv(P, o.omega_e, x, Eigen::Vector2d(v.real(), v.imag()));
+    cd dis(dx[0], dx[1]);
+    cd dpss = v - P.Rs * o.is;
+    auto cross = [](cd a, cd b) { return std::imag(std::conj(a) * b); };
+    Slopes s;
+    s.dte = 1.5 * P.p * (cross(dpss, o.is) + cross(o.psi_s, dis));
+    s.dpsi = std::real(std::conj(o.psi_s) * dpss) / std::abs(o.psi_s);
+    return s;
+}
+
+struct TableCase {
+    const char *name;
+    uint8_t level;
+    double rpm, torque;
+};
+
+TEST(Dtc3lSector, SixSectorsCentredOnTheSmallVectors)
+{
+    for (double deg = -720.0; deg < 720.0; deg += 0.25) {
+        double rel = std::fmod(deg + 30.0 + 720.0, 60.0);
+        if (rel < 0.05 || rel > 59.95)
+            continue;
+        int want = int(std::floor((deg + 30.0 + 720.0) / 60.0)) % 6;
+        float a = float(0.45 * std::cos(deg * kPi / 180)), b = float(0.45 * std::sin(deg * kPi / 180));
+        ASSERT_EQ(dtc3l_sector6(a, b), want) << deg << " deg";
+    }
+}
+
+// Every entry of the switching table, at flux angles spread over every sector
+// (clear of the 30 deg and 60 deg sector boundaries by 4 deg), for every
+// torque and flux demand: the sign of dTe/dt and of d|psi_s|/dt under each
+// state of the chosen vector, from the plant's voltage and the machine
+// equations, is the one demanded.
+TEST(Dtc3lTable, EveryEntryMovesTorqueAndFluxAsDemanded)
+{
+    const TableCase cases[] = {
+        {"LOW 500 rpm no load", DTC3L_LEVEL_LOW, 500, 0.3},
+        {"LOW 500 rpm 8 N m", DTC3L_LEVEL_LOW, 500, 8},
+        {"LOW 500 rpm 12 N m", DTC3L_LEVEL_LOW, 500, 12},
+        {"LOW -500 rpm -8 N m", DTC3L_LEVEL_LOW, -500, -8},
+        {"LOW 500 rpm braking -8 N m", DTC3L_LEVEL_LOW, 500, -8},
+        {"LOW 0 rpm 8 N m", DTC3L_LEVEL_LOW, 0, 8},
+        {"LOW 250 rpm 30 N m", DTC3L_LEVEL_LOW, 250, 30},
+        {"HIGH 1100 rpm 20 N m", DTC3L_LEVEL_HIGH, 1100, 20},
+        {"HIGH -1100 rpm -20 N m", DTC3L_LEVEL_HIGH, -1100, -20},
+        {"HIGH 700 rpm 40 N m", DTC3L_LEVEL_HIGH, 700, 40},
+    };
+    const double vc = 311.0 / 2;
+    int checked = 0;
+    for (const TableCase &c : cases) {
+        double we = 2 * c.rpm * 2 * kPi / 60;
+        for (int sector = 0; sector < 12; ++sector) {
+            for (double off : {-13.0, -8.0, -4.0, 4.0, 8.0, 13.0}) {
+                OpPoint o = op_point(we, c.torque, 0.45, (sector * 30.0 + off) * kPi / 180);
+                float pa = float(o.psi_s.real()), pb = float(o.psi_s.imag());
+                ASSERT_EQ(dtc3l_sector(pa, pb), sector);
+                for (int flux : {-1, 1}) {
+                    double up1 = 0, down1 = 0, max_dpsi = 0;
+                    for (int tq : {-2, -1, 1, 2}) {
+                        uint8_t sv = dtc3l_select(pa, pb, int8_t(tq), int8_t(flux), c.level);
+                        // which table: small vectors for the LOW level's +-1, else large/medium
+                        dtc3l_class cls = dtc3l_sv_class(sv);
+                        if (c.level == DTC3L_LEVEL_LOW && (tq == 1 || tq == -1)) {
+                            EXPECT_EQ(cls, DTC3L_CLASS_SMALL);
+                        } else {
+                            EXPECT_TRUE(cls == DTC3L_CLASS_LARGE || cls == DTC3L_CLASS_MEDIUM);
+                        }
+                        uint8_t st[3];
+                        int n = dtc3l_sv_states(sv, st);
+                        for (int i = 0; i < n; ++i) {
+                            Slopes s = slopes(o, st[i], vc, vc);
+                            SCOPED_TRACE(testing::Message() << c.name << " sector " << sector << " off " << off
+                                                            << " tq " << tq << " flux " << flux << " state "
+                                                            << int(st[i]));
+                            EXPECT_GT(s.dte * tq, 0.0) << "dTe/dt " << s.dte;
+                            EXPECT_GT(s.dpsi * flux, 0.0) << "d|psi|/dt " << s.dpsi;
+                            ++checked;
+                            max_dpsi = std::max(max_dpsi, std::abs(s.dpsi));
+                            if (tq == 1)
+                                up1 = s.dte;
+                            if (tq == -1)
+                                down1 = s.dte;
+                        }
+                        // the strong demand moves the torque at least as fast
+                        if (tq == 2 || tq == -2) {
+                            uint8_t sv1 = dtc3l_select(pa, pb, int8_t(tq / 2), int8_t(flux), c.level);
+                            uint8_t st1[3];
+                            dtc3l_sv_states(sv1, st1);
+                            EXPECT_GE(slopes(o, st[0], vc, vc).dte * tq, slopes(o, st1[0], vc, vc).dte * tq - 1e-6);
+                        }
+                    }
+                    // hold: the zero vector's torque slope lies between up and down,
+                    // and it barely moves the flux (only the Rs drop)
+                    EXPECT_EQ(dtc3l_select(pa, pb, 0, int8_t(flux), c.level), 0);
+                    Slopes z = slopes(o, 13, vc, vc);
+                    EXPECT_LT(z.dte, up1);
+                    EXPECT_GT(z.dte, down1);
+                    EXPECT_LT(std::abs(z.dpsi), 0.1 * max_dpsi);
+                    // flux hold at the LOW level: raises the flux, and moves the torque
+                    // no faster than the up or the down vector
+                    if (c.level == DTC3L_LEVEL_LOW) {
+                        uint8_t svh = dtc3l_table_flux_hold(dtc3l_sector6(pa, pb));
+                        EXPECT_EQ(dtc3l_sv_class(svh), DTC3L_CLASS_SMALL);
+                        uint8_t sth[3];
+                        int nh = dtc3l_sv_states(svh, sth);
+                        for (int i = 0; i < nh; ++i) {
+                            Slopes h = slopes(o, sth[i], vc, vc);
+                            SCOPED_TRACE(testing::Message() << c.name << " flux hold, sector " << sector << " off " << off);
+                            EXPECT_GT(h.dpsi, 0.0);
+                            EXPECT_GT(h.dpsi, 3.0 * std::abs(z.dpsi)); // well beyond the Rs drop
+                            EXPECT_LE(std::abs(h.dte), std::max(std::abs(up1), std::abs(down1)));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(checked, 5000);
+}
+
+// ----------------------------------------------- P<->N rule and NP balance
+
+TEST(Dtc3lStates, NoChoiceEverStepsALegBetweenPAndN)
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> cur(-40.f, 40.f), dev(-8.f, 8.f);
+    for (int prev = 0; prev < 27; ++prev) {
+        for (int sv = 0; sv < 19; ++sv) {
+            for (int rep = 0; rep < 20; ++rep) {
+                float i_abc[3] = {cur(rng), cur(rng), 0};
+                i_abc[2] = -i_abc[0] - i_abc[1];
+                float dev_v = dev(rng);
+                uint8_t st = dtc3l_choose_state(uint8_t(sv), uint8_t(prev), dev_v, 1.5f, i_abc);
+                ASSERT_LT(st, 27);
+                ASSERT_FALSE(pn_step(prev, st)) << "prev " << prev << " sv " << sv << " -> " << int(st);
+                // when the vector has a state reachable without P<->N, it is used,
+                // unless the neutral point is out of its band and the choice is a
+                // small intermediate that balances it
+                uint8_t cand[3];
+                int n = dtc3l_sv_states(uint8_t(sv), cand);
+                bool reachable = false;
+                for (int i = 0; i < n; ++i)
+                    reachable |= !pn_step(prev, cand[i]);
+                if (reachable && dtc3l_state_sv(st) != sv) {
+                    double i_np;
+                    double i_d[3] = {i_abc[0], i_abc[1], i_abc[2]};
+                    plant_voltage(st, 155.5, 155.5, i_d, &i_np);
+                    EXPECT_GT(std::abs(dev_v), 1.5f);
+                    EXPECT_EQ(dtc3l_sv_class(dtc3l_state_sv(st)), DTC3L_CLASS_SMALL);
+                    EXPECT_LT(i_np * dev_v, 0.0) << "prev " << prev << " sv " << sv << " -> " << int(st);
+                }
+            }
+        }
+        for (int to = 0; to < 27; ++to)
+            EXPECT_FALSE(pn_step(prev, dtc3l_pn_safe(uint8_t(prev), uint8_t(to))));
+    }
+}
+
+// Random decisions of the full DTC step: consecutive vectors inside a period
+// and across periods never step a leg between P and N.
+TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
+{
+    ctl_cfg cfg;
+    ctl_cfg_default(&cfg);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    for (int ripple = 0; ripple < 2; ++ripple) {
+        cfg.dtc.ripple_reduction = ripple != 0;
+        dtc3l s;
+        dtc3l_init(&s);
+        uint8_t prev = DTC3L_STATE_OOO;
+        for (int k = 0; k < 200000; ++k) {
+            dtc3l_in in{};
+            in.te_ref_Nm = 30 * u(rng);
+            in.psi_ref_Wb = 0.45f;
+            in.te_Nm = in.te_ref_Nm + 6 * u(rng);
+            float th = 3.2f * u(rng);
+            float ps = 0.45f + 0.03f * u(rng);
+            in.psi_s_Wb[0] = ps * std::cos(th);
+            in.psi_s_Wb[1] = ps * std::sin(th);
+            in.is_A[0] = 30 * u(rng);
+            in.is_A[1] = 30 * u(rng);
+            in.dte0_Nm_s = 40000 * u(rng);
+            in.dte_dv[0] = 500 * u(rng);
+            in.dte_dv[1] = 500 * u(rng);
+            in.rs_ohm = 0.288f;
+            in.omega_e_rad_s = 400 * u(rng);
+            in.omega_m_rad_s = in.omega_e_rad_s / 2;
+            in.vc1_V = 155.5f + 10 * u(rng);
+            in.vc2_V = 155.5f + 10 * u(rng);
+            in.np_dev_V = in.vc1_V - in.vc2_V;
+            in.prev_state = prev;
+            dtc3l_out out;
+            dtc3l_step(&s, &cfg.dtc, 200e-6f, &in, &out);
+            int s0 = state_of(out.act.vector[0]), s1 = state_of(out.act.vector[1]);
+            ASSERT_LT(s0, 27);
+            ASSERT_LT(s1, 27);
+            ASSERT_FALSE(pn_step(prev, s0)) << "across periods at " << k;
+            ASSERT_FALSE(pn_step(s0, s1)) << "inside the period at " << k;
+            ASSERT_GE(out.act.duty0, 0.0f);
+            ASSERT_LE(out.act.duty0, 1.0f);
+            prev = uint8_t(s1);
+        }
+    }
+}
+
+// The redundant small state chosen outside the NP band pulls vc1 - vc2 back:
+// checked by integrating the PLANT over one period with that state.
+TEST(Dtc3lNp, RedundantSmallVectorDrivesNeutralPointTowardBalance)
+{
+    plant_config pc;
+    plant_default_config(&pc);
+    int checked = 0;
+    for (double dev : {-4.0, 4.0}) {
+        for (int sector = 0; sector < 12; ++sector) {
+            for (double torque : {0.3, 8.0, 30.0}) {
+                OpPoint o = op_point(2 * 500 * 2 * kPi / 60, torque, 0.45, (sector * 30.0 + 7.0) * kPi / 180);
+                double i_abc[3] = {o.is.real(), -0.5 * o.is.real() + 0.5 * std::sqrt(3.0) * o.is.imag(),
+                                   -0.5 * o.is.real() - 0.5 * std::sqrt(3.0) * o.is.imag()};
+                float i_f[3] = {float(i_abc[0]), float(i_abc[1]), float(i_abc[2])};
+                for (int sv = 1; sv <= 6; ++sv) {
+                    uint8_t st = dtc3l_choose_state(uint8_t(sv), DTC3L_STATE_OOO, float(dev), 1.5f, i_f);
+                    double inp;
+                    plant_voltage(st, 155.5 + dev / 2, 155.5 - dev / 2, i_abc, &inp);
+                    if (std::abs(inp) < 2.0)
+                        continue; // the current of the O legs is small; the vector's ripple could reverse it
+                    SCOPED_TRACE(testing::Message() << "dev " << dev << " sector " << sector << " Te " << torque
+                                                    << " sv " << sv << " state " << int(st));
+                    // the plant's own law: d(vc1 - vc2)/dt = i_np / C
+                    EXPECT_LT(inp * dev, 0.0);
+
+                    plant_state ps;
+                    ASSERT_EQ(plant_init(&ps, &pc), 0);
+                    ps.psi_s[0] = o.psi_s.real();
+                    ps.psi_s[1] = o.psi_s.imag();
+                    ps.psi_r[0] = o.psi_r.real();
+                    ps.psi_r[1] = o.psi_r.imag();
+                    ps.omega_m = 500 * 2 * kPi / 60;
+                    ps.vc1 = 155.5 + dev / 2;
+                    ps.vc2 = 155.5 - dev / 2;
+                    uint8_t legs[3];
+                    legs_of(st, legs);
+                    plant_advance(&ps, legs, legs, 1.0, 10e-6);
+                    EXPECT_LT(std::abs(ps.vc1 - ps.vc2), std::abs(dev));
+                    ++checked;
+                }
+            }
+        }
+    }
+    EXPECT_GT(checked, 200);
+}
+
+// Inside the band the choice costs the fewest commutations.
+TEST(Dtc3lNp, InsideTheBandFewestCommutations)
+{
+    float i_abc[3] = {10.f, -4.f, -6.f};
+    for (int prev = 0; prev < 27; ++prev) {
+        for (int sv = 0; sv < 19; ++sv) {
+            uint8_t st = dtc3l_choose_state(uint8_t(sv), uint8_t(prev), 0.2f, 1.5f, i_abc);
+            uint8_t cand[3];
+            int n = dtc3l_sv_states(uint8_t(sv), cand);
+            int best = 99;
+            for (int i = 0; i < n; ++i) {
+                if (pn_step(prev, cand[i]))
+                    continue;
+                uint8_t a[3], b[3];
+                legs_of(prev, a);
+                legs_of(cand[i], b);
+                best = std::min(best, std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]));
+            }
+            if (best == 99)
+                continue;
+            uint8_t a[3], b[3];
+            legs_of(prev, a);
+            legs_of(st, b);
+            EXPECT_EQ(std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]), best)
+                << "prev " << prev << " sv " << sv;
+        }
+    }
+}
+
+// ---------------------------------------------------------- ripple timing
+
+TEST(Dtc3lRipple, EdgeFraction)
+{
+    EXPECT_NEAR(dtc3l_edge_fraction(0.f, 10000.f, 1.f, 200e-6f), 0.5f, 1e-6);  // 1 N m at 10 kN m/s: 100 us
+    EXPECT_NEAR(dtc3l_edge_fraction(5.f, -20000.f, 3.f, 200e-6f), 0.5f, 1e-6); // falling to a lower edge
+    EXPECT_GT(dtc3l_edge_fraction(0.f, 10000.f, 3.f, 200e-6f), 1.f);           // not within the period
+    EXPECT_GT(dtc3l_edge_fraction(0.f, -10000.f, 1.f, 200e-6f), 1.f);          // moving away
+    EXPECT_GT(dtc3l_edge_fraction(2.f, 10000.f, 1.f, 200e-6f), 1.f);           // beyond it, moving away
+    EXPECT_EQ(dtc3l_edge_fraction(1.f, 10000.f, 1.f, 200e-6f), 0.f);           // on the edge
+    EXPECT_GT(dtc3l_edge_fraction(0.f, 0.f, 1.f, 200e-6f), 1.f);               // no slope
+}
+
+// ----------------------------------------------- ripple reduction in a loop
+
+// The DTC with the observer on the PLANT at a speed held constant (huge
+// inertia): the true torque, sampled at every switching instant, stays within
+// the band around the command when the band-edge crossings are placed inside
+// the period, and overshoots by about one period of slope when they are not.
+struct LoopResult {
+    double max_dev_Nm;     // max |Te_true - Te*| after settling
+    double mean_Nm;        // mean of Te_true
+    double fsw_Hz;         // device switching frequency (plant switch_count / (3 t) / 2)
+    double np_max_V;       // max |vc1 - vc2|
+};
+
+LoopResult run_torque_loop(bool ripple, double rpm, double te_ref)
+{
+    ctl_cfg cfg;
+    ctl_cfg_default(&cfg);
+    cfg.dtc.ripple_reduction = ripple;
+    plant_config pc;
+    plant_default_config(&pc);
+    pc.motor.J_kgm2 = 1e6; // speed held
+    plant_state ps;
+    EXPECT_EQ(plant_init(&ps, &pc), 0);
+    ps.omega_m = rpm * 2 * kPi / 60;
+    observer obs;
+    observer_init(&obs, &cfg.obs);
+    dtc3l d;
+    dtc3l_init(&d);
+    hal_actuation latched;
+    dtc3l_legs(DTC3L_STATE_OOO, &latched.vector[0]);
+    dtc3l_legs(DTC3L_STATE_OOO, &latched.vector[1]);
+    latched.duty0 = 1.0f;
+
+    const int n_settle = int(0.6 / kT), n = int(1.0 / kT);
+    LoopResult r{0, 0, 0, 0};
+    unsigned long sw0 = 0;
+    int cnt = 0;
+    for (int k = 0; k < n; ++k) {
+        plant_adc adc;
+        plant_sample(&ps, &adc);
+        double i[3], vc[2];
+        plant_adc_to_units(&ps.cfg, &adc, i, vc);
+        // applied during this period: the actuation latched one tick ago
+        float v0[2], v1[2], v[2];
+        dtc3l_state_voltage(uint8_t(state_of(latched.vector[0])), float(vc[0]), float(vc[1]), v0);
+        dtc3l_state_voltage(uint8_t(state_of(latched.vector[1])), float(vc[0]), float(vc[1]), v1);
+        for (int j = 0; j < 2; ++j)
+            v[j] = latched.duty0 * v0[j] + (1 - latched.duty0) * v1[j];
+        float is[2] = {float((2 * i[0] - i[1] - i[2]) / 3), float((i[1] - i[2]) / std::sqrt(3.0))};
+        observer_out oo;
+        observer_step(&obs, &cfg.obs, is, v, &oo);
+
+        dtc3l_in in{};
+        in.te_ref_Nm = k * kT < 0.3 ? 0.0f : float(te_ref); // magnetise first
+        in.psi_ref_Wb = 0.45f;
+        in.te_Nm = oo.te_pred_Nm;
+        for (int j = 0; j < 2; ++j) {
+            in.psi_s_Wb[j] = oo.psi_s_pred_Wb[j];
+            in.is_A[j] = oo.is_pred_A[j];
+            in.dte_dv[j] = oo.dte_dv[j];
+        }
+        in.dte0_Nm_s = oo.dte0_Nm_s;
+        in.rs_ohm = obs.rs_ohm;
+        in.omega_e_rad_s = obs.omega_e_rad_s;
+        in.omega_m_rad_s = oo.omega_m_rad_s;
+        in.vc1_V = float(vc[0]);
+        in.vc2_V = float(vc[1]);
+        in.np_dev_V = in.vc1_V - in.vc2_V;
+        in.prev_state = uint8_t(state_of(latched.vector[1]));
+        dtc3l_out out;
+        dtc3l_step(&d, &cfg.dtc, float(kT), &in, &out);
+
+        // the plant over this period, sampled at the switching instant too
+        if (k == n_settle)
+            sw0 = ps.switch_count;
+        double d0 = latched.duty0;
+        plant_truth tr;
+        if (d0 > 0) {
+            plant_advance(&ps, latched.vector[0].leg, latched.vector[0].leg, 1.0, d0 * kT);
+            plant_get_truth(&ps, &tr);
+            if (k >= n_settle) {
+                r.max_dev_Nm = std::max(r.max_dev_Nm, std::abs(tr.te_Nm - te_ref));
+                r.mean_Nm += tr.te_Nm;
+                cnt++;
+            }
+        }
+        if (d0 < 1) {
+            plant_advance(&ps, latched.vector[1].leg, latched.vector[1].leg, 1.0, (1 - d0) * kT);
+            plant_get_truth(&ps, &tr);
+            if (k >= n_settle) {
+                r.max_dev_Nm = std::max(r.max_dev_Nm, std::abs(tr.te_Nm - te_ref));
+                r.mean_Nm += tr.te_Nm;
+                cnt++;
+            }
+        }
+        if (k >= n_settle)
+            r.np_max_V = std::max(r.np_max_V, std::abs(tr.vc1_V - tr.vc2_V));
+        latched = out.act;
+    }
+    r.mean_Nm /= cnt;
+    r.fsw_Hz = double(ps.switch_count - sw0) / (3 * (n - n_settle) * kT) / 2;
+    return r;
+}
+
+TEST(Dtc3lClosedLoop, RippleReductionKeepsTheTorqueInsideTheBand)
+{
+    ctl_cfg cfg;
+    ctl_cfg_default(&cfg);
+    const double b = cfg.dtc.torque_band_Nm;
+    for (double te : {0.3, 8.0}) {
+        SCOPED_TRACE(testing::Message() << "Te* = " << te);
+        LoopResult on = run_torque_loop(true, 500, te);
+        LoopResult off = run_torque_loop(false, 500, te);
+        RecordProperty("max_dev_on_" + std::to_string(int(te)), std::to_string(on.max_dev_Nm));
+        RecordProperty("max_dev_off_" + std::to_string(int(te)), std::to_string(off.max_dev_Nm));
+        RecordProperty("fsw_on_" + std::to_string(int(te)), std::to_string(on.fsw_Hz));
+        EXPECT_LT(on.max_dev_Nm, 1.35 * b);       // the band, plus model and sampling error
+        EXPECT_GT(off.max_dev_Nm, on.max_dev_Nm + 0.25 * b); // one period of slope beyond it
+        EXPECT_NEAR(on.mean_Nm, te, 0.5);
+        // the paper's range of device switching frequency, with margin
+        EXPECT_GT(on.fsw_Hz, 300.0);
+        EXPECT_LT(on.fsw_Hz, 1500.0);
+        EXPECT_LT(on.np_max_V, 0.02 * 311.0);
+    }
+}
+
+} // namespace
