@@ -81,6 +81,7 @@ void drive_isr(void *ctx)
     in.run = d->run;
     in.speed_ref_rad_s = d->speed_ref_rad_s;
     in.fault_input = hal_fault_input_active();
+    in.overrun = d->tick_missed;
 
     ctl_step(&d->ctl, cfg, &in, &d->out);
 
@@ -96,6 +97,9 @@ void drive_isr(void *ctx)
     d->tick++;
     publish_snapshot(d, &in);
     scope_sample(&d->scope, &d->snap, in.speed_ref_rad_s, d->out.tel.faults, d->tick);
+
+    /* Judged by the board's timer, so it latches CTL_FAULT_OVERRUN next tick. */
+    d->tick_missed = hal_tick_missed();
 
     uint32_t dt = hal_cycles() - t0;
     d->timing.last_cycles = dt;

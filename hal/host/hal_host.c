@@ -118,6 +118,14 @@ void hal_tick_stop(void)
     b->tick_running = false;
 }
 
+bool hal_tick_missed(void)
+{
+    /* The SIL runs each tick to completion between two plant periods: simulated
+     * time does not advance inside the handler, so no deadline can be missed.
+     * (Host wall-clock timing of the handler is reported, not judged.) */
+    return false;
+}
+
 /* ----------------------------------------------------- sample and actuation */
 
 int hal_sample_read(hal_sample *out)

@@ -206,6 +206,12 @@ static void sample_latch(void)
     }
 }
 
+bool hal_tick_missed(void)
+{
+    /* UIF set again while the handler still runs: the next period has begun. */
+    return (TIM6_SR & TIM_SR_UIF) != 0u;
+}
+
 /** TIM6 update: start of a control period. Context: interrupt, most urgent. */
 void TIM6_DAC_IRQHandler(void)
 {

@@ -38,11 +38,12 @@ typedef struct {
     float vdc_diff_V;         /**< vc1_V - vc2_V (neutral-point deviation), V */
 } drive_snapshot;
 
-/** Interrupt timing, in HAL cycles. */
+/** Interrupt timing statistics, in HAL cycles (hal_cycles_hz per second). */
 typedef struct {
-    uint32_t last_cycles;
-    uint32_t max_cycles;
-    uint32_t overruns;
+    uint32_t last_cycles;   /**< duration of the last tick */
+    uint32_t max_cycles;    /**< longest tick since start */
+    uint32_t overruns;      /**< ticks measured longer than the period (statistic only;
+                                 the overrun fault comes from hal_tick_missed()) */
 } drive_timing;
 
 typedef struct drive {
@@ -54,6 +55,7 @@ typedef struct drive {
     volatile bool run;              /**< run command from background */
     volatile bool clear_faults_req; /**< background asks the ISR to clear faults */
     uint32_t tick;                  /**< ISR tick counter */
+    bool tick_missed;               /**< the last tick ended after the next one was due */
     drive_snapshot snap;            /**< published each tick */
     drive_timing timing;
     scope scope;                    /**< triggered capture, sampled in drive_isr */

@@ -38,6 +38,15 @@ int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us);
 /** Stop the control interrupt (the gates are disabled first). Context: BG. */
 void hal_tick_stop(void);
 
+/**
+ * @return true when the next control tick became due before the current
+ * handler finished (a missed deadline: the actuation latched in this tick
+ * will be late). Read from the timer's own pending flag, not from a cycle
+ * count, so it means the same on every board. Context: ISR, at the end of
+ * the handler.
+ */
+bool hal_tick_missed(void);
+
 /* ----------------------------------------------------- sample and actuation */
 
 /**
