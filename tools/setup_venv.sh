@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Create (or update) the Python venv at <repo>/.venv with the pinned packages of
+# tools/requirements.txt and the dtctune package (editable). Safe to run again:
+# the venv is reused and pip runs only when requirements.txt changed.
+# Needs: python3 with the venv module (Debian: python3-venv) and network access to PyPI.
+set -euo pipefail
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+venv="$repo/.venv"
+req="$repo/tools/requirements.txt"
+stamp="$venv/.requirements.stamp"
+python=${PYTHON:-python3}
+
+if [ ! -x "$venv/bin/python" ]; then
+  echo "setup_venv: creating $venv"
+  "$python" -m venv "$venv"
+fi
+if [ ! -f "$stamp" ] || ! cmp -s "$req" "$stamp"; then
+  echo "setup_venv: installing the pinned packages of tools/requirements.txt"
+  "$venv/bin/python" -m pip install -q --upgrade pip
+  "$venv/bin/python" -m pip install -q -r "$req"
+  cp "$req" "$stamp"
+fi
+# Editable: the tool follows the sources; --no-deps: requirements.txt pins them all.
+if ! "$venv/bin/python" -c 'import dtctune' 2>/dev/null || [ ! -x "$venv/bin/dtctune" ]; then
+  echo "setup_venv: installing dtctune (editable)"
+  "$venv/bin/python" -m pip install -q --no-deps -e "$repo/tools"
+fi
+echo "setup_venv: ready: $venv (activate with: . .venv/bin/activate)"
