@@ -84,6 +84,31 @@ bool co_od_running(const struct drive *d)
     return d->run || st == CTL_MAGNETISING || st == CTL_RUNNING;
 }
 
+/* The low @p size bytes (1, 2 or 4) of an integer field, zero-extended. */
+static uint32_t field_bits(const uint8_t *ptr, uint8_t size)
+{
+    if (size == 1u)
+        return ptr[0];
+    if (size == 2u) {
+        uint16_t x;
+        memcpy(&x, ptr, 2u);
+        return x;
+    }
+    uint32_t x;
+    memcpy(&x, ptr, 4u);
+    return x;
+}
+
+/* Sign-extend the low @p size bytes (1, 2 or 4) of @p u. */
+static int32_t sign_extend(uint32_t u, size_t size)
+{
+    if (size == 1u)
+        return (int32_t)(int8_t)(uint8_t)u;
+    if (size == 2u)
+        return (int32_t)(int16_t)(uint16_t)u;
+    return (int32_t)u;
+}
+
 /* ------------------------------------------------------------- encoding */
 
 void co_num_encode(uint8_t dtype, const co_num *v, uint8_t *buf)
@@ -103,10 +128,8 @@ co_num co_num_decode(uint8_t dtype, const uint8_t *buf)
         u |= (uint32_t)buf[i] << (8u * i);
     v.u = u;
     /* Sign-extend the short signed types so v.i holds the value. */
-    if (dtype == CO_DT_INTEGER8)
-        v.i = (int32_t)(int8_t)(uint8_t)u;
-    else if (dtype == CO_DT_INTEGER16)
-        v.i = (int32_t)(int16_t)(uint16_t)u;
+    if (dtype == CO_DT_INTEGER8 || dtype == CO_DT_INTEGER16)
+        v.i = sign_extend(u, n);
     return v;
 }
 
@@ -159,26 +182,10 @@ static co_num field_get(const uint8_t *ptr, const co_param *p)
         v.u = ptr[0] != 0u ? 1u : 0u;
         break;
     case CO_CK_UINT:
-        if (p->csize == 1u) {
-            v.u = ptr[0];
-        } else if (p->csize == 2u) {
-            uint16_t x;
-            memcpy(&x, ptr, 2u);
-            v.u = x;
-        } else {
-            memcpy(&v.u, ptr, 4u);
-        }
+        v.u = field_bits(ptr, p->csize);
         break;
     case CO_CK_SINT:
-        if (p->csize == 1u) {
-            v.i = (int8_t)ptr[0];
-        } else if (p->csize == 2u) {
-            int16_t x;
-            memcpy(&x, ptr, 2u);
-            v.i = x;
-        } else {
-            memcpy(&v.i, ptr, 4u);
-        }
+        v.i = sign_extend(field_bits(ptr, p->csize), p->csize);
         break;
     default:
         break;

@@ -65,6 +65,36 @@ static void respond_mux(struct drive *d, uint8_t cmd, uint16_t index, uint8_t su
     respond(d, b);
 }
 
+/* Start a segmented transfer of entry @p p: toggle 0, nothing moved yet. */
+static void begin_transfer(co_sdo_server *s, uint8_t state, const co_param *p, uint32_t size, uint32_t now_ms)
+{
+    s->state = state;
+    s->index = p->index;
+    s->sub = p->sub;
+    s->param = (uint16_t)(p - co_params);
+    s->size = size;
+    s->pos = 0u;
+    s->toggle = 0u;
+    s->last_ms = now_ms;
+}
+
+/* Check a segment request against the transfer in progress (@p want) and
+ * its toggle bit; on a mismatch abort and return false. */
+static bool segment_ok(struct drive *d, const uint8_t *req, uint8_t want)
+{
+    const co_sdo_server *s = &d->co.sdo;
+    if (s->state != want) {
+        bool busy = s->state != CO_SDO_IDLE;
+        send_abort(d, busy ? s->index : 0u, busy ? s->sub : 0u, CO_ABORT_CMD);
+        return false;
+    }
+    if (((req[0] >> 4) & 1u) != s->toggle) {
+        send_abort(d, s->index, s->sub, CO_ABORT_TOGGLE);
+        return false;
+    }
+    return true;
+}
+
 static void initiate_download(struct drive *d, const uint8_t *req, uint32_t now_ms)
 {
     co_sdo_server *s = &d->co.sdo;
@@ -101,31 +131,17 @@ static void initiate_download(struct drive *d, const uint8_t *req, uint32_t now_
         send_abort(d, index, sub, CO_ABORT_LENGTH);
         return;
     }
-    s->state = CO_SDO_DOWNLOAD;
-    s->index = index;
-    s->sub = sub;
-    s->param = (uint16_t)(p - co_params);
-    s->size = size_ind ? size : 0u;
+    begin_transfer(s, CO_SDO_DOWNLOAD, p, size_ind ? size : 0u, now_ms);
     s->size_known = size_ind ? 1u : 0u;
-    s->pos = 0u;
-    s->toggle = 0u;
-    s->last_ms = now_ms;
     respond_mux(d, 0x60u, index, sub, NULL);
 }
 
 static void download_segment(struct drive *d, const uint8_t *req, uint32_t now_ms)
 {
     co_sdo_server *s = &d->co.sdo;
-    if (s->state != CO_SDO_DOWNLOAD) {
-        send_abort(d, s->state != CO_SDO_IDLE ? s->index : 0u, s->state != CO_SDO_IDLE ? s->sub : 0u,
-                   CO_ABORT_CMD);
+    if (!segment_ok(d, req, CO_SDO_DOWNLOAD))
         return;
-    }
-    uint8_t t = (uint8_t)((req[0] >> 4) & 1u);
-    if (t != s->toggle) {
-        send_abort(d, s->index, s->sub, CO_ABORT_TOGGLE);
-        return;
-    }
+    uint8_t t = s->toggle;
     uint32_t count = 7u - ((req[0] >> 1) & 7u);
     bool last = (req[0] & 1u) != 0u;
     if (s->pos + count > CO_SDO_BUF || (s->size_known && s->pos + count > s->size)) {
@@ -187,14 +203,7 @@ static void initiate_upload(struct drive *d, const uint8_t *req, uint32_t now_ms
         }
     }
     /* Segmented upload with the size indicated (also for 0 bytes). */
-    s->state = CO_SDO_UPLOAD;
-    s->index = index;
-    s->sub = sub;
-    s->param = (uint16_t)(p - co_params);
-    s->size = size;
-    s->pos = 0u;
-    s->toggle = 0u;
-    s->last_ms = now_ms;
+    begin_transfer(s, CO_SDO_UPLOAD, p, size, now_ms);
     uint8_t data[4];
     put_u32(data, size);
     respond_mux(d, 0x41u, index, sub, data);
@@ -203,16 +212,9 @@ static void initiate_upload(struct drive *d, const uint8_t *req, uint32_t now_ms
 static void upload_segment(struct drive *d, const uint8_t *req, uint32_t now_ms)
 {
     co_sdo_server *s = &d->co.sdo;
-    if (s->state != CO_SDO_UPLOAD) {
-        send_abort(d, s->state != CO_SDO_IDLE ? s->index : 0u, s->state != CO_SDO_IDLE ? s->sub : 0u,
-                   CO_ABORT_CMD);
+    if (!segment_ok(d, req, CO_SDO_UPLOAD))
         return;
-    }
-    uint8_t t = (uint8_t)((req[0] >> 4) & 1u);
-    if (t != s->toggle) {
-        send_abort(d, s->index, s->sub, CO_ABORT_TOGGLE);
-        return;
-    }
+    uint8_t t = s->toggle;
     uint32_t left = s->size - s->pos;
     uint32_t count = left < 7u ? left : 7u;
     bool last = count == left;

@@ -171,7 +171,8 @@ static uint32_t detect_faults(const ctl_state *s, const ctl_cfg *cfg, const ctl_
         f |= CTL_FAULT_DC_UNDERVOLT;
     if (num_abs(x->vc1_V - x->vc2_V) > cfg->np_trip_V)
         f |= CTL_FAULT_NP_IMBALANCE;
-    if (active && num_abs(s->obs.omega_m_filt_rad_s) > cfg->overspeed_rad_s)
+    /* Written as "not within" so that a diverged (NaN) estimate trips too. */
+    if (active && !(num_abs(s->obs.omega_m_filt_rad_s) <= cfg->overspeed_rad_s))
         f |= CTL_FAULT_OVERSPEED;
     return f;
 }
@@ -189,9 +190,8 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     gates_off(s); /* the first period after enabling applies OOO */
 }
 
-static void fill_telemetry(const ctl_state *s, const ctl_cfg *cfg, const speed_out *so, ctl_out *out)
+static void fill_telemetry(const ctl_state *s, const speed_out *so, ctl_out *out)
 {
-    (void)cfg;
     ctl_telemetry *t = &out->tel;
     t->speed_ref_rad_s = s->speed_ref_ramped_rad_s;
     t->omega_est_rad_s = s->obs.omega_m_filt_rad_s;
@@ -211,13 +211,13 @@ static void fill_telemetry(const ctl_state *s, const ctl_cfg *cfg, const speed_o
 }
 
 /* Safe output: gates off, zero vector, telemetry. */
-static void output_off(ctl_state *s, const ctl_cfg *cfg, ctl_out *out)
+static void output_off(ctl_state *s, ctl_out *out)
 {
     gates_off(s);
     out->act = s->last_act;
     out->gate_enable = false;
     s->te_ref_Nm = R(0.0);
-    fill_telemetry(s, cfg, NULL, out);
+    fill_telemetry(s, NULL, out);
 }
 
 void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
@@ -231,14 +231,14 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     s->faults |= f;
     if (s->faults != 0u) {
         s->run_state = CTL_FAULTED;
-        output_off(s, cfg, out);
+        output_off(s, out);
         return;
     }
 
     /* ---- run state */
     if (!in->run) {
         s->run_state = CTL_STOPPED;
-        output_off(s, cfg, out);
+        output_off(s, out);
         return;
     }
     if (s->run_state == CTL_STOPPED)
@@ -328,5 +328,5 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     s->last_vector = act.vector[1];
     out->act = act;
     out->gate_enable = true;
-    fill_telemetry(s, cfg, &so, out);
+    fill_telemetry(s, &so, out);
 }

@@ -4,16 +4,31 @@
  */
 #include "dtc/drive.h"
 
+#include <stdatomic.h>
 #include <string.h>
 
 #include "hal/hal.h"
 
+/* Compiler barrier: volatile orders only volatile accesses, so the plain
+ * stores and loads of a published copy are fenced against the volatile word
+ * that publishes it (single core: the interrupt only preempts). */
+static inline void publish_fence(void) { atomic_signal_fence(memory_order_seq_cst); }
+
+/* The control period in HAL cycles, for the overrun statistic (BG: keeps the
+ * float-to-integer work out of the interrupt). Through uint32_t: a float ->
+ * uint64 cast would pull in soft-double code on the M4F. */
+static uint32_t period_in_cycles(const ctl_cfg *cfg)
+{
+    uint32_t period_us = (uint32_t)(cfg->period_s * 1e6f + 0.5f);
+    return (uint32_t)((uint64_t)hal_cycles_hz() * period_us / 1000000u);
+}
+
 void drive_init(drive *d)
 {
     memset(d, 0, sizeof *d);
-    ctl_cfg_default(&d->cfg[0]);
-    ctl_cfg_derive(&d->cfg[0]);
+    ctl_cfg_default(&d->cfg[0]); /* derived too */
     d->cfg[1] = d->cfg[0];
+    d->period_cycles[0] = d->period_cycles[1] = period_in_cycles(&d->cfg[0]);
     d->cfg_active = 0u;
     scope_init(&d->scope);
     co_dev_init(&d->co);
@@ -34,6 +49,8 @@ void drive_cfg_commit(drive *d)
 {
     uint32_t inactive = (d->cfg_active & 1u) ^ 1u;
     ctl_cfg_derive(&d->cfg[inactive]);
+    d->period_cycles[inactive] = period_in_cycles(&d->cfg[inactive]);
+    publish_fence();
     /* One aligned word store: the ISR sees either the old or the new copy. */
     d->cfg_active = inactive;
 }
@@ -51,6 +68,7 @@ static void publish_snapshot(drive *d, const ctl_in *in)
 {
     drive_snapshot *s = &d->snap;
     s->seq++; /* odd: being written */
+    publish_fence();
     s->tel = d->out.tel;
     s->omega_meas_rad_s = in->sample.speed_meas_rad_s;
     s->vc1_V = in->sample.vc1_V;
@@ -61,6 +79,7 @@ static void publish_snapshot(drive *d, const ctl_in *in)
     s->tick = d->tick;
     s->speed_err_rad_s = d->out.tel.speed_ref_rad_s - d->out.tel.omega_est_rad_s;
     s->vdc_diff_V = in->sample.vc1_V - in->sample.vc2_V;
+    publish_fence();
     s->seq++; /* even: consistent */
 }
 
@@ -68,7 +87,8 @@ void drive_isr(void *ctx)
 {
     drive *d = (drive *)ctx;
     uint32_t t0 = hal_cycles();
-    const ctl_cfg *cfg = drive_cfg(d);
+    uint32_t active = d->cfg_active & 1u; /* one read: cfg and period_cycles from the same copy */
+    const ctl_cfg *cfg = &d->cfg[active];
 
     if (d->clear_faults_req) {
         d->clear_faults_req = false;
@@ -105,10 +125,7 @@ void drive_isr(void *ctx)
     d->timing.last_cycles = dt;
     if (dt > d->timing.max_cycles)
         d->timing.max_cycles = dt;
-    /* Through uint32_t: a float -> uint64 cast would pull in soft-double code on the M4F. */
-    uint32_t period_us = (uint32_t)(cfg->period_s * 1e6f + 0.5f);
-    uint64_t period_cycles = (uint64_t)hal_cycles_hz() * period_us / 1000000u;
-    if ((uint64_t)dt > period_cycles)
+    if (dt > d->period_cycles[active])
         d->timing.overruns++;
 }
 
@@ -117,7 +134,9 @@ void drive_read_snapshot(const drive *d, drive_snapshot *out)
     uint32_t s0, s1;
     do {
         s0 = d->snap.seq;
+        publish_fence();
         memcpy(out, (const void *)&d->snap, sizeof *out);
+        publish_fence();
         s1 = d->snap.seq;
     } while (s0 != s1 || (s0 & 1u));
 }

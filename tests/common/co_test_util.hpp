@@ -47,6 +47,16 @@ inline hal_can_frame frame(uint16_t id, std::vector<uint8_t> data, bool rtr = fa
     return f;
 }
 
+/** The frames of @p v with COB-ID @p id, in order. */
+inline std::vector<hal_can_frame> with_id(const std::vector<hal_can_frame> &v, uint16_t id)
+{
+    std::vector<hal_can_frame> out;
+    for (const auto &f : v)
+        if (f.id == id)
+            out.push_back(f);
+    return out;
+}
+
 inline uint32_t le32(const uint8_t *b)
 {
     return uint32_t(b[0]) | (uint32_t(b[1]) << 8) | (uint32_t(b[2]) << 16) | (uint32_t(b[3]) << 24);

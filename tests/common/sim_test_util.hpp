@@ -27,14 +27,16 @@ struct Loaded {
     std::string error; // the one-line message when rc != 0
 };
 
-// Parse @p path, apply @p sets ("section.key=value") and finish, as dtc-sim does.
-inline Loaded load_scenario(const std::string &path, const std::vector<std::string> &sets = {})
+// Defaults, then @p parse (file or text), then @p sets ("section.key=value"),
+// then finish, as dtc-sim does.
+template <typename Parse>
+inline Loaded load_with(Parse parse, const std::vector<std::string> &sets)
 {
     Loaded l;
     l.sc = std::make_unique<scenario>();
     char err[2048] = "";
     scenario_default(l.sc.get());
-    l.rc = scenario_parse_file(l.sc.get(), path.c_str(), err, sizeof err);
+    l.rc = parse(l.sc.get(), err, sizeof err);
     for (size_t i = 0; l.rc == 0 && i < sets.size(); ++i)
         l.rc = scenario_set(l.sc.get(), sets[i].c_str(), err, sizeof err);
     if (l.rc == 0)
@@ -43,21 +45,22 @@ inline Loaded load_scenario(const std::string &path, const std::vector<std::stri
     return l;
 }
 
+// Parse @p path, apply @p sets and finish, as dtc-sim does.
+inline Loaded load_scenario(const std::string &path, const std::vector<std::string> &sets = {})
+{
+    return load_with([&](scenario *sc, char *err, size_t n) { return scenario_parse_file(sc, path.c_str(), err, n); },
+                     sets);
+}
+
 // The same from INI text; @p name plays the file name in messages.
 inline Loaded parse_text(const std::string &text, const std::vector<std::string> &sets = {},
                          const std::string &name = "t.ini")
 {
-    Loaded l;
-    l.sc = std::make_unique<scenario>();
-    char err[2048] = "";
-    scenario_default(l.sc.get());
-    l.rc = scenario_parse_string(l.sc.get(), name.c_str(), text.c_str(), err, sizeof err);
-    for (size_t i = 0; l.rc == 0 && i < sets.size(); ++i)
-        l.rc = scenario_set(l.sc.get(), sets[i].c_str(), err, sizeof err);
-    if (l.rc == 0)
-        l.rc = scenario_finish(l.sc.get(), err, sizeof err);
-    l.error = err;
-    return l;
+    return load_with(
+        [&](scenario *sc, char *err, size_t n) {
+            return scenario_parse_string(sc, name.c_str(), text.c_str(), err, n);
+        },
+        sets);
 }
 
 inline std::string source_path(const std::string &rel) { return std::string(DTC_SOURCE_DIR) + "/" + rel; }

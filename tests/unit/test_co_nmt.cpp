@@ -7,15 +7,6 @@ using namespace cotest;
 
 namespace {
 
-std::vector<hal_can_frame> with_id(const std::vector<hal_can_frame> &v, uint16_t id)
-{
-    std::vector<hal_can_frame> out;
-    for (const auto &f : v)
-        if (f.id == id)
-            out.push_back(f);
-    return out;
-}
-
 void nmt(Bench &b, uint8_t cmd, uint8_t node)
 {
     b.inject(frame(0x000, {cmd, node}));

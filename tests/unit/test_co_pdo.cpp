@@ -13,15 +13,6 @@ namespace {
 
 constexpr double kRpmPerRadS = 60.0 / (2.0 * M_PI);
 
-std::vector<hal_can_frame> with_id(const std::vector<hal_can_frame> &v, uint16_t id)
-{
-    std::vector<hal_can_frame> out;
-    for (const auto &f : v)
-        if (f.id == id)
-            out.push_back(f);
-    return out;
-}
-
 int16_t s16(const uint8_t *b) { return int16_t(uint16_t(b[0] | (b[1] << 8))); }
 uint16_t u16(const uint8_t *b) { return uint16_t(b[0] | (b[1] << 8)); }
 

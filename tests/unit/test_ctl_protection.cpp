@@ -163,6 +163,9 @@ const FaultCase kFaults[] = {
          in.sample.vc2_V = 140.0f;
      }},
     {"overspeed", CTL_FAULT_OVERSPEED, [](ctl_in &, ctl_state &s) { s.obs.omega_m_filt_rad_s = -251.0f; }},
+    // a diverged observer (NaN speed) must not slip past the overspeed check
+    {"NaN speed estimate", CTL_FAULT_OVERSPEED,
+     [](ctl_in &, ctl_state &s) { s.obs.omega_m_filt_rad_s = std::numeric_limits<float>::quiet_NaN(); }},
     {"stale sample", CTL_FAULT_STALE_SAMPLE, [](ctl_in &in, ctl_state &) { in.sample_fresh = false; }},
     {"hardware input", CTL_FAULT_HW, [](ctl_in &in, ctl_state &) { in.fault_input = true; }},
     {"overrun", CTL_FAULT_OVERRUN, [](ctl_in &in, ctl_state &) { in.overrun = true; }},

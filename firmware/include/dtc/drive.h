@@ -49,6 +49,8 @@ typedef struct {
 typedef struct drive {
     ctl_cfg cfg[2];                 /**< double-buffered configuration */
     volatile uint32_t cfg_active;   /**< index of the copy the ISR uses (0 or 1) */
+    uint32_t period_cycles[2];      /**< cfg[i].period_s in HAL cycles, derived by drive_cfg_commit
+                                         (so the ISR's timing statistic needs no 64-bit division) */
     ctl_state ctl;                  /**< ISR-owned control state */
     ctl_out out;                    /**< outputs of the last tick */
     volatile float speed_ref_rad_s; /**< command from background (scenario, CAN), rad/s */

@@ -43,11 +43,22 @@ static inline real_t num_sat(real_t x, real_t lo, real_t hi)
 /** Clamp x to [-lim, lim]; requires lim >= 0. */
 static inline real_t num_limit(real_t x, real_t lim) { return num_sat(x, -lim, lim); }
 
+/** |x|. */
 static inline real_t num_abs(real_t x) { return fabsf(x); }
+
+/** sqrt(x); x <= 0 (and NaN) gives 0, so a rounding-negative argument is safe. */
 static inline real_t num_sqrt(real_t x) { return sqrtf(x > R(0.0) ? x : R(0.0)); }
+
+/** e^x; overflows to +inf above about 88.7. */
 static inline real_t num_exp(real_t x) { return expf(x); }
+
+/** sin(x), x in rad. */
 static inline real_t num_sin(real_t x) { return sinf(x); }
+
+/** cos(x), x in rad. */
 static inline real_t num_cos(real_t x) { return cosf(x); }
+
+/** Angle of (x, y) in rad, in [-pi, pi]. */
 static inline real_t num_atan2(real_t y, real_t x) { return atan2f(y, x); }
 
 /** sign(x): -1, 0 or +1. */

@@ -32,10 +32,10 @@ extern "C" {
  */
 void rbfn_basis(const real_t *centre, const real_t *width, uint32_t n, real_t x, real_t *z);
 
-/** Network output y = W^T Z (eq. 9). */
+/** Network output y = W^T Z (eq. 9), in the unit of the weights (n entries each). */
 real_t rbfn_output(const real_t *w, const real_t *z, uint32_t n);
 
-/** Euclidean norm |W|. */
+/** Euclidean norm |W| of n weights, in the unit of the weights. */
 real_t rbfn_norm(const real_t *w, uint32_t n);
 
 /**

@@ -69,16 +69,27 @@ int co_dev_send(uint16_t id, uint8_t dlc, const uint8_t *data);
 
 /* ---------------------------------------------- handlers of fn.* entries */
 
-/** Read the internal value of a CO_BIND_FN entry. @return CO_ABORT_NONE or an abort code. */
+/**
+ * Read the internal value of a CO_BIND_FN entry, in the entry's internal unit
+ * (the speed reference in rad/s; words and counters unscaled).
+ * @return CO_ABORT_NONE or an abort code. Context: BG.
+ */
 uint32_t co_fn_read(struct drive *d, const co_param *p, co_num *internal);
 
-/** Apply a checked internal value to a CO_BIND_FN entry. @return CO_ABORT_NONE or an abort code. */
+/**
+ * Apply a checked internal value (internal unit, as co_fn_read) to a
+ * CO_BIND_FN entry. @return CO_ABORT_NONE (applied) or an abort code
+ * (nothing changed). Context: BG.
+ */
 uint32_t co_fn_write(struct drive *d, const co_param *p, const co_num *internal);
 
-/** Size in bytes of a domain entry's present content. */
+/** Size in bytes of a domain entry's present content (0 while the scope has no capture). Context: BG. */
 uint32_t co_fn_domain_size(struct drive *d, const co_param *p);
 
-/** Copy @p n bytes of a domain entry from @p offset into @p buf. */
+/**
+ * Copy @p n bytes of a domain entry from byte @p offset into @p buf; bytes
+ * past the present content read as 0. Context: BG.
+ */
 void co_fn_domain_read(struct drive *d, const co_param *p, uint32_t offset, uint8_t *buf, size_t n);
 
 #ifdef __cplusplus

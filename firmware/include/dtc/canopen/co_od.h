@@ -121,7 +121,7 @@ typedef struct co_param {
     const char *str;         /**< value of a constant string */
 } co_param;
 
-/** Length in bytes of a numeric data type on the bus (0 for strings and domains). */
+/** Length in bytes (1, 2 or 4) of a numeric data type on the bus (0 for strings and domains). Context: ANY. */
 size_t co_dtype_size(uint8_t dtype);
 
 /**
@@ -167,7 +167,7 @@ uint32_t co_od_check(const co_param *p, const uint8_t *data, size_t len, co_wr_o
 /**
  * Decode, check and apply a write of @p len bytes. Configuration entries are
  * applied with one drive_cfg_edit()/drive_cfg_commit() pair after the
- * cross-field check (speed_cfg_check) passed. Entries without CO_F_RUNTIME
+ * cross-field check (ctl_cfg_check) passed. Entries without CO_F_RUNTIME
  * are refused with CO_ABORT_STATE while the drive runs (co_od_running).
  * @return CO_ABORT_NONE (applied) or an abort code (nothing changed). Context: BG.
  */
@@ -183,10 +183,10 @@ void co_od_apply(struct drive *d, const co_param *p, const co_num *v, ctl_cfg *e
 /** @return true while the drive is commanded to run or is magnetising/running. Context: BG. */
 bool co_od_running(const struct drive *d);
 
-/** Encode a raw value of @p dtype little-endian into @p buf (co_dtype_size bytes). */
+/** Encode a raw value of @p dtype little-endian into @p buf (co_dtype_size bytes). Context: ANY. */
 void co_num_encode(uint8_t dtype, const co_num *v, uint8_t *buf);
 
-/** Decode @p dtype little-endian bytes (co_dtype_size of them). */
+/** Decode @p dtype little-endian bytes (co_dtype_size of them); short signed types are sign-extended. Context: ANY. */
 co_num co_num_decode(uint8_t dtype, const uint8_t *buf);
 
 #ifdef __cplusplus
