@@ -118,8 +118,9 @@ def telemetry_run(link: Link, dic: Dictionary, channel: str, rate: int, seconds:
     time.sleep(0.3)
     s = open_raw(channel, [t.cob_id for t in tpdos])
     try:
-        while True:  # empty what queued while the rate changed
-            try:
+        t_drain = time.monotonic()
+        while time.monotonic() - t_drain < 0.5:  # empty what queued while the rate changed
+            try:  # (bounded: at high rates the drive may queue frames as fast as we take them)
                 s.recv(16, socket.MSG_DONTWAIT)
             except BlockingIOError:
                 break

@@ -47,6 +47,7 @@ void hal_host_can_loopback_init(hal_host_can_loopback *q, hal_host_can_backend *
     out->ctx = q;
     out->send = loopback_send;
     out->recv = loopback_recv;
+    out->wait_rx = NULL;
 }
 
 int hal_host_can_loopback_inject(hal_host_can_loopback *q, const hal_can_frame *f)

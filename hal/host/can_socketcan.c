@@ -4,9 +4,12 @@
  *
  * Classic 11-bit frames only (CANopen uses no extended identifiers). The
  * socket is non-blocking: send and receive return HAL_EBUSY / HAL_EAGAIN
- * instead of waiting, as the background loop must never block.
+ * instead of waiting, as the background loop must never block. The owner
+ * may sleep in socketcan_wait_rx() (ppoll) between ticks; from then on an
+ * empty receive queue is remembered, and recv() skips the read() system call
+ * (which would only say EAGAIN) until the next wait sees a frame.
  */
-#define _DEFAULT_SOURCE
+#define _GNU_SOURCE /* ppoll */
 
 #include "hal_host/hal_host.h"
 
@@ -17,11 +20,14 @@
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 typedef struct {
     int fd;
+    bool waited;  /* wait_rx has been used: trust rx_ready */
+    bool rx_ready; /* a frame may be waiting (unknown counts as yes) */
 } socketcan_ctx;
 
 static int socketcan_send(void *ctx, const hal_can_frame *f)
@@ -45,12 +51,19 @@ static int socketcan_send(void *ctx, const hal_can_frame *f)
 
 static int socketcan_recv(void *ctx, hal_can_frame *f)
 {
-    const socketcan_ctx *c = ctx;
+    socketcan_ctx *c = ctx;
+    if (c->waited && !c->rx_ready)
+        return HAL_EAGAIN; /* the last read found the queue empty and no wait saw a frame since */
     for (;;) {
         struct can_frame cf;
         ssize_t n = read(c->fd, &cf, sizeof cf);
-        if (n < 0)
-            return (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) ? HAL_EAGAIN : HAL_EIO;
+        if (n < 0) {
+            if (errno == EAGAIN || errno == EWOULDBLOCK) {
+                c->rx_ready = false;
+                return HAL_EAGAIN;
+            }
+            return errno == EINTR ? HAL_EAGAIN : HAL_EIO;
+        }
         if (n != (ssize_t)sizeof cf)
             continue; /* not a classic frame */
         if (cf.can_id & (CAN_EFF_FLAG | CAN_ERR_FLAG))
@@ -62,6 +75,23 @@ static int socketcan_recv(void *ctx, hal_can_frame *f)
         memcpy(f->data, cf.data, 8u);
         return HAL_OK;
     }
+}
+
+static int socketcan_wait_rx(void *ctx, const struct timespec *timeout)
+{
+    socketcan_ctx *c = ctx;
+    c->waited = true;
+    if (c->rx_ready)
+        return 1; /* frames left from the last pass: no need to ask */
+    struct pollfd p = { .fd = c->fd, .events = POLLIN, .revents = 0 };
+    int n = ppoll(&p, 1, timeout, NULL);
+    if (n < 0)
+        return errno == EINTR ? HAL_EAGAIN : HAL_EIO;
+    if (n == 0)
+        return 0;
+    /* POLLIN, or an error condition that the next read() reports. */
+    c->rx_ready = true;
+    return 1;
 }
 
 int hal_host_socketcan_open(const char *iface, hal_host_can_backend *out)
@@ -99,9 +129,12 @@ int hal_host_socketcan_open(const char *iface, hal_host_can_backend *out)
         return -err;
     }
     c->fd = fd;
+    c->waited = false;
+    c->rx_ready = true;
     out->ctx = c;
     out->send = socketcan_send;
     out->recv = socketcan_recv;
+    out->wait_rx = socketcan_wait_rx;
     return 0;
 }
 

@@ -177,9 +177,31 @@ static int open_can(engine *e, const sim_options *o, sim_result *res)
     return SIM_OK;
 }
 
-static void pace(struct timespec *next, long period_ns, const volatile sig_atomic_t *stop)
+/* Realtime pacing step, s: the loop runs this many seconds of ticks, then
+ * waits for the wall clock. Each step costs a clock read and a sleep, which
+ * under User-Mode Linux (the CAN tests) are system calls of 20-90 us each, so
+ * the step is longer than the 200 us tick; it also bounds the time a CAN frame
+ * waits before the drive reads it. */
+#define PACE_STEP_S 0.5e-3
+
+static void sleep_until(const struct timespec *deadline, const volatile sig_atomic_t *stop)
 {
-    next->tv_nsec += period_ns;
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, deadline, NULL) == EINTR)
+        if (stop != NULL && *stop)
+            return;
+}
+
+/* Advance the absolute deadline *next by step_ns and wait for it. With a CAN
+ * backend that can wait (SocketCAN), wait on its receive queue instead of
+ * sleeping blind: that notes whether a frame arrived, so the per-tick
+ * hal_can_recv makes no system call on an idle bus. A frame that arrives is
+ * read by the first tick after the deadline (within one step of its arrival);
+ * the ticks keep following the wall clock. When late, the queue is still
+ * looked at once (zero timeout), so frames are served at every step. */
+static void pace(struct timespec *next, long step_ns, const hal_host_can_backend *can,
+                 const volatile sig_atomic_t *stop)
+{
+    next->tv_nsec += step_ns;
     while (next->tv_nsec >= 1000000000L) {
         next->tv_nsec -= 1000000000L;
         next->tv_sec++;
@@ -187,13 +209,33 @@ static void pace(struct timespec *next, long period_ns, const volatile sig_atomi
     struct timespec now;
     clock_gettime(CLOCK_MONOTONIC, &now);
     double late = (double)(now.tv_sec - next->tv_sec) + 1e-9 * (double)(now.tv_nsec - next->tv_nsec);
-    if (late > 0.1) {
+    if (late > 0.1)
         *next = now; /* far behind (suspended, overloaded): resynchronise, no burst */
+    if (can == NULL || can->wait_rx == NULL) {
+        if (late < 0.0)
+            sleep_until(next, stop);
         return;
     }
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, next, NULL) == EINTR)
-        if (stop != NULL && *stop)
+    for (;;) {
+        struct timespec left = { next->tv_sec - now.tv_sec, next->tv_nsec - now.tv_nsec };
+        if (left.tv_nsec < 0) {
+            left.tv_nsec += 1000000000L;
+            left.tv_sec--;
+        }
+        if (left.tv_sec < 0)
+            left.tv_sec = left.tv_nsec = 0; /* late: only look whether a frame came */
+        int rc = can->wait_rx(can->ctx, &left);
+        if (rc == 0)
+            return; /* the deadline came with no frame */
+        if (rc != HAL_EAGAIN) {
+            if (late < 0.0)
+                sleep_until(next, stop); /* a frame is waiting (or the wait failed): the rest blind */
             return;
+        }
+        if (stop != NULL && *stop)
+            return; /* a signal: stop when asked, else wait out the rest */
+        clock_gettime(CLOCK_MONOTONIC, &now);
+    }
 }
 
 /* The tick loop. Returns SIM_OK or an error status (res->error set). */
@@ -201,11 +243,9 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
 {
     const double T = sc->period_s;
     const long period_ns = (long)llround(T * 1e9);
-    /* Realtime pacing in steps of about 1 ms (5 ticks at 200 us), not every tick: each
-     * step costs a clock read and a sleep, which under User-Mode Linux (the CAN tests)
-     * are system calls of 20-90 us each; per-tick pacing there left the SIL at 0.5x real
-     * time with 1 kHz telemetry. CAN is still served every tick, within 1 ms of wall time. */
-    const uint64_t pace_every = llround(1e-3 / T) > 1 ? (uint64_t)llround(1e-3 / T) : 1u;
+    /* Realtime pacing every PACE_STEP_S (a few ticks), not every tick: per-tick pacing
+     * under User-Mode Linux left the SIL at 0.5x real time with 1 kHz telemetry. */
+    const uint64_t pace_every = llround(PACE_STEP_S / T) > 1 ? (uint64_t)llround(PACE_STEP_S / T) : 1u;
     const uint64_t n_ticks = (uint64_t)llround(sc->duration_s / T);
     const bool forever = o->realtime && o->run_forever;
     const uint64_t trace_every =
@@ -308,7 +348,7 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         prev = act; /* the zero vector when the gates are off (see hal_host_take_actuation) */
 
         if (o->realtime && (k + 1u) % pace_every == 0u)
-            pace(&next, (long)pace_every * period_ns, o->stop);
+            pace(&next, (long)pace_every * period_ns, &e->board.can, o->stop);
     }
     return SIM_OK;
 }

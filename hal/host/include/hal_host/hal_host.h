@@ -9,12 +9,21 @@
  * CAN frames go to a pluggable backend (in-memory loopback for tests, a
  * SocketCAN raw socket for `dtc-sim --can IFACE`). The NVM is a byte array,
  * optionally mirrored to a file.
+ *
+ * Time: hal_cycles() counts real host time, free-running and wrapping at
+ * 2^32 counts, at hal_cycles_hz() counts per second. On x86-64 it is the
+ * time-stamp counter (no system call), its rate measured once against
+ * CLOCK_MONOTONIC (about 10 ms, in hal_host_bind or the first call), so
+ * hal_cycles_hz() is the host's TSC rate, e.g. 2.5e9 (shifted down if it would
+ * not fit 32 bits); elsewhere it is CLOCK_MONOTONIC in ns (hal_cycles_hz() =
+ * 1e9). hal_millis() follows the board's simulated time b->t_s.
  */
 #ifndef HAL_HOST_HAL_HOST_H
 #define HAL_HOST_HAL_HOST_H
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <time.h>
 
 #include "hal/hal.h"
 
@@ -27,6 +36,18 @@ typedef struct {
     void *ctx;
     int (*send)(void *ctx, const hal_can_frame *f);
     int (*recv)(void *ctx, hal_can_frame *f);
+    /**
+     * Optional (NULL: the backend cannot wait; sleep instead). Block for at
+     * most @p timeout (relative; NULL: no limit) until a received frame is
+     * waiting. The realtime engine sleeps through this between its pacing
+     * deadlines, so an idle bus costs no system call per tick: once wait_rx
+     * has been called, recv() makes a system call only after wait_rx saw a
+     * frame, until it finds the queue empty again (a frame that arrives
+     * between two waits is read after the next wait_rx).
+     * @return 1 a frame is waiting (recv() will read it), 0 the timeout
+     *         passed, HAL_EAGAIN a signal interrupted the wait, HAL_EIO on failure.
+     */
+    int (*wait_rx)(void *ctx, const struct timespec *timeout);
 } hal_host_can_backend;
 
 #define HAL_HOST_NVM_SIZE 4096u
@@ -106,7 +127,8 @@ bool hal_host_watchdog_expired(const hal_host_board *b);
  * Open a non-blocking PF_CAN/SOCK_RAW/CAN_RAW socket bound to @p iface
  * (classic 11-bit frames; CAN_RAW_LOOPBACK on so other local sockets see our
  * frames, CAN_RAW_RECV_OWN_MSGS off so we never receive our own frames;
- * extended, error and FD frames are skipped on receive).
+ * extended, error and FD frames are skipped on receive). wait_rx polls the
+ * socket (ppoll), so recv() stays silent while the bus is idle.
  * @param[out] out backend to assign to hal_host_board.can
  * @return 0, or a negative errno: -EAFNOSUPPORT (97) when the kernel has no
  *         CAN support, -ENODEV for an unknown interface, -EINVAL for a bad name.
@@ -136,7 +158,8 @@ typedef struct {
 
 /**
  * Empty both rings of @p q and make @p out a backend whose send() fills
- * q->from_drive and whose recv() drains q->to_drive.
+ * q->from_drive and whose recv() drains q->to_drive (no wait_rx: tests
+ * inject frames between ticks, nothing to wait for).
  */
 void hal_host_can_loopback_init(hal_host_can_loopback *q, hal_host_can_backend *out);
 
