@@ -256,18 +256,20 @@ def cmd_record(args, dic, out) -> int:
         raise DtctuneError("cannot write %s: directory %s does not exist" % (dest, dest.parent))
     with _open(args, dic) as link:
         telemetry, tpdos, cap = _telemetry_setup(args, dic, link)
+        t_until = None
         try:
             telemetry.wait_first(cap, link, tpdos, 2.0)
             clock = _drive_clock(dic, link)
-            with cap._lock:  # record from now on: drop what arrived while waiting
-                cap.frames.clear()
-                cap.counts = {c: 0 for c in cap.counts}
-                cap.first.clear()
+            # The window, in the clock of the frames' receive timestamps: frames still queued
+            # in the socket when it ends are read afterwards and counted where they belong.
+            t_from = time.time()
+            cap.window_from(t_from)
             tick0, wall0 = (int(link.read(clock[0])), time.monotonic()) if clock else (None, None)
-            time.sleep(args.seconds)
+            time.sleep(max(0.0, t_from + args.seconds - time.time()))
+            t_until = time.time()
             tick1, wall1 = (int(link.read(clock[0])), time.monotonic()) if clock else (None, None)
         finally:
-            cap.stop()
+            cap.stop(until=t_until)
         frames = list(cap.frames)
         tmp = dest.with_name(dest.name + ".partial")
         try:

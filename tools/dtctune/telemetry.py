@@ -115,14 +115,16 @@ class PythonCanSource:
         except (NotImplementedError, OSError):
             pass
 
-    def drain(self, out: list) -> None:
-        """Append every waiting frame as (timestamp, id, data); return when none is left."""
-        while True:
+    def drain(self, out: list, max_frames: int) -> int:
+        """Append up to max_frames waiting frames as (timestamp, id, data); return how many
+        were read (fewer than max_frames: none is left)."""
+        for n in range(max_frames):
             m = self.bus.recv(0)
             if m is None:
-                return
+                return n
             if not (m.is_error_frame or m.is_remote_frame) and m.arbitration_id in self.ids:
                 out.append((m.timestamp, m.arbitration_id, bytes(m.data)))
+        return max_frames
 
     def close(self) -> None:
         self.bus.shutdown()
@@ -163,12 +165,14 @@ class SocketcanSource:
             raise
         self.sock = s
 
-    def drain(self, out: list) -> None:
-        while True:
+    def drain(self, out: list, max_frames: int) -> int:
+        """Like PythonCanSource.drain: at most max_frames, so a sender faster than this
+        process cannot keep the caller in here for ever."""
+        for n in range(max_frames):
             try:
                 data, anc, _flags, _addr = self.sock.recvmsg(16, 128)
             except BlockingIOError:
-                return
+                return n
             if len(data) < 16:
                 continue
             can_id, dlc, payload = self.FRAME.unpack(data)
@@ -184,6 +188,7 @@ class SocketcanSource:
             cid = can_id & 0x7FF
             if cid in self.ids:
                 out.append((ts, cid, payload[:min(dlc, 8)]))
+        return max_frames
 
     def close(self) -> None:
         self.sock.close()
@@ -206,7 +211,14 @@ class Capture:
     The frames are drained in batches every `poll_s` rather than one wake-up per frame: at
     kHz telemetry rates a per-frame wake-up costs more CPU than the frames themselves (and on a
     single-CPU machine takes it from the drive simulation). The socket buffers in between.
+
+    A recording window (`window_from`, and `stop(until=...)`) is judged by the frames' receive
+    timestamps, not by when this process gets to them: on a slow PC the frames wait in the
+    (deep) socket buffer and are still counted in the window they arrived in.
     """
+
+    BATCH = 256           # frames per drain call
+    STOP_DRAIN_S = 10.0   # after stop(until=...), read the backlog for at most this long
 
     def __init__(self, link: Link, tpdos: Sequence[Tpdo], source_factory=None, poll_s: float = 0.02):
         self.link = link
@@ -225,10 +237,28 @@ class Capture:
         self._stop = threading.Event()
         self._lock = threading.Lock()
         self._seen = threading.Event()
+        self._t_from: Optional[float] = None   # window start (receive timestamp), None: all
+        self._t_until: Optional[float] = None  # window end, set by stop(until=...)
+        self._reached_until = False
+
+    def window_from(self, t_from: float) -> None:
+        """Count only frames received at or after t_from (time.time() clock, as the kernel's
+        receive timestamps), dropping what was collected so far."""
+        with self._lock:
+            self._t_from = t_from
+            self.frames.clear()
+            self.counts = {c: 0 for c in self.counts}
+            self.first.clear()
+            self.last.clear()
 
     def _on_frame(self, can_id: int, data, timestamp: float) -> None:
         d = bytes(data)
         with self._lock:
+            if self._t_until is not None and timestamp >= self._t_until:
+                self._reached_until = True
+                return
+            if self._t_from is not None and timestamp < self._t_from:
+                return
             if self.keep:
                 self.frames.append((timestamp, can_id, d))
             self.counts[can_id] += 1
@@ -251,18 +281,26 @@ class Capture:
 
     def _run(self) -> None:
         batch: list = []
+        stop_deadline = None
         while True:
             stopping = self._stop.is_set()
+            if stopping and stop_deadline is None:
+                stop_deadline = time.monotonic() + self.STOP_DRAIN_S
             try:
-                self._source.drain(batch)
+                n = self._source.drain(batch, self.BATCH)
             except Exception:  # the interface went away: stop quietly, the caller reports no data
                 return
             for ts, cid, data in batch:
                 self._on_frame(cid, data, ts)
             batch.clear()
             if stopping:
-                return
-            self._stop.wait(self.poll_s)
+                # Read the backlog up to the end of the window (or until it is empty).
+                if n < self.BATCH or self._t_until is None or self._reached_until \
+                        or time.monotonic() > stop_deadline:
+                    return
+                continue
+            if n < self.BATCH:
+                self._stop.wait(self.poll_s)
 
     @property
     def kernel_drops(self) -> int:
@@ -271,7 +309,11 @@ class Capture:
 
     _drops = 0
 
-    def stop(self) -> None:
+    def stop(self, until: Optional[float] = None) -> None:
+        """Stop capturing; with `until` (a receive timestamp), first read what the socket
+        still holds from before that instant."""
+        with self._lock:
+            self._t_until = until
         if self._source is not None:
             self._drops = getattr(self._source, "kernel_drops", 0)
         if self._source is None:
@@ -283,7 +325,7 @@ class Capture:
             return
         self._stop.set()
         if self._thread is not None:
-            self._thread.join(2.0)
+            self._thread.join(self.STOP_DRAIN_S + 2.0)
         try:
             self._source.close()
         except Exception:
