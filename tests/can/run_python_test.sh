@@ -13,10 +13,16 @@ if [ "${1:-}" = "--uml" ]; then
 fi
 [ "${1:-}" = "--" ] && shift
 
-if [ ! -x "$py" ] || ! "$py" -c 'import can, canopen, matplotlib, pytest, dtctune' 2>/dev/null; then
-    echo "The Python venv .venv with dtctune and its packages is missing or incomplete:" >&2
-    echo "run tools/setup_venv.sh (or tools/install-deps.sh, see README.md), then run ctest again." >&2
-    exit 1
+venv_ok() { [ -x "$py" ] && "$py" -c 'import can, canopen, matplotlib, pytest, dtctune' 2>/dev/null; }
+if ! venv_ok; then
+    # A fresh clone: create the venv as the README's commands do (idempotent; the lock keeps
+    # two tests started together from building it twice).
+    echo "run_python_test: creating .venv with tools/setup_venv.sh" >&2
+    if ! flock "$repo/.venv.lock" "$repo/tools/setup_venv.sh" >&2 || ! venv_ok; then
+        echo "The Python venv .venv with dtctune and its packages is missing or incomplete and" >&2
+        echo "tools/setup_venv.sh could not create it (see above; it needs python3-venv and PyPI)." >&2
+        exit 1
+    fi
 fi
 cd "$repo"
 export MPLBACKEND=Agg
