@@ -161,7 +161,7 @@ TEST_F(ParamTable, GeneratedCTableEqualsToml)
     std::set<std::string> seen;
     for (const TomlEntry &e : toml->params) {
         SCOPED_TRACE(e.name);
-        const co_param *p = co_od_find_name(e.name.c_str());
+        const co_param *p = co_od_find_name(&drive_od, e.name.c_str());
         ASSERT_NE(p, nullptr);
         seen.insert(e.name);
         EXPECT_EQ(p->index, e.index);
@@ -213,15 +213,15 @@ TEST_F(ParamTable, SortedUniqueAndFindable)
             EXPECT_LT(a, b) << p->name;
         }
         uint32_t abort = 1;
-        EXPECT_EQ(co_od_find(p->index, p->sub, &abort), p);
+        EXPECT_EQ(co_od_find(&drive_od, p->index, p->sub, &abort), p);
         EXPECT_EQ(abort, 0u);
     }
     uint32_t abort = 0;
-    EXPECT_EQ(co_od_find(0x2FFF, 0, &abort), nullptr);
+    EXPECT_EQ(co_od_find(&drive_od, 0x2FFF, 0, &abort), nullptr);
     EXPECT_EQ(abort, cotest::kAbortNoObject);
-    EXPECT_EQ(co_od_find(0x2000, 0x7F, &abort), nullptr);
+    EXPECT_EQ(co_od_find(&drive_od, 0x2000, 0x7F, &abort), nullptr);
     EXPECT_EQ(abort, cotest::kAbortNoSub);
-    EXPECT_EQ(co_od_find(0x1000, 1, &abort), nullptr);
+    EXPECT_EQ(co_od_find(&drive_od, 0x1000, 1, &abort), nullptr);
     EXPECT_EQ(abort, cotest::kAbortNoSub);
 }
 
@@ -233,7 +233,7 @@ TEST_F(ParamTable, PdoMappingsEqualTomlLists)
         SCOPED_TRACE(kind + " " + m[1]);
         uint16_t map_index = uint16_t((kind == "tpdo" ? 0x1A00 : 0x1600) + num - 1);
         uint16_t comm_index = uint16_t((kind == "tpdo" ? 0x1800 : 0x1400) + num - 1);
-        const co_param *n = co_od_find(map_index, 0, nullptr);
+        const co_param *n = co_od_find(&drive_od, map_index, 0, nullptr);
         ASSERT_NE(n, nullptr);
         EXPECT_EQ(n->def.u, m.size() - 2);
         int bits = 0;
@@ -243,14 +243,14 @@ TEST_F(ParamTable, PdoMappingsEqualTomlLists)
                 if (e.name == m[j])
                     sig = &e;
             ASSERT_NE(sig, nullptr) << m[j];
-            const co_param *w = co_od_find(map_index, uint8_t(j - 1), nullptr);
+            const co_param *w = co_od_find(&drive_od, map_index, uint8_t(j - 1), nullptr);
             ASSERT_NE(w, nullptr);
             uint32_t expect = (uint32_t(sig->index) << 16) | (uint32_t(sig->sub) << 8) | uint32_t(kTypeBits.at(sig->type));
             EXPECT_EQ(w->def.u, expect) << m[j];
             bits += kTypeBits.at(sig->type);
         }
         EXPECT_LE(bits, 64);
-        const co_param *cob = co_od_find(comm_index, 1, nullptr);
+        const co_param *cob = co_od_find(&drive_od, comm_index, 1, nullptr);
         ASSERT_NE(cob, nullptr);
         uint32_t base = (kind == "tpdo" ? 0x180u : 0x200u) + 0x100u * uint32_t(num - 1);
         EXPECT_EQ(cob->def.u & 0x7FFu, base);
@@ -269,7 +269,7 @@ TEST_F(ParamTable, DefaultsEqualCtlCfgDefault)
         if (e.bind.rfind("cfg.", 0) != 0)
             continue;
         SCOPED_TRACE(e.name + " (" + e.bind + ")");
-        const co_param *p = co_od_find_name(e.name.c_str());
+        const co_param *p = co_od_find_name(&drive_od, e.name.c_str());
         ASSERT_NE(p, nullptr);
         const uint8_t *field = reinterpret_cast<const uint8_t *>(&cfg) + p->offset;
         double fw;
@@ -296,17 +296,17 @@ TEST_F(ParamTable, DefaultsEqualCtlCfgDefault)
 // the generator's own offsetof.
 TEST_F(ParamTable, BindingsPointAtTheNamedFields)
 {
-    EXPECT_EQ(co_od_find_name("rbfn_k")->offset, offsetof(ctl_cfg, speed.rbfn.k));
-    EXPECT_EQ(co_od_find_name("rbfn_gamma_w")->offset, offsetof(ctl_cfg, speed.rbfn.gamma_w));
-    EXPECT_EQ(co_od_find_name("rbfn_centre_3")->offset, offsetof(ctl_cfg, speed.rbfn.centre) + 2 * sizeof(float));
-    EXPECT_EQ(co_od_find_name("rbfn_width_9")->offset, offsetof(ctl_cfg, speed.rbfn.width) + 8 * sizeof(float));
-    EXPECT_EQ(co_od_find_name("ip_wn_rad_s")->offset, offsetof(ctl_cfg, speed.ip.wn_rad_s));
-    EXPECT_EQ(co_od_find_name("psi_ref_Wb")->offset, offsetof(ctl_cfg, dtc.psi_ref_Wb));
-    EXPECT_EQ(co_od_find_name("te_max_Nm")->offset, offsetof(ctl_cfg, speed.te_max_Nm));
-    EXPECT_EQ(co_od_find_name("i_trip_A")->offset, offsetof(ctl_cfg, i_trip_A));
-    EXPECT_EQ(co_od_find_name("tel_speed_est_rpm")->offset, offsetof(drive_snapshot, tel.omega_est_rad_s));
-    EXPECT_EQ(co_od_find_name("tel_vdc_diff_V")->offset, offsetof(drive_snapshot, vdc_diff_V));
-    EXPECT_EQ(co_od_find_name("telemetry_hz")->offset, offsetof(co_comm_cfg, telemetry_hz));
+    EXPECT_EQ(co_od_find_name(&drive_od, "rbfn_k")->offset, offsetof(ctl_cfg, speed.rbfn.k));
+    EXPECT_EQ(co_od_find_name(&drive_od, "rbfn_gamma_w")->offset, offsetof(ctl_cfg, speed.rbfn.gamma_w));
+    EXPECT_EQ(co_od_find_name(&drive_od, "rbfn_centre_3")->offset, offsetof(ctl_cfg, speed.rbfn.centre) + 2 * sizeof(float));
+    EXPECT_EQ(co_od_find_name(&drive_od, "rbfn_width_9")->offset, offsetof(ctl_cfg, speed.rbfn.width) + 8 * sizeof(float));
+    EXPECT_EQ(co_od_find_name(&drive_od, "ip_wn_rad_s")->offset, offsetof(ctl_cfg, speed.ip.wn_rad_s));
+    EXPECT_EQ(co_od_find_name(&drive_od, "psi_ref_Wb")->offset, offsetof(ctl_cfg, dtc.psi_ref_Wb));
+    EXPECT_EQ(co_od_find_name(&drive_od, "te_max_Nm")->offset, offsetof(ctl_cfg, speed.te_max_Nm));
+    EXPECT_EQ(co_od_find_name(&drive_od, "i_trip_A")->offset, offsetof(ctl_cfg, i_trip_A));
+    EXPECT_EQ(co_od_find_name(&drive_od, "tel_speed_est_rpm")->offset, offsetof(drive_snapshot, tel.omega_est_rad_s));
+    EXPECT_EQ(co_od_find_name(&drive_od, "tel_vdc_diff_V")->offset, offsetof(drive_snapshot, vdc_diff_V));
+    EXPECT_EQ(co_od_find_name(&drive_od, "telemetry_hz")->offset, offsetof(co_comm_cfg, telemetry_hz));
 }
 
 // Eq. 3 of the paper with K_T = 1, from the table's own defaults.
@@ -332,14 +332,14 @@ TEST_F(ParamTable, FreshDriveReadsTableDefaults)
         if (e.access != "rw")
             continue;
         SCOPED_TRACE(e.name);
-        const co_param *p = co_od_find_name(e.name.c_str());
+        const co_param *p = co_od_find_name(&drive_od, e.name.c_str());
         ASSERT_NE(p, nullptr);
-        if (p->bind == CO_BIND_FN && (p->index == 0x1010 || p->index == 0x1011 || p->index == 0x6040 ||
+        if (p->bind == DRIVE_BIND_FN && (p->index == 0x1010 || p->index == 0x1011 || p->index == 0x6040 ||
                                       p->name == std::string("scope_command")))
             continue; // commands, not values
         co_num v;
         v.u = 0;
-        ASSERT_EQ(co_od_read_num(b.d.get(), p, &v), 0u);
+        ASSERT_EQ(co_od_read_num(&b.d->co, p, &v), 0u);
         if (p->dtype == CO_DT_REAL32)
             EXPECT_NEAR(v.f, std::stod(e.def), 1e-6 * std::max(1.0, std::fabs(std::stod(e.def))));
         else
@@ -452,7 +452,7 @@ TEST(ParamEds, ObjectsEqualTheCTable)
         c.insert({co_params[i].index, co_params[i].sub});
     EXPECT_EQ(eds, c);
     for (const auto &k : c) {
-        const co_param *p = co_od_find(uint16_t(k.first), uint8_t(k.second), nullptr);
+        const co_param *p = co_od_find(&drive_od, uint16_t(k.first), uint8_t(k.second), nullptr);
         EXPECT_EQ(dtype[k], p->dtype) << std::hex << k.first << ":" << k.second;
     }
 }

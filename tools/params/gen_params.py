@@ -71,11 +71,11 @@ CTYPES = {
 
 # Bind prefix -> (co_bind, C struct type the path is a member of)
 BINDS = {
-    "cfg": ("CO_BIND_CFG", "ctl_cfg"),
+    "cfg": ("DRIVE_BIND_CFG", "ctl_cfg"),
     "comm": ("CO_BIND_COMM", "co_comm_cfg"),
-    "scope": ("CO_BIND_SCOPE", "scope_cfg"),
-    "snap": ("CO_BIND_SNAP", "drive_snapshot"),
-    "drive": ("CO_BIND_DRIVE", "drive"),
+    "scope": ("DRIVE_BIND_SCOPE", "scope_cfg"),
+    "snap": ("DRIVE_BIND_SNAP", "drive_snapshot"),
+    "drive": ("DRIVE_BIND_DRIVE", "drive"),
 }
 
 ERROR_REGISTER_BITS = {
@@ -229,7 +229,7 @@ def check_param(p: Param, fn_names: set) -> None:
         fn = b[3:]
         if not NAME_RE.match(fn):
             raise TableError(f"{p.name}: bad handler name '{fn}'")
-        p.bind_kind, p.bind_struct, p.path = "CO_BIND_FN", None, fn
+        p.bind_kind, p.bind_struct, p.path = "DRIVE_BIND_FN", None, fn
         fn_names.add(fn)
     else:
         prefix, _, path = b.partition(".")
@@ -247,7 +247,7 @@ def check_param(p: Param, fn_names: set) -> None:
             raise TableError(f"{p.name}: writable strings and domains are not supported")
         if kind == "string" and p.bind_kind == "CO_BIND_CONST" and not isinstance(p.default, str):
             raise TableError(f"{p.name}: a constant string needs a string default")
-        if kind == "domain" and p.bind_kind != "CO_BIND_FN":
+        if kind == "domain" and p.bind_kind != "DRIVE_BIND_FN":
             raise TableError(f"{p.name}: a domain must be bound to a handler")
         p.ctype_name = None
         return
@@ -464,7 +464,7 @@ class Table:
         tel = [p for p in self.params if p.index == 0x3000 and p.sub != 0]
         self.tel = tel
         for p in tel:
-            if p.bind_kind != "CO_BIND_SNAP":
+            if p.bind_kind != "DRIVE_BIND_SNAP":
                 raise TableError(f"{p.name}: telemetry (0x3000) must bind snap.*")
         subs = [p.sub for p in tel]
         if subs != list(range(1, len(tel) + 1)):
@@ -522,7 +522,9 @@ def gen_header(t: Table) -> str:
         "",
         "#include <stdint.h>",
         "",
+        '#include "dtc/canopen/co_emcy.h"',
         '#include "dtc/canopen/co_od.h"',
+        '#include "dtc/canopen/co_pdo.h"',
         "",
         "#ifdef __cplusplus",
         'extern "C" {',
@@ -548,24 +550,12 @@ def gen_header(t: Table) -> str:
     ]
     for i, p in enumerate(t.params):
         lines.append(f"    {p.ident} = {i},")
-    lines += ["} co_param_id;", "", "/** Handlers of CO_BIND_FN entries (co_fn_read/co_fn_write in co_dev.c). */",
+    lines += ["} co_param_id;", "", "/** Handlers of DRIVE_BIND_FN entries (drive_co.c). */",
               "typedef enum {"]
     for i, fn in enumerate(fns):
         lines.append(f"    CO_FN_{fn.upper()} = {i},")
     lines += [f"    CO_FN_COUNT = {len(fns)}", "} co_fn_id;", "",
-              "/** A static PDO mapping. */",
-              "typedef struct {",
-              "    uint16_t cob_base;        /**< COB-ID without the node id */",
-              "    uint8_t n;                /**< mapped entries */",
-              "    uint8_t bytes;            /**< frame length */",
-              "    uint16_t param[8];        /**< co_param_id of each mapped entry, in frame order */",
-              "} co_pdo_map;", "",
-              "/** Error code and error-register bit of one fault (EMCY). */",
-              "typedef struct {",
-              "    uint32_t fault_bit;       /**< ctl_fault bit, 0 for events without a fault bit */",
-              "    uint16_t code;            /**< CiA 301 emergency error code */",
-              "    uint8_t reg_bit;          /**< error register bit (0 generic, 1 current, 2 voltage, 5 profile, 7 manufacturer) */",
-              "} co_emcy_entry;", ""]
+              ]
     for i, e in enumerate(t.emcy):
         if not e["fault"]:
             lines.append(f"#define CO_EMCY_{e['key']} {i}u /**< co_emcy_table index: {e['description']} */")
@@ -593,6 +583,7 @@ def gen_source(t: Table) -> str:
         "",
         "#include \"dtc/canopen/co_dev.h\"",
         "#include \"dtc/drive.h\"",
+        "#include \"dtc/drive_co.h\"",
         "#include \"dtc/scope.h\"",
         "",
         "/* Compile-time proof that every binding names a field of the C type the table says. */",
@@ -623,7 +614,7 @@ def gen_source(t: Table) -> str:
                 csize = f"(uint8_t)sizeof CO_FIELD({p.bind_struct}, {p.path})"
             else:
                 csize = str(p.size) + "u"
-        if p.bind_kind == "CO_BIND_FN":
+        if p.bind_kind == "DRIVE_BIND_FN":
             offset = f"CO_FN_{p.path.upper()}"
         elif p.bind_struct is not None:
             offset = f"(uint16_t)offsetof({p.bind_struct}, {p.path})"

@@ -44,14 +44,15 @@ void co_nmt_rx(co_nmt *n, uint8_t node_id, const hal_can_frame *f)
     }
 }
 
-int co_nmt_send_bootup(uint8_t node_id)
+int co_nmt_send_bootup(struct co_dev *c)
 {
     uint8_t b = 0u;
-    return co_dev_send((uint16_t)(HEARTBEAT_BASE + node_id), 1u, &b);
+    return co_dev_send(c, (uint16_t)(HEARTBEAT_BASE + c->node_id), 1u, &b);
 }
 
-void co_nmt_heartbeat(co_nmt *n, uint8_t node_id, uint16_t period_ms, uint32_t now_ms)
+void co_nmt_heartbeat(struct co_dev *c, uint16_t period_ms, uint32_t now_ms)
 {
+    co_nmt *n = &c->nmt;
     if (period_ms == 0u) {
         n->hb_last_ms = now_ms; /* the first beat comes one period after switching on */
         return;
@@ -62,5 +63,5 @@ void co_nmt_heartbeat(co_nmt *n, uint8_t node_id, uint16_t period_ms, uint32_t n
     /* Keep the beat on its grid; after a pause of two periods or more, restart it. */
     n->hb_last_ms = since >= 2u * (uint32_t)period_ms ? now_ms : n->hb_last_ms + period_ms;
     uint8_t b = n->state;
-    (void)co_dev_send((uint16_t)(HEARTBEAT_BASE + node_id), 1u, &b);
+    (void)co_dev_send(c, (uint16_t)(HEARTBEAT_BASE + c->node_id), 1u, &b);
 }

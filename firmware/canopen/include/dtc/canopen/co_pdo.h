@@ -2,13 +2,15 @@
  * @file co_pdo.h
  * @brief Telemetry TPDOs at a configurable rate and the command RPDO.
  *
- * The mappings are static and generated from the parameter table
- * (co_tpdo_maps, co_rpdo_maps). Every telemetry cycle sends all TPDOs from
- * one snapshot (the background copy d->bg_snap) and increments the sequence
- * counter they carry. The rate is paced on the control-tick counter of the
- * snapshot with a fractional accumulator, so any rate up to the tick rate
+ * The mappings are static, given by the application (co_app tpdo, rpdo).
+ * Every telemetry cycle sends all TPDOs, read in one pass (the application
+ * reads a consistent snapshot), and increments the sequence counter they
+ * carry. The rate is paced on the application's control-tick counter of the
+ * pass with a fractional accumulator, so any rate up to the tick rate
  * averages exactly; a background pass that falls behind drops cycles rather
- * than sending bursts. Context: BG only.
+ * than sending bursts. An RPDO writes its entries in frame order, the CiA 402
+ * controlword (0x6040) last, so enabling starts with the new reference.
+ * Context: BG only.
  */
 #ifndef DTC_CANOPEN_CO_PDO_H
 #define DTC_CANOPEN_CO_PDO_H
@@ -22,7 +24,15 @@
 extern "C" {
 #endif
 
-struct drive;
+struct co_dev;
+
+/** A static PDO mapping. */
+typedef struct {
+    uint16_t cob_base;        /**< COB-ID without the node id */
+    uint8_t n;                /**< mapped entries */
+    uint8_t bytes;            /**< frame length */
+    uint16_t param[8];        /**< position in the dictionary of each mapped entry, in frame order */
+} co_pdo_map;
 
 typedef struct {
     uint32_t acc;        /**< rate accumulator, Hz x ticks */
@@ -36,7 +46,7 @@ typedef struct {
 void co_pdo_init(co_pdo *p);
 
 /** Send the telemetry TPDOs when due (call every pass in operational state). Context: BG. */
-void co_pdo_tx_poll(struct drive *d);
+void co_pdo_tx_poll(struct co_dev *c);
 
 /**
  * Apply RPDO @p num (0-based) from frame @p f: a frame shorter than the
@@ -44,7 +54,7 @@ void co_pdo_tx_poll(struct drive *d);
  * through the checked write path (a refused value is skipped); the
  * controlword is applied last. Context: BG.
  */
-void co_pdo_rx(struct drive *d, uint32_t num, const hal_can_frame *f);
+void co_pdo_rx(struct co_dev *c, uint32_t num, const hal_can_frame *f);
 
 #ifdef __cplusplus
 }

@@ -5,16 +5,16 @@
  *        read/write path every SDO, PDO and persisted value goes through.
  *
  * Every entry binds a CANopen object (index, subindex, CiA 301 data type) to
- * a C field: a member of ctl_cfg, of the communication or scope settings, of
- * the telemetry snapshot, a constant, or a handler (CO_BIND_FN). Values on
- * the bus are "CAN raw" values: raw = internal * k (k from the table's scale
- * and resolution, e.g. rpm per rad/s); limits and defaults are stored raw.
+ * a value: a constant, the node id, a communication setting of the device
+ * (co_comm_cfg), or something of the application's (bind >= CO_BIND_APP),
+ * which the device reaches only through the application's read and write
+ * hooks (co_app.h). Values on the bus are "CAN raw" values: raw = internal *
+ * k (k from the table's scale and resolution, e.g. rpm per rad/s); limits
+ * and defaults are stored raw.
  *
- * A write is decoded, checked (length, access, NaN, range, allowed set,
- * device state, cross-field consistency) and only then applied, so a bad
- * request never changes anything. Configuration writes go through
- * drive_cfg_edit()/drive_cfg_commit(): the interrupt sees either the old or
- * the new configuration, never a mix.
+ * A write is decoded, checked here (length, access, NaN, range, allowed set,
+ * device state) and only then handed to the application, which may still
+ * refuse it (cross-field consistency); a refused request changes nothing.
  *
  * Context: everything here is background (BG) only.
  */
@@ -25,13 +25,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "dtc/ctl.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-struct drive;
+struct co_dev;
 
 /* ---------------------------------------------------- CiA 301 abort codes */
 #define CO_ABORT_NONE 0x00000000u
@@ -79,12 +78,8 @@ enum co_flag {
 typedef enum {
     CO_BIND_CONST = 0,  /**< constant: def (numbers) or str (strings) */
     CO_BIND_NODEID = 1, /**< constant def + the active node id (COB-IDs) */
-    CO_BIND_CFG = 2,    /**< ctl_cfg member at offset (written via drive_cfg_edit/commit) */
-    CO_BIND_COMM = 3,   /**< co_comm_cfg member at offset (the drive's d->co.comm) */
-    CO_BIND_SCOPE = 4,  /**< scope_cfg member at offset (the drive's d->scope.cfg) */
-    CO_BIND_SNAP = 5,   /**< drive_snapshot member at offset (the background copy) */
-    CO_BIND_DRIVE = 6,  /**< drive member at offset (read only) */
-    CO_BIND_FN = 7,     /**< handled by co_fn_read/co_fn_write; offset is a co_fn_id */
+    CO_BIND_COMM = 2,   /**< co_comm_cfg member at offset (the device's own settings) */
+    CO_BIND_APP = 8,    /**< this and above: the application's (read and written through co_app hooks) */
 } co_bind;
 
 /** Kind of the bound C field (its size is csize bytes). */
@@ -103,7 +98,7 @@ typedef union {
     int32_t i;
 } co_num;
 
-/** One object-dictionary entry (generated; see dtc/param_table.h). */
+/** One object-dictionary entry (the application's table, e.g. generated). */
 typedef struct co_param {
     const char *name;        /**< unique parameter name (the table's name) */
     uint16_t index;          /**< CANopen index */
@@ -113,7 +108,7 @@ typedef struct co_param {
     uint8_t bind;            /**< co_bind */
     uint8_t ckind;           /**< co_ckind of the bound field */
     uint8_t csize;           /**< size of the bound field, bytes */
-    uint16_t offset;         /**< offsetof in the bound struct, or co_fn_id */
+    uint16_t offset;         /**< offsetof in the bound struct, or an application handler id */
     float k;                 /**< CAN raw units per internal unit (1 for integers bound to integers) */
     co_num min, max, def;    /**< limits (if CO_F_LIMITS) and default, CAN raw */
     const uint32_t *allowed; /**< optional set of allowed raw values (NULL: any in range) */
@@ -121,33 +116,39 @@ typedef struct co_param {
     const char *str;         /**< value of a constant string */
 } co_param;
 
+/** The entries of a dictionary, sorted by (index, subindex). */
+typedef struct {
+    const co_param *params;
+    uint16_t count;
+} co_dict;
+
 /** Length in bytes (1, 2 or 4) of a numeric data type on the bus (0 for strings and domains). Context: ANY. */
 size_t co_dtype_size(uint8_t dtype);
 
 /**
- * Find the entry at (@p index, @p sub).
+ * Find the entry at (@p index, @p sub) in @p od.
  * @param[out] abort CO_ABORT_NO_OBJECT when no entry has that index,
  *             CO_ABORT_NO_SUB when the index exists but not the subindex.
  * @return the entry or NULL. Context: BG.
  */
-const co_param *co_od_find(uint16_t index, uint8_t sub, uint32_t *abort);
+const co_param *co_od_find(const co_dict *od, uint16_t index, uint8_t sub, uint32_t *abort);
 
 /** Find an entry by its parameter name, or NULL. Context: BG. */
-const co_param *co_od_find_name(const char *name);
+const co_param *co_od_find_name(const co_dict *od, const char *name);
 
 /**
  * Read a numeric entry as its CAN raw value (scaled, rounded and saturated
- * to the data type). Telemetry entries read the background copy
- * d->bg_snap. @return CO_ABORT_NONE or an abort code. Context: BG.
+ * to the data type). Application entries are read through the read hook.
+ * @return CO_ABORT_NONE or an abort code. Context: BG.
  */
-uint32_t co_od_read_num(struct drive *d, const co_param *p, co_num *out);
+uint32_t co_od_read_num(struct co_dev *c, const co_param *p, co_num *out);
 
 /**
  * Read any non-domain entry as bus bytes (little-endian numbers, strings
  * without terminator) into @p buf of @p cap bytes.
  * @param[out] len bytes written. @return CO_ABORT_NONE or an abort code. Context: BG.
  */
-uint32_t co_od_read(struct drive *d, const co_param *p, uint8_t *buf, size_t cap, size_t *len);
+uint32_t co_od_read(struct co_dev *c, const co_param *p, uint8_t *buf, size_t cap, size_t *len);
 
 /** Write origins: they differ only in which checks apply. */
 typedef enum {
@@ -165,23 +166,24 @@ typedef enum {
 uint32_t co_od_check(const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin, co_num *v);
 
 /**
- * Decode, check and apply a write of @p len bytes. Configuration entries are
- * applied with one drive_cfg_edit()/drive_cfg_commit() pair after the
- * cross-field check (ctl_cfg_check) passed. Entries without CO_F_RUNTIME
- * are refused with CO_ABORT_STATE while the drive runs (co_od_running).
+ * Decode, check and apply a write of @p len bytes. Entries without
+ * CO_F_RUNTIME are refused with CO_ABORT_STATE while the application says it
+ * runs. Application entries are applied by its write hook, which may refuse.
  * @return CO_ABORT_NONE (applied) or an abort code (nothing changed). Context: BG.
  */
-uint32_t co_od_write(struct drive *d, const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin);
+uint32_t co_od_write(struct co_dev *c, const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin);
 
-/**
- * Apply an already checked raw value to @p p; configuration entries go into
- * @p edit (a copy from drive_cfg_edit) which the caller commits. Used for
- * batches (load, restore defaults). Context: BG.
- */
-void co_od_apply(struct drive *d, const co_param *p, const co_num *v, ctl_cfg *edit);
+/** A checked bus raw value in the entry's internal unit (raw / k for floats). Context: ANY. */
+co_num co_od_to_internal(const co_param *p, const co_num *raw);
 
-/** @return true while the drive is commanded to run or is magnetising/running. Context: BG. */
-bool co_od_running(const struct drive *d);
+/** An internal value as the bus raw value: scaled by k, rounded, saturated (NaN reads 0). Context: ANY. */
+co_num co_od_to_raw(const co_param *p, co_num internal);
+
+/** The internal value of the C field of @p p at @p base + p->offset (by ckind and csize). Context: ANY. */
+co_num co_field_get(const void *base, const co_param *p);
+
+/** Store an internal value into the C field of @p p at @p base + p->offset. Context: BG. */
+void co_field_set(void *base, const co_param *p, const co_num *internal);
 
 /** Encode a raw value of @p dtype little-endian into @p buf (co_dtype_size bytes). Context: ANY. */
 void co_num_encode(uint8_t dtype, const co_num *v, uint8_t *buf);

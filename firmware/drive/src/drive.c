@@ -7,6 +7,7 @@
 #include <stdatomic.h>
 #include <string.h>
 
+#include "dtc/drive_co.h"
 #include "hal/hal.h"
 
 /* Compiler barrier: volatile orders only volatile accesses, so the plain
@@ -31,7 +32,7 @@ void drive_init(drive *d)
     d->period_cycles[0] = d->period_cycles[1] = period_in_cycles(&d->cfg[0]);
     d->cfg_active = 0u;
     scope_init(&d->scope);
-    co_dev_init(&d->co);
+    drive_co_init(d);
     (void)persist_load(d); /* defaults, then the stored set; status in d->persist */
     ctl_init(&d->ctl, drive_cfg(d));
 }
@@ -143,6 +144,6 @@ void drive_read_snapshot(const drive *d, drive_snapshot *out)
 
 void drive_background(drive *d)
 {
-    co_dev_process(d);
+    drive_co_process(d);
     hal_watchdog_kick();
 }

@@ -8,8 +8,6 @@
 #include <string.h>
 
 #include "dtc/canopen/co_dev.h"
-#include "dtc/drive.h"
-#include "dtc/param_table.h"
 
 size_t co_dtype_size(uint8_t dtype)
 {
@@ -32,16 +30,17 @@ size_t co_dtype_size(uint8_t dtype)
 
 static uint32_t key_of(uint16_t index, uint8_t sub) { return ((uint32_t)index << 8) | sub; }
 
-const co_param *co_od_find(uint16_t index, uint8_t sub, uint32_t *abort)
+const co_param *co_od_find(const co_dict *od, uint16_t index, uint8_t sub, uint32_t *abort)
 {
     /* The table is sorted by (index, sub): binary search for the key, and
      * remember whether the index exists at all for the right abort code. */
     uint32_t key = key_of(index, sub);
-    uint32_t lo = 0u, hi = CO_PARAM_COUNT;
+    const co_param *params = od->params;
+    uint32_t lo = 0u, hi = od->count;
     bool index_seen = false;
     while (lo < hi) {
         uint32_t mid = lo + (hi - lo) / 2u;
-        const co_param *p = &co_params[mid];
+        const co_param *p = &params[mid];
         uint32_t k = key_of(p->index, p->sub);
         if (p->index == index)
             index_seen = true;
@@ -58,9 +57,9 @@ const co_param *co_od_find(uint16_t index, uint8_t sub, uint32_t *abort)
     if (!index_seen) {
         /* The search may have skipped the index's entries: look at the
          * neighbours of the insertion point. */
-        if (lo < CO_PARAM_COUNT && co_params[lo].index == index)
+        if (lo < od->count && params[lo].index == index)
             index_seen = true;
-        if (lo > 0u && co_params[lo - 1u].index == index)
+        if (lo > 0u && params[lo - 1u].index == index)
             index_seen = true;
     }
     if (abort != NULL)
@@ -68,20 +67,14 @@ const co_param *co_od_find(uint16_t index, uint8_t sub, uint32_t *abort)
     return NULL;
 }
 
-const co_param *co_od_find_name(const char *name)
+const co_param *co_od_find_name(const co_dict *od, const char *name)
 {
     if (name == NULL)
         return NULL;
-    for (uint32_t i = 0u; i < CO_PARAM_COUNT; i++)
-        if (strcmp(co_params[i].name, name) == 0)
-            return &co_params[i];
+    for (uint32_t i = 0u; i < od->count; i++)
+        if (strcmp(od->params[i].name, name) == 0)
+            return &od->params[i];
     return NULL;
-}
-
-bool co_od_running(const struct drive *d)
-{
-    ctl_run_state st = d->ctl.run_state; /* one aligned read of ISR state */
-    return d->run || st == CTL_MAGNETISING || st == CTL_RUNNING;
 }
 
 /* The low @p size bytes (1, 2 or 4) of an integer field, zero-extended. */
@@ -135,43 +128,9 @@ co_num co_num_decode(uint8_t dtype, const uint8_t *buf)
 
 /* ------------------------------------------------------- bound C fields */
 
-/* Where a bound entry lives for reading: the active configuration, the
- * settings, the background snapshot or the drive. */
-static const uint8_t *read_base(const struct drive *d, const co_param *p)
+co_num co_field_get(const void *base, const co_param *p)
 {
-    switch (p->bind) {
-    case CO_BIND_CFG:
-        return (const uint8_t *)drive_cfg(d);
-    case CO_BIND_COMM:
-        return (const uint8_t *)&d->co.comm;
-    case CO_BIND_SCOPE:
-        return (const uint8_t *)&d->scope.cfg;
-    case CO_BIND_SNAP:
-        return (const uint8_t *)&d->bg_snap;
-    case CO_BIND_DRIVE:
-        return (const uint8_t *)d;
-    default:
-        return NULL;
-    }
-}
-
-/* Where a writable entry lives: the configuration copy being edited or the settings. */
-static uint8_t *write_base(struct drive *d, const co_param *p, ctl_cfg *edit)
-{
-    switch (p->bind) {
-    case CO_BIND_CFG:
-        return (uint8_t *)edit;
-    case CO_BIND_COMM:
-        return (uint8_t *)&d->co.comm;
-    case CO_BIND_SCOPE:
-        return (uint8_t *)&d->scope.cfg;
-    default:
-        return NULL;
-    }
-}
-
-static co_num field_get(const uint8_t *ptr, const co_param *p)
-{
+    const uint8_t *ptr = (const uint8_t *)base + p->offset;
     co_num v;
     v.u = 0u;
     switch (p->ckind) {
@@ -193,8 +152,9 @@ static co_num field_get(const uint8_t *ptr, const co_param *p)
     return v;
 }
 
-static void field_set(uint8_t *ptr, const co_param *p, const co_num *v)
+void co_field_set(void *base, const co_param *p, const co_num *v)
 {
+    uint8_t *ptr = (uint8_t *)base + p->offset;
     switch (p->ckind) {
     case CO_CK_FLOAT:
         memcpy(ptr, &v->f, sizeof v->f);
@@ -261,7 +221,7 @@ static co_num int_to_dtype(uint8_t dt, int64_t x)
 
 /* Internal value -> bus raw value: scale by k, round half away from zero,
  * saturate to the type (NaN reads as 0). */
-static co_num to_raw(const co_param *p, co_num in)
+co_num co_od_to_raw(const co_param *p, co_num in)
 {
     co_num out;
     if (p->dtype == CO_DT_REAL32) {
@@ -286,7 +246,7 @@ static co_num to_raw(const co_param *p, co_num in)
 }
 
 /* Checked bus raw value -> internal value. */
-static co_num to_internal(const co_param *p, const co_num *raw)
+co_num co_od_to_internal(const co_param *p, const co_num *raw)
 {
     co_num out;
     if (p->ckind != CO_CK_FLOAT) {
@@ -306,7 +266,7 @@ static co_num to_internal(const co_param *p, const co_num *raw)
 
 /* ---------------------------------------------------------------- reads */
 
-uint32_t co_od_read_num(struct drive *d, const co_param *p, co_num *out)
+uint32_t co_od_read_num(co_dev *c, const co_param *p, co_num *out)
 {
     if (co_dtype_size(p->dtype) == 0u)
         return CO_ABORT_LENGTH;
@@ -315,26 +275,24 @@ uint32_t co_od_read_num(struct drive *d, const co_param *p, co_num *out)
         *out = p->def;
         return CO_ABORT_NONE;
     case CO_BIND_NODEID:
-        out->u = p->def.u + d->co.node_id;
+        out->u = p->def.u + c->node_id;
         return CO_ABORT_NONE;
-    case CO_BIND_FN: {
-        co_num in;
-        uint32_t rc = co_fn_read(d, p, &in);
-        if (rc == CO_ABORT_NONE)
-            *out = to_raw(p, in);
-        return rc;
-    }
+    case CO_BIND_COMM:
+        *out = co_od_to_raw(p, co_field_get(&c->comm, p));
+        return CO_ABORT_NONE;
     default: {
-        const uint8_t *base = read_base(d, p);
-        if (base == NULL)
+        if (p->bind < CO_BIND_APP)
             return CO_ABORT_GENERAL;
-        *out = to_raw(p, field_get(base + p->offset, p));
-        return CO_ABORT_NONE;
+        co_num in;
+        uint32_t rc = c->app->read(c->app->ctx, p, &in);
+        if (rc == CO_ABORT_NONE)
+            *out = co_od_to_raw(p, in);
+        return rc;
     }
     }
 }
 
-uint32_t co_od_read(struct drive *d, const co_param *p, uint8_t *buf, size_t cap, size_t *len)
+uint32_t co_od_read(co_dev *c, const co_param *p, uint8_t *buf, size_t cap, size_t *len)
 {
     *len = 0u;
     if ((p->flags & CO_F_READ) == 0u)
@@ -351,7 +309,7 @@ uint32_t co_od_read(struct drive *d, const co_param *p, uint8_t *buf, size_t cap
     if (n == 0u || n > cap)
         return CO_ABORT_GENERAL; /* domains are streamed by the SDO server */
     co_num v;
-    uint32_t rc = co_od_read_num(d, p, &v);
+    uint32_t rc = co_od_read_num(c, p, &v);
     if (rc != CO_ABORT_NONE)
         return rc;
     co_num_encode(p->dtype, &v, buf);
@@ -403,44 +361,20 @@ uint32_t co_od_check(const co_param *p, const uint8_t *data, size_t len, co_wr_o
     return CO_ABORT_NONE;
 }
 
-void co_od_apply(struct drive *d, const co_param *p, const co_num *v, ctl_cfg *edit)
-{
-    co_num in = to_internal(p, v);
-    if (p->bind == CO_BIND_FN) {
-        (void)co_fn_write(d, p, &in);
-        return;
-    }
-    uint8_t *base = write_base(d, p, edit);
-    if (base == NULL)
-        return;
-    field_set(base + p->offset, p, &in);
-}
-
-uint32_t co_od_write(struct drive *d, const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin)
+uint32_t co_od_write(co_dev *c, const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin)
 {
     co_num v;
     uint32_t rc = co_od_check(p, data, len, origin, &v);
     if (rc != CO_ABORT_NONE)
         return rc;
-    if (origin != CO_WR_LOAD && (p->flags & CO_F_RUNTIME) == 0u && co_od_running(d))
+    if (origin != CO_WR_LOAD && (p->flags & CO_F_RUNTIME) == 0u && c->app->running(c->app->ctx))
         return CO_ABORT_STATE;
-    if (p->bind == CO_BIND_FN) {
-        co_num in = to_internal(p, &v);
-        return co_fn_write(d, p, &in);
-    }
-    if (p->bind != CO_BIND_CFG) {
-        co_od_apply(d, p, &v, NULL);
+    co_num in = co_od_to_internal(p, &v);
+    if (p->bind == CO_BIND_COMM) {
+        co_field_set(&c->comm, p, &in);
         return CO_ABORT_NONE;
     }
-    /* Configuration: edit the inactive copy, refuse a change that makes a
-     * consistent configuration inconsistent (ctl_cfg_check: e.g. a width of
-     * 0 for a node in use, vdc_min above vdc_max) -- the copy is then simply
-     * not published -- else publish it with one store. */
-    bool was_ok = ctl_cfg_check(drive_cfg(d)) == CTL_CFG_OK;
-    ctl_cfg *e = drive_cfg_edit(d);
-    co_od_apply(d, p, &v, e);
-    if (was_ok && ctl_cfg_check(e) != CTL_CFG_OK)
-        return CO_ABORT_PARAM_INCOMPAT;
-    drive_cfg_commit(d);
-    return CO_ABORT_NONE;
+    if (p->bind < CO_BIND_APP)
+        return CO_ABORT_READ_ONLY; /* constants */
+    return c->app->write(c->app->ctx, p, &in);
 }

@@ -61,7 +61,8 @@ typedef struct drive {
     drive_snapshot snap;            /**< published each tick */
     drive_timing timing;
     scope scope;                    /**< triggered capture, sampled in drive_isr */
-    co_dev co;                      /**< CANopen device, run by drive_background */
+    co_dev co;                      /**< CANopen device, run by drive_background (drive_co.c) */
+    co_app co_app;                  /**< the drive's side of the CANopen interface (drive_co.c) */
     persist_state persist;          /**< stored parameter set (status for 0x2510:1) */
     drive_snapshot bg_snap;         /**< background copy of snap, taken once per drive_background pass */
 } drive;

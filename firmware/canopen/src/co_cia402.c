@@ -1,11 +1,8 @@
 /**
  * @file co_cia402.c
- * @brief CiA 402-style device control: controlword, statusword, run/stop.
+ * @brief CiA 402 device control: controlword decoding, state, statusword.
  */
 #include "dtc/canopen/co_cia402.h"
-
-#include "dtc/drive.h"
-#include "dtc/num.h"
 
 #define CW_SWITCH_ON 0x0001u
 #define CW_ENABLE_VOLTAGE 0x0002u
@@ -22,58 +19,56 @@ void co_cia402_init(co_cia402 *c)
     c->controlword = 0u;
 }
 
-void co_cia402_controlword(struct drive *d, uint16_t cw)
+co_cia402_action co_cia402_controlword(co_cia402 *c, uint16_t cw)
 {
-    co_cia402 *c = &d->co.cia402;
     uint16_t prev = c->controlword;
     c->controlword = cw;
     if (c->state == CO_CIA402_FAULT) {
         if ((cw & CW_FAULT_RESET) != 0u && (prev & CW_FAULT_RESET) == 0u) {
-            drive_set_run(d, false);
-            d->clear_faults_req = true; /* the ISR clears what is no longer active */
             c->state = CO_CIA402_SWITCH_ON_DISABLED;
+            return CO_CIA402_FAULT_RESET;
         }
-        return;
+        return CO_CIA402_KEEP;
     }
     if ((cw & CW_ENABLE_VOLTAGE) == 0u || (cw & (CW_QUICK_STOP | CW_ENABLE_VOLTAGE)) == CW_ENABLE_VOLTAGE) {
         /* disable voltage, or quick stop: stop and lock out */
-        drive_set_run(d, false);
         c->state = CO_CIA402_SWITCH_ON_DISABLED;
-        return;
+        return CO_CIA402_STOP;
     }
     uint16_t cmd = (uint16_t)(cw & (CW_SWITCH_ON | CW_ENABLE_VOLTAGE | CW_QUICK_STOP | CW_ENABLE_OPERATION));
     if ((cmd & 0x7u) == 0x6u) { /* shutdown */
-        drive_set_run(d, false);
         c->state = CO_CIA402_READY_TO_SWITCH_ON;
-    } else if (cmd == 0x7u) { /* switch on, or disable operation */
-        if (c->state == CO_CIA402_OPERATION_ENABLED)
-            drive_set_run(d, false);
+        return CO_CIA402_STOP;
+    }
+    if (cmd == 0x7u) { /* switch on, or disable operation */
+        bool was_enabled = c->state == CO_CIA402_OPERATION_ENABLED;
         if (c->state != CO_CIA402_SWITCH_ON_DISABLED)
             c->state = CO_CIA402_SWITCHED_ON;
-    } else if (cmd == 0xFu) { /* enable operation (switch on included) */
+        return was_enabled ? CO_CIA402_STOP : CO_CIA402_KEEP;
+    }
+    if (cmd == 0xFu) { /* enable operation (switch on included) */
         if (c->state == CO_CIA402_READY_TO_SWITCH_ON || c->state == CO_CIA402_SWITCHED_ON ||
             c->state == CO_CIA402_OPERATION_ENABLED) {
-            drive_set_run(d, true);
             c->state = CO_CIA402_OPERATION_ENABLED;
+            return CO_CIA402_RUN;
         }
     }
+    return CO_CIA402_KEEP;
 }
 
-void co_cia402_sync(struct drive *d)
+void co_cia402_sync(co_cia402 *c, bool faulted, bool running)
 {
-    co_cia402 *c = &d->co.cia402;
-    bool faulted = d->bg_snap.tel.state == (uint8_t)CTL_FAULTED;
     if (faulted)
         c->state = CO_CIA402_FAULT;
     else if (c->state == CO_CIA402_FAULT)
-        c->state = d->run ? CO_CIA402_OPERATION_ENABLED : CO_CIA402_SWITCH_ON_DISABLED;
-    else if (d->run)
+        c->state = running ? CO_CIA402_OPERATION_ENABLED : CO_CIA402_SWITCH_ON_DISABLED;
+    else if (running)
         c->state = CO_CIA402_OPERATION_ENABLED; /* started by another master (e.g. the SIL) */
     else if (c->state == CO_CIA402_OPERATION_ENABLED)
         c->state = CO_CIA402_SWITCHED_ON;
 }
 
-uint16_t co_cia402_statusword(const struct drive *d)
+uint16_t co_cia402_statusword(const co_cia402 *c, bool target_reached)
 {
     static const uint16_t base[] = {
         [CO_CIA402_SWITCH_ON_DISABLED] = 0x0040u,
@@ -82,17 +77,9 @@ uint16_t co_cia402_statusword(const struct drive *d)
         [CO_CIA402_OPERATION_ENABLED] = 0x0027u,
         [CO_CIA402_FAULT] = 0x0008u,
     };
-    uint8_t st = d->co.cia402.state;
+    uint8_t st = c->state;
     uint16_t sw = (uint16_t)((st <= CO_CIA402_FAULT ? base[st] : 0x0040u) | SW_REMOTE);
-    if (st == CO_CIA402_OPERATION_ENABLED) {
-        /* Target reached: |e_x| below 1 % of the reference or 5 rpm. */
-        real_t ref = d->speed_ref_rad_s;
-        real_t tol = num_abs(ref) * R(0.01);
-        real_t min_tol = R(5.0) * R(0.104719755); /* 5 rpm in rad/s */
-        if (tol < min_tol)
-            tol = min_tol;
-        if (num_abs(ref - d->bg_snap.tel.omega_est_rad_s) <= tol)
-            sw |= SW_TARGET_REACHED;
-    }
+    if (st == CO_CIA402_OPERATION_ENABLED && target_reached)
+        sw |= SW_TARGET_REACHED;
     return sw;
 }

@@ -10,6 +10,7 @@
 #include "dtc/canopen/co_dev.h"
 #include "dtc/canopen/co_od.h"
 #include "dtc/drive.h"
+#include "dtc/drive_co.h"
 #include "dtc/param_table.h"
 #include "hal/hal.h"
 
@@ -123,14 +124,14 @@ static uint32_t apply_slot(struct drive *d, uint32_t slot, const slot_info *si, 
         if (hal_nvm_read(base + at + RECORD_HEADER, rec + RECORD_HEADER, n) != HAL_OK)
             return skipped + (si->count - r);
         at += RECORD_HEADER + n;
-        const co_param *p = co_od_find((uint16_t)get16(rec), rec[2], NULL);
+        const co_param *p = co_od_find(&drive_od, (uint16_t)get16(rec), rec[2], NULL);
         co_num v;
         if (p == NULL || (p->flags & CO_F_PERSIST) == 0u ||
             co_od_check(p, rec + RECORD_HEADER, n, CO_WR_LOAD, &v) != CO_ABORT_NONE) {
             skipped++;
             continue;
         }
-        co_od_apply(d, p, &v, edit);
+        drive_co_apply(d, p, &v, edit);
     }
     return skipped;
 }
@@ -139,7 +140,7 @@ uint8_t persist_load(struct drive *d)
 {
     ctl_cfg *e = drive_cfg_edit(d);
     ctl_cfg_default(e);
-    co_dev_defaults(d);
+    drive_co_defaults(d);
 
     slot_info si[2] = {scan(0u), scan(1u)};
     int best = newest(si);
@@ -184,7 +185,7 @@ static int save(struct drive *d, bool with_values)
                 continue;
             size_t n = co_dtype_size(p->dtype);
             if (len + RECORD_HEADER + n > sizeof payload ||
-                co_od_read(d, p, payload + len + RECORD_HEADER, n, &n) != CO_ABORT_NONE)
+                co_od_read(&d->co, p, payload + len + RECORD_HEADER, n, &n) != CO_ABORT_NONE)
                 return HAL_EIO;
             put16(payload + len, p->index);
             payload[len + 2u] = p->sub;

@@ -21,7 +21,7 @@
 extern "C" {
 #endif
 
-struct drive;
+struct co_dev;
 
 #define CO_SDO_BUF 64u            /**< bytes of one non-domain value (largest string) */
 #define CO_SDO_TIMEOUT_MS 1000u   /**< idle time that aborts a segmented transfer */
@@ -38,10 +38,10 @@ typedef struct {
     uint8_t sub;            /**< subindex of the transfer */
     uint8_t size_known;     /**< download: the client indicated the size */
     uint16_t index;         /**< index of the transfer */
-    uint16_t param;         /**< co_param_id of the transfer */
+    uint16_t param;         /**< position in the dictionary of the entry being transferred */
     uint32_t size;          /**< total bytes (upload) or indicated size (download) */
     uint32_t pos;           /**< bytes transferred so far */
-    uint32_t last_ms;       /**< hal_millis of the last request */
+    uint32_t last_ms;       /**< pass clock (now_ms) of the last request */
     uint8_t buf[CO_SDO_BUF];/**< value being uploaded, or download collected so far */
 } co_sdo_server;
 
@@ -49,10 +49,10 @@ typedef struct {
 void co_sdo_init(co_sdo_server *s);
 
 /** Handle one request frame (COB-ID 0x600 + node id) and send the response. Context: BG. */
-void co_sdo_rx(struct drive *d, const hal_can_frame *f, uint32_t now_ms);
+void co_sdo_rx(struct co_dev *c, const hal_can_frame *f);
 
 /** Abort (0x05040000) a segmented transfer idle for more than CO_SDO_TIMEOUT_MS. Context: BG. */
-void co_sdo_poll(struct drive *d, uint32_t now_ms);
+void co_sdo_poll(struct co_dev *c);
 
 #ifdef __cplusplus
 }

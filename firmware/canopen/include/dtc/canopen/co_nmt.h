@@ -4,7 +4,7 @@
  *        boot-up message and heartbeat producer (0x700 + node id).
  *
  * State changes take effect as soon as the command is processed; resets are
- * only requested here (reset_req) and carried out by the device (co_dev.c),
+ * only requested here (reset_req) and carried out by the device (co_dev.c)
  * because they reach beyond communication. Context: BG only.
  */
 #ifndef DTC_CANOPEN_CO_NMT_H
@@ -17,6 +17,8 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+struct co_dev;
 
 /** NMT states, numbered as in the heartbeat byte. */
 typedef enum {
@@ -45,7 +47,7 @@ typedef enum {
 typedef struct {
     uint8_t state;         /**< co_nmt_state */
     uint8_t reset_req;     /**< co_nmt_reset pending */
-    uint32_t hb_last_ms;   /**< hal_millis of the last heartbeat */
+    uint32_t hb_last_ms;   /**< pass clock (now_ms) of the last heartbeat */
 } co_nmt;
 
 /** Enter @p state (pre-operational or operational) after boot-up at @p now_ms. Context: BG. */
@@ -59,13 +61,13 @@ void co_nmt_init(co_nmt *n, uint8_t state, uint32_t now_ms);
 void co_nmt_rx(co_nmt *n, uint8_t node_id, const hal_can_frame *f);
 
 /** Send the boot-up message (0x700 + id, one byte 0x00). @return a HAL status. Context: BG. */
-int co_nmt_send_bootup(uint8_t node_id);
+int co_nmt_send_bootup(struct co_dev *c);
 
 /**
  * Heartbeat producer: send the state every @p period_ms (0: off) of
- * hal_millis time; after a long pause it resumes without a burst. Context: BG.
+ * the pass clock; after a long pause it resumes without a burst. Context: BG.
  */
-void co_nmt_heartbeat(co_nmt *n, uint8_t node_id, uint16_t period_ms, uint32_t now_ms);
+void co_nmt_heartbeat(struct co_dev *c, uint16_t period_ms, uint32_t now_ms);
 
 #ifdef __cplusplus
 }
