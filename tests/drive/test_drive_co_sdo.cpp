@@ -18,7 +18,7 @@ constexpr uint8_t kInitDownloadSeg = 0x21;   // ccs 1, e = 0, s = 1 (size in byt
 constexpr uint8_t kInitDownloadNoSize = 0x20;// ccs 1, e = 0, s = 0
 constexpr uint8_t kExpeditedNoSize = 0x22;   // ccs 1, e = 1, s = 0
 
-TEST(CoSdo, ExpeditedUploadOfConstants)
+TEST(DriveCoSdo, ExpeditedUploadOfConstants)
 {
     Bench b;
     EXPECT_EQ(b.read_u32(0x1000, 0), 0x00010192u); // CiA 402 drive, frequency converter
@@ -32,7 +32,7 @@ TEST(CoSdo, ExpeditedUploadOfConstants)
     EXPECT_EQ(r.f.data[4], 2u);    // speed_mode default: RBFN
 }
 
-TEST(CoSdo, ResponseEchoesTheMultiplexer)
+TEST(DriveCoSdo, ResponseEchoesTheMultiplexer)
 {
     Bench b;
     SdoReply r = b.upload(0x2100, 1);
@@ -43,7 +43,7 @@ TEST(CoSdo, ResponseEchoesTheMultiplexer)
     EXPECT_EQ(r.f.dlc, 8u);
 }
 
-TEST(CoSdo, ExpeditedDownloadChangesExactlyThatParameter)
+TEST(DriveCoSdo, ExpeditedDownloadChangesExactlyThatParameter)
 {
     Bench b;
     auto before = b.dump();
@@ -58,7 +58,7 @@ TEST(CoSdo, ExpeditedDownloadChangesExactlyThatParameter)
     EXPECT_EQ(b.read_f32(0x2100, 1), 33.5f);
 }
 
-TEST(CoSdo, DerivedGainsFollowTheirInputs)
+TEST(DriveCoSdo, DerivedGainsFollowTheirInputs)
 {
     Bench b;
     ASSERT_FALSE(b.download_f32(0x2010, 1, 12.0f).aborted()); // ip_wn_rad_s
@@ -69,7 +69,7 @@ TEST(CoSdo, DerivedGainsFollowTheirInputs)
     EXPECT_NEAR(b.read_f32(0x2010, 4), 2.0 * 0.8 * 12.0 * j - bb, 1e-4);
 }
 
-TEST(CoSdo, ExpeditedDownloadWithoutSizeUsesTheObjectSize)
+TEST(DriveCoSdo, ExpeditedDownloadWithoutSizeUsesTheObjectSize)
 {
     Bench b;
     auto v = bytes_f32(7.25f);
@@ -83,7 +83,7 @@ TEST(CoSdo, ExpeditedDownloadWithoutSizeUsesTheObjectSize)
     EXPECT_EQ(b.read_u32(0x2500, 3), 500u);
 }
 
-TEST(CoSdo, SignedAndScaledValues)
+TEST(DriveCoSdo, SignedAndScaledValues)
 {
     Bench b;
     // target_velocity (INTEGER32 rpm) -> speed reference in rad/s.
@@ -96,7 +96,7 @@ TEST(CoSdo, SignedAndScaledValues)
     EXPECT_EQ(int32_t(b.read_u32(0x60FF, 0)), 500); // rounded to whole rpm
 }
 
-TEST(CoSdo, SegmentedUploadOfAString)
+TEST(DriveCoSdo, SegmentedUploadOfAString)
 {
     Bench b;
     uint32_t abort = 0;
@@ -109,7 +109,7 @@ TEST(CoSdo, SegmentedUploadOfAString)
     EXPECT_EQ(le32(&r.f.data[4]), 38u);
 }
 
-TEST(CoSdo, SegmentedDownloadInTwoSegments)
+TEST(DriveCoSdo, SegmentedDownloadInTwoSegments)
 {
     Bench b;
     auto v = bytes_f32(42.0f);
@@ -130,7 +130,7 @@ TEST(CoSdo, SegmentedDownloadInTwoSegments)
     EXPECT_EQ(b.read_f32(0x2100, 1), 42.0f);
 }
 
-TEST(CoSdo, SegmentedDownloadWithoutIndicatedSize)
+TEST(DriveCoSdo, SegmentedDownloadWithoutIndicatedSize)
 {
     Bench b;
     auto v = bytes_f32(9.0f);
@@ -140,7 +140,7 @@ TEST(CoSdo, SegmentedDownloadWithoutIndicatedSize)
     EXPECT_EQ(b.read_f32(0x2100, 1), 9.0f);
 }
 
-TEST(CoSdo, AbortObjectDoesNotExist)
+TEST(DriveCoSdo, AbortObjectDoesNotExist)
 {
     Bench b;
     SdoReply r = b.upload(0x2FFF, 0);
@@ -153,7 +153,7 @@ TEST(CoSdo, AbortObjectDoesNotExist)
     EXPECT_EQ(r.abort_code(), kAbortNoObject);
 }
 
-TEST(CoSdo, AbortSubindexDoesNotExist)
+TEST(DriveCoSdo, AbortSubindexDoesNotExist)
 {
     Bench b;
     EXPECT_EQ(b.upload(0x2000, 0x7F).abort_code(), kAbortNoSub);
@@ -161,7 +161,7 @@ TEST(CoSdo, AbortSubindexDoesNotExist)
     EXPECT_EQ(b.upload(0x1000, 1).abort_code(), kAbortNoSub); // a variable has only subindex 0
 }
 
-TEST(CoSdo, AbortWriteToReadOnly)
+TEST(DriveCoSdo, AbortWriteToReadOnly)
 {
     Bench b;
     auto before = b.dump();
@@ -174,7 +174,7 @@ TEST(CoSdo, AbortWriteToReadOnly)
     EXPECT_TRUE(changed(before, b.dump()).empty());
 }
 
-TEST(CoSdo, AbortLengthMismatch)
+TEST(DriveCoSdo, AbortLengthMismatch)
 {
     Bench b;
     auto before = b.dump();
@@ -197,7 +197,7 @@ TEST(CoSdo, AbortLengthMismatch)
     EXPECT_TRUE(changed(before, b.dump()).empty());
 }
 
-TEST(CoSdo, AbortValueTooHighOrTooLowChangesNothing)
+TEST(DriveCoSdo, AbortValueTooHighOrTooLowChangesNothing)
 {
     Bench b;
     auto before = b.dump();
@@ -221,7 +221,7 @@ TEST(CoSdo, AbortValueTooHighOrTooLowChangesNothing)
     EXPECT_FALSE(b.download_u32(0x60FF, 0, uint32_t(-2000)).aborted());
 }
 
-TEST(CoSdo, AbortInvalidValue)
+TEST(DriveCoSdo, AbortInvalidValue)
 {
     Bench b;
     auto before = b.dump();
@@ -232,7 +232,7 @@ TEST(CoSdo, AbortInvalidValue)
     EXPECT_FALSE(b.download(0x2500, 2, {0xFA, 0x00}).aborted()); // 250
 }
 
-TEST(CoSdo, AbortParameterIncompatibility)
+TEST(DriveCoSdo, AbortParameterIncompatibility)
 {
     Bench b;
     auto before = b.dump();
@@ -244,7 +244,7 @@ TEST(CoSdo, AbortParameterIncompatibility)
     EXPECT_FALSE(b.download_f32(0x2102, 9, 0.0f).aborted()); // node 9 is not in use
 }
 
-TEST(CoSdo, AbortRefusedWhileRunning)
+TEST(DriveCoSdo, AbortRefusedWhileRunning)
 {
     Bench b;
     drive_set_run(b.d.get(), true);
@@ -263,7 +263,7 @@ TEST(CoSdo, AbortRefusedWhileRunning)
     EXPECT_EQ(drive_cfg(b.d.get())->speed.rbfn.n_nodes, 4u);
 }
 
-TEST(CoSdo, AbortStoreWithWrongSignature)
+TEST(DriveCoSdo, AbortStoreWithWrongSignature)
 {
     Bench b;
     EXPECT_EQ(b.download_u32(0x1010, 1, 0x12345678u).abort_code(), kAbortStore);
@@ -271,7 +271,7 @@ TEST(CoSdo, AbortStoreWithWrongSignature)
     EXPECT_EQ(b.read_u32(0x1010, 1), 1u);
 }
 
-TEST(CoSdo, AbortToggleNotAlternated)
+TEST(DriveCoSdo, AbortToggleNotAlternated)
 {
     Bench b;
     // Upload: the first segment request must carry t = 0.
@@ -294,7 +294,7 @@ TEST(CoSdo, AbortToggleNotAlternated)
     EXPECT_TRUE(changed(before, b.dump()).empty());
 }
 
-TEST(CoSdo, AbortUnknownCommandSpecifier)
+TEST(DriveCoSdo, AbortUnknownCommandSpecifier)
 {
     Bench b;
     for (uint8_t ccs : {5, 6, 7}) {
@@ -312,7 +312,7 @@ TEST(CoSdo, AbortUnknownCommandSpecifier)
     EXPECT_EQ(r.index(), 0x2100u);
 }
 
-TEST(CoSdo, AbortTimeoutOfAnIdleSegmentedTransfer)
+TEST(DriveCoSdo, AbortTimeoutOfAnIdleSegmentedTransfer)
 {
     Bench b;
     ASSERT_FALSE(b.upload(0x1008, 0).aborted());
@@ -355,7 +355,7 @@ TEST(CoSdo, AbortTimeoutOfAnIdleSegmentedTransfer)
     EXPECT_TRUE(changed(before, b.dump()).empty());
 }
 
-TEST(CoSdo, ClientAbortEndsTheTransferSilently)
+TEST(DriveCoSdo, ClientAbortEndsTheTransferSilently)
 {
     Bench b;
     ASSERT_FALSE(b.upload(0x1008, 0).aborted());
@@ -364,7 +364,7 @@ TEST(CoSdo, ClientAbortEndsTheTransferSilently)
     EXPECT_EQ(b.sdo({0x60, 0, 0, 0, 0, 0, 0, 0}).abort_code(), kAbortCmd);
 }
 
-TEST(CoSdo, NewInitiateReplacesAnUnfinishedTransfer)
+TEST(DriveCoSdo, NewInitiateReplacesAnUnfinishedTransfer)
 {
     Bench b;
     ASSERT_FALSE(b.upload(0x1008, 0).aborted());
@@ -374,7 +374,7 @@ TEST(CoSdo, NewInitiateReplacesAnUnfinishedTransfer)
     EXPECT_EQ(b.read_f32(0x2100, 1), 11.0f);
 }
 
-TEST(CoSdo, MalformedFramesAreIgnored)
+TEST(DriveCoSdo, MalformedFramesAreIgnored)
 {
     Bench b;
     auto before = b.dump();
@@ -396,7 +396,7 @@ TEST(CoSdo, MalformedFramesAreIgnored)
     EXPECT_TRUE(changed(before, b.dump()).empty());
 }
 
-TEST(CoSdo, EveryReadableEntryUploads)
+TEST(DriveCoSdo, EveryReadableEntryUploads)
 {
     Bench b;
     for (uint32_t i = 0; i < CO_PARAM_COUNT; i++) {

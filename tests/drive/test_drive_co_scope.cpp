@@ -44,7 +44,7 @@ void set_channels(Bench &b, std::vector<uint8_t> ch)
         ASSERT_FALSE(b.download(0x2600, uint8_t(i + 1), {i < ch.size() ? ch[i] : uint8_t(0)}).aborted());
 }
 
-TEST(CoScope, EmptyDomainBeforeACapture)
+TEST(DriveCoScope, EmptyDomainBeforeACapture)
 {
     Bench b;
     EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_IDLE));
@@ -56,7 +56,7 @@ TEST(CoScope, EmptyDomainBeforeACapture)
     EXPECT_EQ(s.f.data[0], 0x0Fu); // t = 0, n = 7, c = 1: no data, last
 }
 
-TEST(CoScope, ReferenceTriggerWithPretrigger)
+TEST(DriveCoScope, ReferenceTriggerWithPretrigger)
 {
     Bench b;
     set_channels(b, {2, 5}); // speed estimate (rpm), torque command (N m)
@@ -92,7 +92,7 @@ TEST(CoScope, ReferenceTriggerWithPretrigger)
     }
 }
 
-TEST(CoScope, ManualTriggerDecimationAndIntegerSignals)
+TEST(DriveCoScope, ManualTriggerDecimationAndIntegerSignals)
 {
     Bench b;
     set_channels(b, {21, 0, 23}); // run state (UNSIGNED8), off, tick (UNSIGNED32)
@@ -119,7 +119,7 @@ TEST(CoScope, ManualTriggerDecimationAndIntegerSignals)
     }
 }
 
-TEST(CoScope, FaultTriggerOnTheRisingEdge)
+TEST(DriveCoScope, FaultTriggerOnTheRisingEdge)
 {
     Bench b;
     set_channels(b, {22});
@@ -139,7 +139,7 @@ TEST(CoScope, FaultTriggerOnTheRisingEdge)
     EXPECT_EQ(data[10], float(CTL_FAULT_OVERSPEED));
 }
 
-TEST(CoScope, StopAndRearm)
+TEST(DriveCoScope, StopAndRearm)
 {
     Bench b;
     ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted());
@@ -155,7 +155,7 @@ TEST(CoScope, StopAndRearm)
 
 // The real interrupt drives the scope: a reference step while the drive is
 // stopped (no control action needed) triggers a capture.
-TEST(CoScope, SampledByDriveIsr)
+TEST(DriveCoScope, SampledByDriveIsr)
 {
     Bench b;
     hal_tick_start(drive_isr, b.d.get(), 200);

@@ -31,7 +31,7 @@ void run_ticks(Bench &b, int n)
     }
 }
 
-TEST(CoPdo, NoTelemetryOutsideOperational)
+TEST(DriveCoPdo, NoTelemetryOutsideOperational)
 {
     Bench b;
     ASSERT_FALSE(b.download(0x2500, 3, {0xE8, 0x03}).aborted()); // 1000 Hz
@@ -48,9 +48,9 @@ TEST(CoPdo, NoTelemetryOutsideOperational)
     EXPECT_TRUE(with_id(b.frames, 0x181).empty());
 }
 
-class CoPdoRate : public ::testing::TestWithParam<int> {};
+class DriveCoPdoRate : public ::testing::TestWithParam<int> {};
 
-TEST_P(CoPdoRate, CyclesPerSecondEqualTheRate)
+TEST_P(DriveCoPdoRate, CyclesPerSecondEqualTheRate)
 {
     int hz = GetParam();
     Bench b;
@@ -69,9 +69,9 @@ TEST_P(CoPdoRate, CyclesPerSecondEqualTheRate)
         EXPECT_EQ(f.dlc, 8u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Rates, CoPdoRate, ::testing::Values(1, 10, 100, 1000, 3000, 5000));
+INSTANTIATE_TEST_SUITE_P(Rates, DriveCoPdoRate, ::testing::Values(1, 10, 100, 1000, 3000, 5000));
 
-TEST(CoPdo, SlowBackgroundDropsCyclesInsteadOfBursting)
+TEST(DriveCoPdo, SlowBackgroundDropsCyclesInsteadOfBursting)
 {
     Bench b;
     ASSERT_FALSE(b.download(0x2500, 3, {0xE8, 0x03}).aborted()); // 1000 Hz
@@ -84,7 +84,7 @@ TEST(CoPdo, SlowBackgroundDropsCyclesInsteadOfBursting)
     EXPECT_EQ(with_id(b.frames, 0x181).size(), 100u);
 }
 
-TEST(CoPdo, LayoutAndScalingMatchTheDbc)
+TEST(DriveCoPdo, LayoutAndScalingMatchTheDbc)
 {
     Bench b;
     start(b);
@@ -129,7 +129,7 @@ TEST(CoPdo, LayoutAndScalingMatchTheDbc)
     EXPECT_EQ(s16(&t2[0].data[4]), -32768);
 }
 
-TEST(CoRpdo, TargetVelocityAndControlword)
+TEST(DriveCoRpdo, TargetVelocityAndControlword)
 {
     Bench b;
     start(b);
@@ -153,7 +153,7 @@ TEST(CoRpdo, TargetVelocityAndControlword)
     EXPECT_TRUE(b.d->run);
 }
 
-TEST(CoRpdo, ShortFrameIsIgnoredAndReported)
+TEST(DriveCoRpdo, ShortFrameIsIgnoredAndReported)
 {
     Bench b;
     start(b);
@@ -167,7 +167,7 @@ TEST(CoRpdo, ShortFrameIsIgnoredAndReported)
     EXPECT_EQ(u16(&emcy[0].data[0]), 0x8210u);
 }
 
-TEST(CoRpdo, IgnoredOutsideOperational)
+TEST(DriveCoRpdo, IgnoredOutsideOperational)
 {
     Bench b;
     b.inject(frame(0x201, {0x0F, 0x00, 0xF4, 0x01, 0x00, 0x00}));
@@ -176,7 +176,7 @@ TEST(CoRpdo, IgnoredOutsideOperational)
     EXPECT_EQ(b.d->speed_ref_rad_s, 0.0f);
 }
 
-TEST(CoCia402, StateMachineAndStatusword)
+TEST(DriveCoCia402, StateMachineAndStatusword)
 {
     Bench b;
     auto cw = [&](uint16_t v) { return b.download(0x6040, 0, {uint8_t(v), uint8_t(v >> 8)}); };
@@ -209,7 +209,7 @@ TEST(CoCia402, StateMachineAndStatusword)
     EXPECT_EQ(b.read_u32(0x6040, 0), 0u);
 }
 
-TEST(CoCia402, FaultAndFaultReset)
+TEST(DriveCoCia402, FaultAndFaultReset)
 {
     Bench b;
     b.download(0x6040, 0, {0x06, 0});
@@ -231,7 +231,7 @@ TEST(CoCia402, FaultAndFaultReset)
     EXPECT_EQ(b.read_u32(0x6041, 0) & 0x004Fu, 0x0040u);
 }
 
-TEST(CoCia402, FollowsADriveStartedElsewhere)
+TEST(DriveCoCia402, FollowsADriveStartedElsewhere)
 {
     Bench b;
     drive_set_run(b.d.get(), true);
@@ -242,7 +242,7 @@ TEST(CoCia402, FollowsADriveStartedElsewhere)
     EXPECT_EQ(b.read_u32(0x6041, 0) & 0x006Fu, 0x0023u);
 }
 
-TEST(CoCia402, TargetReached)
+TEST(DriveCoCia402, TargetReached)
 {
     Bench b;
     drive_set_run(b.d.get(), true);
@@ -256,7 +256,7 @@ TEST(CoCia402, TargetReached)
     EXPECT_EQ(int32_t(b.read_u32(0x606C, 0)), 497);
 }
 
-TEST(CoEmcy, OneMessagePerNewFaultAndResetWhenCleared)
+TEST(DriveCoEmcy, OneMessagePerNewFaultAndResetWhenCleared)
 {
     Bench b;
     b.frames.clear();
@@ -290,7 +290,7 @@ TEST(CoEmcy, OneMessagePerNewFaultAndResetWhenCleared)
     EXPECT_EQ(b.read_u32(0x1001, 0), 0x00u);
 }
 
-TEST(CoEmcy, NotSentInStoppedButAfterwards)
+TEST(DriveCoEmcy, NotSentInStoppedButAfterwards)
 {
     Bench b;
     b.inject(frame(0x000, {0x02, kNode}));

@@ -25,7 +25,7 @@ int next_beat(Bench &b)
     return hb[0].data[0];
 }
 
-TEST(CoNmt, BootUpMessageThenPreOperational)
+TEST(DriveCoNmt, BootUpMessageThenPreOperational)
 {
     Bench b(false);
     b.pass();
@@ -37,7 +37,7 @@ TEST(CoNmt, BootUpMessageThenPreOperational)
     EXPECT_EQ(next_beat(b), 0x7F);
 }
 
-TEST(CoNmt, HeartbeatPeriodFollows0x1017)
+TEST(DriveCoNmt, HeartbeatPeriodFollows0x1017)
 {
     Bench b;
     // Default 1000 ms: nothing at 999 ms, a beat at 1000 ms.
@@ -65,7 +65,7 @@ TEST(CoNmt, HeartbeatPeriodFollows0x1017)
     EXPECT_TRUE(with_id(b.frames, 0x701).empty());
 }
 
-TEST(CoNmt, StateCommands)
+TEST(DriveCoNmt, StateCommands)
 {
     Bench b;
     nmt(b, 0x01, kNode); // start
@@ -81,7 +81,7 @@ TEST(CoNmt, StateCommands)
     EXPECT_EQ(next_beat(b), 0x05);
 }
 
-TEST(CoNmt, OtherNodesUnknownCommandsAndMalformedFramesAreIgnored)
+TEST(DriveCoNmt, OtherNodesUnknownCommandsAndMalformedFramesAreIgnored)
 {
     Bench b;
     nmt(b, 0x01, 2); // start node 2
@@ -95,7 +95,7 @@ TEST(CoNmt, OtherNodesUnknownCommandsAndMalformedFramesAreIgnored)
     EXPECT_EQ(next_beat(b), 0x7F);
 }
 
-TEST(CoNmt, ResetCommunicationAppliesANewNodeId)
+TEST(DriveCoNmt, ResetCommunicationAppliesANewNodeId)
 {
     Bench b;
     ASSERT_FALSE(b.download(0x2500, 1, {5}).aborted());
@@ -113,7 +113,7 @@ TEST(CoNmt, ResetCommunicationAppliesANewNodeId)
     EXPECT_EQ(le32(&r.f.data[4]), 0x40000185u);
 }
 
-TEST(CoNmt, ResetNodeStopsTheDriveAndReloadsStoredParameters)
+TEST(DriveCoNmt, ResetNodeStopsTheDriveAndReloadsStoredParameters)
 {
     Bench b;
     ASSERT_FALSE(b.download_f32(0x2100, 1, 12.0f).aborted()); // rbfn_k
@@ -128,7 +128,7 @@ TEST(CoNmt, ResetNodeStopsTheDriveAndReloadsStoredParameters)
     EXPECT_EQ(next_beat(b), 0x7F);
 }
 
-TEST(CoNmt, AutostartEntersOperationalAfterBootUp)
+TEST(DriveCoNmt, AutostartEntersOperationalAfterBootUp)
 {
     Bench b;
     ASSERT_FALSE(b.download(0x2500, 4, {1}).aborted());
@@ -139,7 +139,7 @@ TEST(CoNmt, AutostartEntersOperationalAfterBootUp)
     EXPECT_EQ(next_beat(b), 0x05);
 }
 
-TEST(CoNmt, BitRateTakesEffectAtTheNextBoot)
+TEST(DriveCoNmt, BitRateTakesEffectAtTheNextBoot)
 {
     Bench b;
     ASSERT_FALSE(b.download(0x2500, 2, {0xE8, 0x03}).aborted()); // 1000 kbit/s
