@@ -220,31 +220,21 @@ static void output_off(ctl_state *s, ctl_out *out)
     fill_telemetry(s, NULL, out);
 }
 
-void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
+/* Protect: latch this tick's faults; true when the gates must be off. */
+static bool protect(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 {
-    const hal_sample *x = &in->sample;
-    real_t T = cfg->period_s;
-
-    /* ---- protect: latch, and gates off in this very tick */
     uint32_t f = detect_faults(s, cfg, in);
     s->faults_active = f;
     s->faults |= f;
-    if (s->faults != 0u) {
+    if (s->faults != 0u)
         s->run_state = CTL_FAULTED;
-        output_off(s, out);
-        return;
-    }
+    return s->faults != 0u;
+}
 
-    /* ---- run state */
-    if (!in->run) {
-        s->run_state = CTL_STOPPED;
-        output_off(s, out);
-        return;
-    }
-    if (s->run_state == CTL_STOPPED)
-        start(s, cfg);
-
-    /* ---- observe: voltage applied from t_k to t_{k+1} = last_act with this tick's vc1, vc2 */
+/* Observe: the voltage applied from t_k to t_{k+1} is last_act with this
+ * tick's vc1, vc2; the observer advances to t_{k+1} with it. */
+static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
+{
     real_t v0[2], v1[2], v[2];
     uint8_t st0 = dtc3l_state_of(&s->last_act.vector[0]);
     uint8_t st1 = dtc3l_state_of(&s->last_act.vector[1]);
@@ -257,44 +247,62 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     is[0] = num_mul(R(0.333333333), R(2.0) * x->ia_A - x->ib_A - x->ic_A);
     is[1] = num_mul(NUM_INV_SQRT3, x->ib_A - x->ic_A);
     observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
+}
 
-    /* neutral point at t_{k+1}: d(vc1 - vc2)/dt = i_np / C under last_act */
+/* Neutral point at t_{k+1}: d(vc1 - vc2)/dt = i_np / C under last_act, V. */
+static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
+{
+    uint8_t st0 = dtc3l_state_of(&s->last_act.vector[0]);
+    uint8_t st1 = dtc3l_state_of(&s->last_act.vector[1]);
+    real_t d0 = s->last_act.duty0;
     real_t i_abc[3] = {x->ia_A, x->ib_A, x->ic_A};
     real_t inp1 = dtc3l_np_current(st1, i_abc);
     real_t inp = num_mac(d0, dtc3l_np_current(st0, i_abc) - inp1, inp1);
-    real_t np_dev_pred = num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
-    const observer_out *oo = &s->obs_out;
+    return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
+}
 
-    /* ---- flux reference: slew-limited so magnetising does not trip */
-    real_t dpsi = num_mul(cfg->psi_ramp_Wb_s, T);
+/* Flux reference: slew-limited so that magnetising does not trip. */
+static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg)
+{
+    real_t dpsi = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
     s->psi_ref_ramped_Wb = num_sat(cfg->dtc.psi_ref_Wb, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
+}
 
-    /* ---- speed control */
-    speed_out so;
-    memset(&so, 0, sizeof so);
-    if (s->run_state == CTL_MAGNETISING) {
-        s->t_magnetise_s += T;
-        s->te_ref_Nm = R(0.0);
-        if (s->t_magnetise_s >= cfg->dtc.premag_s) {
-            s->run_state = CTL_RUNNING;
-            s->speed_ref_ramped_rad_s = oo->omega_m_rad_s;
-            speed_ctl_reset(&s->speed, R(0.0));
-            speed_ctl_set_ref(&s->speed, oo->omega_m_rad_s);
-        }
+/* Magnetising: zero torque until premag_s, then RUNNING from the estimated speed. */
+static void magnetise(ctl_state *s, const ctl_cfg *cfg)
+{
+    const observer_out *oo = &s->obs_out;
+    s->t_magnetise_s += cfg->period_s;
+    s->te_ref_Nm = R(0.0);
+    if (s->t_magnetise_s >= cfg->dtc.premag_s) {
+        s->run_state = CTL_RUNNING;
+        s->speed_ref_ramped_rad_s = oo->omega_m_rad_s;
+        speed_ctl_reset(&s->speed, R(0.0));
+        speed_ctl_set_ref(&s->speed, oo->omega_m_rad_s);
     }
-    if (s->run_state == CTL_RUNNING) {
-        real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
-        real_t prev = s->speed_ref_ramped_rad_s;
-        s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, num_mul(cfg->speed.ramp_rad_s2, T));
-        speed_in si;
-        si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
-        si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_period_per_s);
-        si.omega_est_rad_s = oo->omega_m_rad_s;
-        speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, &so);
-        s->te_ref_Nm = so.te_ref_Nm;
-    }
+}
 
-    /* ---- torque and flux control on the state predicted for t_{k+1} */
+/* Speed control: ramp the reference, torque command from the speed controller. */
+static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
+{
+    real_t T = cfg->period_s;
+    real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
+    real_t prev = s->speed_ref_ramped_rad_s;
+    s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, num_mul(cfg->speed.ramp_rad_s2, T));
+    speed_in si;
+    si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
+    si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_period_per_s);
+    si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
+    speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+    s->te_ref_Nm = so->te_ref_Nm;
+}
+
+/* Torque and flux control on the state predicted for t_{k+1}; returns the
+ * state in force when the chosen period starts. */
+static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V)
+{
+    const observer_out *oo = &s->obs_out;
+    uint8_t st1 = dtc3l_state_of(&s->last_act.vector[1]);
     dtc3l_in di;
     di.te_ref_Nm = s->te_ref_Nm;
     di.psi_ref_Wb = s->psi_ref_ramped_Wb;
@@ -311,13 +319,18 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     di.omega_m_rad_s = oo->omega_m_rad_s;
     di.vc1_V = x->vc1_V;
     di.vc2_V = x->vc2_V;
-    di.np_dev_V = np_dev_pred;
+    di.np_dev_V = np_dev_pred_V;
     di.prev_state = st1 < DTC3L_N_STATES ? st1 : (uint8_t)DTC3L_STATE_OOO;
-    dtc3l_step(&s->dtc, &cfg->dtc, T, &di, &s->dtc_out);
+    dtc3l_step(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->dtc_out);
+    return di.prev_state;
+}
 
-    /* ---- actuate: the last guard against a P<->N step (the DTC never asks for one) */
+/* Actuate: the last guard against a P<->N step (the DTC never asks for one),
+ * then latch for the next period. */
+static void actuate(ctl_state *s, uint8_t prev_state, ctl_out *out)
+{
     hal_actuation act = s->dtc_out.act;
-    uint8_t a0 = dtc3l_pn_safe(di.prev_state, dtc3l_state_of(&act.vector[0]));
+    uint8_t a0 = dtc3l_pn_safe(prev_state, dtc3l_state_of(&act.vector[0]));
     uint8_t a1 = dtc3l_pn_safe(a0, dtc3l_state_of(&act.vector[1]));
     dtc3l_legs(a0, &act.vector[0]);
     dtc3l_legs(a1, &act.vector[1]);
@@ -328,5 +341,34 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     s->last_vector = act.vector[1];
     out->act = act;
     out->gate_enable = true;
+}
+
+void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
+{
+    if (protect(s, cfg, in)) {
+        output_off(s, out); /* gates off in this very tick */
+        return;
+    }
+    if (!in->run) {
+        s->run_state = CTL_STOPPED;
+        output_off(s, out);
+        return;
+    }
+    if (s->run_state == CTL_STOPPED)
+        start(s, cfg);
+
+    observe(s, cfg, &in->sample);
+    real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
+    ramp_flux_reference(s, cfg);
+
+    speed_out so;
+    memset(&so, 0, sizeof so);
+    if (s->run_state == CTL_MAGNETISING)
+        magnetise(s, cfg);
+    if (s->run_state == CTL_RUNNING)
+        control_speed(s, cfg, in, &so);
+
+    uint8_t prev_state = control_torque_flux(s, cfg, &in->sample, np_dev_pred_V);
+    actuate(s, prev_state, out);
     fill_telemetry(s, &so, out);
 }
