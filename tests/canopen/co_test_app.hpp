@@ -43,8 +43,12 @@ static const co_param kParams[] = {
     {"device_type", 0x1000, 0, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_CONST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0x00020192u), nullptr, 0, nullptr},
     {"error_register", 0x1001, 0, CO_DT_UNSIGNED8, CO_F_READ, BIND_FN, CO_CK_UINT, 1, FN_LOG, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
     {"device_name", 0x1008, 0, CO_DT_VISIBLE_STRING, CO_F_READ, CO_BIND_CONST, CO_CK_BYTES, 0, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, "test application"},
+    {"emcy_inhibit", 0x1015, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, emcy_inhibit_100us), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
+    {"hb_consumer", 0x1016, 1, CO_DT_UNSIGNED32, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 4, offsetof(co_comm_cfg, hb_consumer), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
     {"heartbeat_ms", 0x1017, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, heartbeat_ms), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
+    {"error_behaviour", 0x1029, 1, CO_DT_UNSIGNED8, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 1, offsetof(co_comm_cfg, error_behaviour), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
     {"sdo_rx_cob", 0x1200, 1, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_NODEID, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0x600), nullptr, 0, nullptr},
+    {"rpdo1_event_timer", 0x1400, 5, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, rpdo_timeout_ms), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
     {"gain", 0x2000, 0, CO_DT_REAL32, RW | CO_F_RUNTIME | CO_F_LIMITS, BIND_VARS, CO_CK_FLOAT, 4, offsetof(Vars, gain), 1.0f, f(0.0f), f(10.0f), f(1.0f), nullptr, 0, nullptr},
     {"offset_A", 0x2001, 0, CO_DT_INTEGER16, RW | CO_F_LIMITS, BIND_VARS, CO_CK_FLOAT, 4, offsetof(Vars, offset_A), 10.0f, i(-100), i(100), i(0), nullptr, 0, nullptr},
     {"mode", 0x2002, 0, CO_DT_UNSIGNED8, RW | CO_F_RUNTIME, BIND_VARS, CO_CK_UINT, 1, offsetof(Vars, mode), 1.0f, u(0), u(0), u(1), kModes, 3, nullptr},
@@ -58,7 +62,8 @@ static const co_param kParams[] = {
     {"statusword", 0x6041, 0, CO_DT_UNSIGNED16, CO_F_READ | CO_F_PDO, BIND_FN, CO_CK_UINT, 2, FN_STATUSWORD, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
 };
 constexpr uint16_t kCount = sizeof kParams / sizeof kParams[0];
-constexpr uint16_t P_GAIN = 5, P_TEL_SPEED = 12, P_TEL_STATE = 13, P_CONTROLWORD = 14;
+constexpr uint16_t P_GAIN = 9, P_TEL_SPEED = 16, P_TEL_STATE = 17, P_CONTROLWORD = 18;
+static_assert(P_CONTROLWORD < kCount, "positions follow kParams");
 
 static const co_pdo_map kTpdo[] = {{0x180, 2, 6, {P_TEL_SPEED, P_TEL_STATE}}};
 // Controlword first in the frame: the device must still apply it last.
@@ -72,6 +77,7 @@ struct App {
     Vars vars;
     bool running = false;
     bool refuse_next = false;                // write hook refuses with PARAM_INCOMPAT once
+    bool hold_reset = false;                 // reset_ready answers false (a machine still stopping)
     std::vector<hal_can_frame> sent;         // frames the device sent
     std::vector<std::string> calls;          // hook calls in order (open, write:NAME, reset_node, booted)
     std::vector<uint8_t> log;                // content of the domain 0x2100
@@ -106,6 +112,10 @@ struct App {
                 buf[k] = off + k < a->log.size() ? a->log[off + k] : 0;
         };
         app.running = [](void *c) { return static_cast<App *>(c)->running; };
+        app.event = [](void *c, co_event ev) {
+            static_cast<App *>(c)->calls.push_back("event:" + std::to_string(int(ev)));
+        };
+        app.reset_ready = [](void *c) { return !static_cast<App *>(c)->hold_reset; };
         app.reset_node = [](void *c) { static_cast<App *>(c)->calls.push_back("reset_node"); };
         app.booted = [](void *c) { static_cast<App *>(c)->calls.push_back("booted"); };
         co_dev_init(&dev, &app);

@@ -166,8 +166,12 @@ TEST(CoDevice, NmtStatesResetsAndHeartbeat)
     Booted a;
     a.step({App::frame(0x000, {0x01, kNode})});
     EXPECT_EQ(a.dev.nmt.state, CO_NMT_OPERATIONAL);
+    a.calls.clear();
     a.step({App::frame(0x000, {0x02, 0})}); // broadcast stop
     EXPECT_EQ(a.dev.nmt.state, CO_NMT_STOPPED);
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:3"})); // CO_EVENT_NMT_STOPPED, once
+    a.step({App::frame(0x000, {0x02, 0})});
+    EXPECT_EQ(a.calls.size(), 1u);
     EXPECT_TRUE(a.sdo(upload(0x1000, 0)).dlc == 0); // no SDO in stopped
     a.step({App::frame(0x000, {0x01, kNode + 1})}); // another node
     EXPECT_EQ(a.dev.nmt.state, CO_NMT_STOPPED);
@@ -179,11 +183,17 @@ TEST(CoDevice, NmtStatesResetsAndHeartbeat)
     a.step({App::frame(0x000, {0x82, kNode})});
     EXPECT_EQ(a.dev.node_id, 9u);
     EXPECT_EQ(a.with_id(0x709).size(), 1u);
-    EXPECT_EQ(a.calls, (std::vector<std::string>{"open", "booted"}));
-    // Reset node: the application resets first.
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:4", "open", "booted"}));
+    // Reset node: told first (CO_EVENT_RESET); it waits while the application
+    // is not ready (a machine still stopping), then resets the application.
     a.calls.clear();
+    a.hold_reset = true;
     a.step({App::frame(0x000, {0x81, 9})});
-    EXPECT_EQ(a.calls, (std::vector<std::string>{"reset_node", "open", "booted"}));
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:4"}));
+    a.hold_reset = false;
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:4", "reset_node", "open", "booted"}));
     // Heartbeat every 100 ms of the pass clock.
     EXPECT_EQ(abort_of(a.sdo(download(0x1017, 0, {100, 0}))), 0u);
     a.sent.clear();
@@ -279,7 +289,15 @@ TEST(CoCia402, StateMachineActionsAndStatusword)
     EXPECT_EQ(co_cia402_controlword(&c, 0x07), CO_CIA402_STOP); // disable operation
     EXPECT_EQ(c.state, CO_CIA402_SWITCHED_ON);
     EXPECT_EQ(co_cia402_controlword(&c, 0x0F), CO_CIA402_RUN);
-    EXPECT_EQ(co_cia402_controlword(&c, 0x02), CO_CIA402_STOP); // quick stop
+    EXPECT_EQ(co_cia402_controlword(&c, 0x0B), CO_CIA402_QUICK_STOP); // quick stop from operation enabled
+    EXPECT_EQ(c.state, CO_CIA402_QUICK_STOP_ACTIVE);
+    EXPECT_EQ(co_cia402_statusword(&c, false), 0x0207); // bit 5 (quick stop) low
+    EXPECT_EQ(co_cia402_controlword(&c, 0x0F), CO_CIA402_KEEP); // the ramp is not interrupted by enable
+    co_cia402_sync(&c, false, true);
+    EXPECT_EQ(c.state, CO_CIA402_QUICK_STOP_ACTIVE);
+    co_cia402_quick_stop_done(&c);
+    EXPECT_EQ(c.state, CO_CIA402_SWITCH_ON_DISABLED);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x02), CO_CIA402_STOP); // quick stop elsewhere: switch on disabled
     EXPECT_EQ(c.state, CO_CIA402_SWITCH_ON_DISABLED);
     co_cia402_sync(&c, true, false);
     EXPECT_EQ(co_cia402_statusword(&c, false), 0x0208);
@@ -289,4 +307,97 @@ TEST(CoCia402, StateMachineActionsAndStatusword)
     EXPECT_EQ(c.state, CO_CIA402_SWITCH_ON_DISABLED);
     co_cia402_sync(&c, false, true); // started by someone else
     EXPECT_EQ(c.state, CO_CIA402_OPERATION_ENABLED);
+}
+
+TEST(CoDevice, HeartbeatConsumerLossIsACommunicationError)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    ASSERT_EQ(abort_of(a.sdo(download(0x1016, 1, {200, 0, 0x7F, 0}))), 0u); // node 0x7F, 200 ms
+    // Not monitored before the first heartbeat (CiA 301).
+    a.calls.clear();
+    for (int k = 0; k < 10; k++) {
+        a.pass.now_ms += 100;
+        a.step();
+    }
+    EXPECT_TRUE(a.calls.empty());
+    a.sent.clear();
+    for (int k = 0; k < 10; k++) { // master alive: a beat every 100 ms
+        a.pass.now_ms += 100;
+        a.step({App::frame(0x77F, {0x05})});
+    }
+    EXPECT_TRUE(a.calls.empty());
+    a.pass.now_ms += 200;
+    a.step();
+    EXPECT_TRUE(a.calls.empty()) << "200 ms is still within the time";
+    a.pass.now_ms += 1;
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:1"}));
+    auto e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x8130);
+    EXPECT_EQ(e[0].data[2] & 0x10, 0x10); // communication bit
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_PRE_OPERATIONAL); // 0x1029 default 0
+    a.step();
+    EXPECT_EQ(a.calls.size(), 1u) << "reported once";
+    // A beat again, then loss again with 0x1029 = 2: stopped.
+    ASSERT_EQ(abort_of(a.sdo(download(0x1029, 1, {2}))), 0u);
+    a.step({App::frame(0x77F, {0x05})});
+    a.pass.now_ms += 1000;
+    a.step();
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_STOPPED);
+    EXPECT_EQ(a.calls.back(), "event:1");
+}
+
+TEST(CoDevice, RpdoEventTimerOnceStarted)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    ASSERT_EQ(abort_of(a.sdo(download(0x1029, 1, {1}))), 0u); // no NMT change
+    ASSERT_EQ(abort_of(a.sdo(download(0x1400, 5, {50, 0}))), 0u);
+    a.pass.now_ms += 1000;
+    a.calls.clear();
+    a.step();
+    EXPECT_TRUE(a.calls.empty()) << "not monitored before the first RPDO";
+    auto g = f32(2.0f);
+    for (int k = 0; k < 5; k++) {
+        a.pass.now_ms += 40;
+        a.step({App::frame(0x200 + kNode, {0x0F, 0x00, g[0], g[1], g[2], g[3]})});
+    }
+    a.calls.clear();
+    a.sent.clear();
+    a.pass.now_ms += 51;
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:2"}));
+    auto e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x8250);
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_OPERATIONAL);
+}
+
+TEST(CoDevice, EmcyInhibitTimeQueuesDistinctEventsOnce)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    ASSERT_EQ(abort_of(a.sdo(download(0x1015, 0, {0xE8, 0x03}))), 0u); // 1000 x 100 us = 100 ms
+    a.sent.clear();
+    // 50 short RPDOs within 50 ms: one EMCY now, one waiting, none more.
+    for (int k = 0; k < 50; k++) {
+        a.pass.now_ms += 1;
+        a.step({App::frame(0x200 + kNode, {0x0F})});
+    }
+    EXPECT_EQ(a.with_id(0x080 + kNode).size(), 1u);
+    a.pass.faults = 1u << 0; // a fault within the inhibit time waits as well
+    a.step();
+    EXPECT_EQ(a.with_id(0x080 + kNode).size(), 1u);
+    a.pass.now_ms += 60; // 110 ms after the first message
+    a.step();
+    auto e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 2u);
+    EXPECT_EQ(e[1].data[0] | (e[1].data[1] << 8), 0x8210); // the queued event first
+    a.pass.now_ms += 100;
+    a.step();
+    e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 3u);
+    EXPECT_EQ(e[2].data[0] | (e[2].data[1] << 8), 0x2310); // then the fault, not lost
 }

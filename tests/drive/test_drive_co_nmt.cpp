@@ -122,7 +122,17 @@ TEST(DriveCoNmt, ResetNodeStopsTheDriveAndReloadsStoredParameters)
     drive_set_run(b.d.get(), true);
     b.frames.clear();
     nmt(b, 0x81, 0);
+    // Running: the abort connection option (default 3, quick stop) comes first;
+    // the reset waits for the ramp to end.
+    EXPECT_TRUE(b.d->quick_stop_req);
+    EXPECT_TRUE(b.d->run);
+    EXPECT_TRUE(with_id(b.frames, 0x701).empty());
+    b.pass();
+    EXPECT_TRUE(with_id(b.frames, 0x701).empty());
+    b.d->snap.quick_stop_done = true; // as the interrupt reports the end of the ramp
+    b.pass();
     EXPECT_FALSE(b.d->run);
+    EXPECT_FALSE(b.d->quick_stop_req);
     EXPECT_EQ(with_id(b.frames, 0x701).size(), 1u); // boot-up again
     EXPECT_EQ(b.read_f32(0x2100, 1), 12.0f);
     EXPECT_EQ(next_beat(b), 0x7F);

@@ -197,9 +197,25 @@ TEST(DriveCoCia402, StateMachineAndStatusword)
     EXPECT_FALSE(b.d->run);
     cw(0x000F);
     EXPECT_TRUE(b.d->run);
-    cw(0x000B); // quick stop (bit 2 low)
+    cw(0x000B); // quick stop (bit 2 low): quick stop active while the ramp runs
+    EXPECT_EQ(sw(), 0x0007u);
+    EXPECT_TRUE(b.d->run);
+    EXPECT_TRUE(b.d->quick_stop_req);
+    cw(0x000F); // enable operation does not interrupt it
+    EXPECT_EQ(sw(), 0x0007u);
+    b.d->snap.quick_stop_done = true; // the interrupt's ramp has ended
+    b.pass();
     EXPECT_EQ(sw(), 0x0040u);
     EXPECT_FALSE(b.d->run);
+    EXPECT_FALSE(b.d->quick_stop_req);
+    b.d->snap.quick_stop_done = false;
+    // Quick stop option 0: coast at once.
+    ASSERT_FALSE(b.download(0x605A, 0, {0, 0}).aborted());
+    cw(0x0006);
+    cw(0x000F);
+    cw(0x000B);
+    EXPECT_FALSE(b.d->run);
+    EXPECT_EQ(sw(), 0x0040u);
     cw(0x0006);
     cw(0x000F);
     EXPECT_TRUE(b.d->run);
@@ -269,11 +285,16 @@ TEST(DriveCoEmcy, OneMessagePerNewFaultAndResetWhenCleared)
     EXPECT_EQ(e[0].data[2], 0x03u); // generic + current
     EXPECT_EQ(le32(&e[0].data[3]), uint32_t(CTL_FAULT_OVERCURRENT));
     EXPECT_EQ(b.read_u32(0x1001, 0), 0x03u);
-    // Still latched: no repeat. A second fault: one more message.
+    // Still latched: no repeat. A second fault: one more message, after the
+    // inhibit time (0x1015, default 100 ms) since the first.
     b.frames.clear();
     b.pass();
     EXPECT_TRUE(with_id(b.frames, 0x081).empty());
     b.d->snap.tel.faults = CTL_FAULT_OVERCURRENT | CTL_FAULT_DC_OVERVOLT;
+    b.advance_ms(99);
+    b.pass();
+    EXPECT_TRUE(with_id(b.frames, 0x081).empty()) << "within the inhibit time";
+    b.advance_ms(1);
     b.pass();
     e = with_id(b.frames, 0x081);
     ASSERT_EQ(e.size(), 1u);
@@ -282,6 +303,7 @@ TEST(DriveCoEmcy, OneMessagePerNewFaultAndResetWhenCleared)
     // All cleared: error reset.
     b.frames.clear();
     b.d->snap.tel.faults = 0;
+    b.advance_ms(100);
     b.pass();
     e = with_id(b.frames, 0x081);
     ASSERT_EQ(e.size(), 1u);

@@ -74,6 +74,7 @@ BINDS = {
     "cfg": ("DRIVE_BIND_CFG", "ctl_cfg"),
     "comm": ("CO_BIND_COMM", "co_comm_cfg"),
     "scope": ("DRIVE_BIND_SCOPE", "scope_cfg"),
+    "app": ("DRIVE_BIND_APP", "drive_app_cfg"),
     "snap": ("DRIVE_BIND_SNAP", "drive_snapshot"),
     "drive": ("DRIVE_BIND_DRIVE", "drive"),
 }

@@ -30,11 +30,18 @@ co_cia402_action co_cia402_controlword(co_cia402 *c, uint16_t cw)
         }
         return CO_CIA402_KEEP;
     }
-    if ((cw & CW_ENABLE_VOLTAGE) == 0u || (cw & (CW_QUICK_STOP | CW_ENABLE_VOLTAGE)) == CW_ENABLE_VOLTAGE) {
-        /* disable voltage, or quick stop: stop and lock out */
+    if ((cw & CW_ENABLE_VOLTAGE) == 0u) { /* disable voltage: stop at once and lock out */
         c->state = CO_CIA402_SWITCH_ON_DISABLED;
         return CO_CIA402_STOP;
     }
+    if ((cw & CW_QUICK_STOP) == 0u) { /* quick stop */
+        if (co_cia402_quick_stop(c) || c->state == CO_CIA402_QUICK_STOP_ACTIVE)
+            return CO_CIA402_QUICK_STOP;
+        c->state = CO_CIA402_SWITCH_ON_DISABLED;
+        return CO_CIA402_STOP;
+    }
+    if (c->state == CO_CIA402_QUICK_STOP_ACTIVE)
+        return CO_CIA402_KEEP; /* only disable voltage interrupts the ramp (options 5..8 not supported) */
     uint16_t cmd = (uint16_t)(cw & (CW_SWITCH_ON | CW_ENABLE_VOLTAGE | CW_QUICK_STOP | CW_ENABLE_OPERATION));
     if ((cmd & 0x7u) == 0x6u) { /* shutdown */
         c->state = CO_CIA402_READY_TO_SWITCH_ON;
@@ -56,10 +63,32 @@ co_cia402_action co_cia402_controlword(co_cia402 *c, uint16_t cw)
     return CO_CIA402_KEEP;
 }
 
+bool co_cia402_quick_stop(co_cia402 *c)
+{
+    if (c->state != CO_CIA402_OPERATION_ENABLED)
+        return false;
+    c->state = CO_CIA402_QUICK_STOP_ACTIVE;
+    return true;
+}
+
+void co_cia402_quick_stop_done(co_cia402 *c)
+{
+    if (c->state == CO_CIA402_QUICK_STOP_ACTIVE)
+        c->state = CO_CIA402_SWITCH_ON_DISABLED;
+}
+
+void co_cia402_disable_voltage(co_cia402 *c)
+{
+    if (c->state != CO_CIA402_FAULT)
+        c->state = CO_CIA402_SWITCH_ON_DISABLED;
+}
+
 void co_cia402_sync(co_cia402 *c, bool faulted, bool running)
 {
     if (faulted)
         c->state = CO_CIA402_FAULT;
+    else if (c->state == CO_CIA402_QUICK_STOP_ACTIVE)
+        c->state = running ? CO_CIA402_QUICK_STOP_ACTIVE : CO_CIA402_SWITCH_ON_DISABLED;
     else if (c->state == CO_CIA402_FAULT)
         c->state = running ? CO_CIA402_OPERATION_ENABLED : CO_CIA402_SWITCH_ON_DISABLED;
     else if (running)
@@ -76,9 +105,10 @@ uint16_t co_cia402_statusword(const co_cia402 *c, bool target_reached)
         [CO_CIA402_SWITCHED_ON] = 0x0023u,
         [CO_CIA402_OPERATION_ENABLED] = 0x0027u,
         [CO_CIA402_FAULT] = 0x0008u,
+        [CO_CIA402_QUICK_STOP_ACTIVE] = 0x0007u, /* bit 5 (quick stop) low */
     };
     uint8_t st = c->state;
-    uint16_t sw = (uint16_t)((st <= CO_CIA402_FAULT ? base[st] : 0x0040u) | SW_REMOTE);
+    uint16_t sw = (uint16_t)((st <= CO_CIA402_QUICK_STOP_ACTIVE ? base[st] : 0x0040u) | SW_REMOTE);
     if (st == CO_CIA402_OPERATION_ENABLED && target_reached)
         sw |= SW_TARGET_REACHED;
     return sw;

@@ -59,7 +59,40 @@ static void start(co_dev *c)
     co_nmt_init(&c->nmt, c->comm.nmt_autostart != 0u ? CO_NMT_OPERATIONAL : CO_NMT_PRE_OPERATIONAL,
                 c->pass.now_ms);
     c->started = true;
+    c->reset_announced = false;
     c->app->booted(c->app->ctx);
+}
+
+/* A requested NMT reset is told to the application once, and carried out
+ * when it says so: a drive that runs first reacts (CiA 402 0x6007, e.g. a
+ * quick stop) instead of being reset under way. */
+static void service_reset(co_dev *c)
+{
+    if (c->nmt.reset_req == CO_NMT_RESET_NONE)
+        return;
+    if (!c->reset_announced) {
+        c->reset_announced = true;
+        c->app->event(c->app->ctx, CO_EVENT_RESET);
+    }
+    if (!c->app->reset_ready(c->app->ctx))
+        return;
+    if (c->nmt.reset_req == CO_NMT_RESET_NODE) {
+        /* Application reset first: it stops and reloads what it stores. */
+        c->app->reset_node(c->app->ctx);
+        co_cia402_init(&c->cia402);
+    }
+    start(c);
+}
+
+void co_dev_comm_error(co_dev *c, co_event ev, uint16_t emcy_code)
+{
+    const co_emcy_entry e = {0u, emcy_code, 4u}; /* error register bit 4: communication */
+    co_emcy_event(c, &e, false);
+    if (c->comm.error_behaviour == 0u && c->nmt.state == CO_NMT_OPERATIONAL)
+        c->nmt.state = CO_NMT_PRE_OPERATIONAL;
+    else if (c->comm.error_behaviour == 2u)
+        c->nmt.state = CO_NMT_STOPPED;
+    c->app->event(c->app->ctx, ev);
 }
 
 void co_dev_begin_pass(co_dev *c, const co_pass *pass)
@@ -75,7 +108,9 @@ void co_dev_rx(co_dev *c, const hal_can_frame *f)
 {
     uint8_t st = c->nmt.state;
     c->rx_frames++;
-    if (f->id == COB_NMT) {
+    if (co_nmt_consume(c, f)) {
+        /* the master's heartbeat: nothing else to do */
+    } else if (f->id == COB_NMT) {
         co_nmt_rx(&c->nmt, c->node_id, f);
     } else if (f->id == COB_SDO_RX + c->node_id) {
         if (st == CO_NMT_PRE_OPERATIONAL || st == CO_NMT_OPERATIONAL)
@@ -86,19 +121,17 @@ void co_dev_rx(co_dev *c, const hal_can_frame *f)
     }
     /* Everything else (other nodes, SYNC, TIME, our own COB-IDs) is not for us. */
 
-    if (c->nmt.reset_req != CO_NMT_RESET_NONE) {
-        if (c->nmt.reset_req == CO_NMT_RESET_NODE) {
-            /* Application reset first: it stops and reloads what it stores. */
-            c->app->reset_node(c->app->ctx);
-            co_cia402_init(&c->cia402);
-        }
-        start(c);
-    }
+    if (st != CO_NMT_STOPPED && c->nmt.state == CO_NMT_STOPPED)
+        c->app->event(c->app->ctx, CO_EVENT_NMT_STOPPED);
+    service_reset(c);
 }
 
 void co_dev_end_pass(co_dev *c)
 {
     uint32_t now = c->pass.now_ms;
+    service_reset(c);
+    co_nmt_consumer_check(c, now);
+    co_pdo_rx_check(c, now);
     co_sdo_poll(c);
     co_nmt_heartbeat(c, c->comm.heartbeat_ms, now);
     if (c->nmt.state != CO_NMT_STOPPED)

@@ -27,11 +27,43 @@ uint8_t co_emcy_error_register(const co_dev *c)
     return (uint8_t)reg;
 }
 
+/* The inhibit time 0x1015 (100 us units) on the millisecond pass clock, rounded up. */
+static bool inhibited(const co_dev *c)
+{
+    uint32_t inhibit_ms = ((uint32_t)c->comm.emcy_inhibit_100us + 9u) / 10u;
+    return c->emcy.sent_once && c->pass.now_ms - c->emcy.last_ms < inhibit_ms;
+}
+
 int co_emcy_send(co_dev *c, uint16_t code, uint8_t error_register, uint32_t faults)
 {
+    if (inhibited(c))
+        return -1;
     uint8_t b[8] = {(uint8_t)code, (uint8_t)(code >> 8), error_register, (uint8_t)faults,
                     (uint8_t)(faults >> 8), (uint8_t)(faults >> 16), (uint8_t)(faults >> 24), 0u};
-    return co_dev_send(c, (uint16_t)(EMCY_BASE + c->node_id), 8u, b);
+    int rc = co_dev_send(c, (uint16_t)(EMCY_BASE + c->node_id), 8u, b);
+    if (rc == 0) {
+        c->emcy.sent_once = true;
+        c->emcy.last_ms = c->pass.now_ms;
+    }
+    return rc;
+}
+
+/* An event's message: its own register bit is set in the error register it carries. */
+static int send_event(co_dev *c, const co_emcy_entry *entry)
+{
+    uint8_t reg = (uint8_t)(co_emcy_error_register(c) | (1u << entry->reg_bit) | 1u);
+    return co_emcy_send(c, entry->code, reg, c->pass.faults);
+}
+
+/* Send the oldest waiting event if the inhibit time allows. */
+static void send_queued(co_dev *c)
+{
+    co_emcy *e = &c->emcy;
+    if (e->n_queued == 0u || send_event(c, &e->queued[0]) != 0)
+        return;
+    e->n_queued--;
+    for (uint32_t i = 0u; i < e->n_queued; i++)
+        e->queued[i] = e->queued[i + 1u];
 }
 
 void co_emcy_poll(co_dev *c)
@@ -39,6 +71,7 @@ void co_emcy_poll(co_dev *c)
     co_emcy *e = &c->emcy;
     const co_app *app = c->app;
     uint32_t faults = c->pass.faults;
+    send_queued(c);
     uint32_t fresh = faults & ~e->reported;
     uint32_t known = 0u;
     uint8_t reg = co_emcy_error_register(c);
@@ -62,9 +95,16 @@ void co_emcy_poll(co_dev *c)
 
 void co_emcy_event(co_dev *c, const co_emcy_entry *entry, bool latch)
 {
+    co_emcy *e = &c->emcy;
     if (latch)
-        c->emcy.extra_reg = (uint8_t)(c->emcy.extra_reg | (1u << entry->reg_bit) | 1u);
-    (void)co_emcy_send(c, entry->code, co_emcy_error_register(c), c->pass.faults);
+        e->extra_reg = (uint8_t)(e->extra_reg | (1u << entry->reg_bit) | 1u);
+    for (uint32_t i = 0u; i < e->n_queued; i++)
+        if (e->queued[i].code == entry->code)
+            return; /* already waiting: one message per distinct error */
+    if (e->n_queued == 0u && send_event(c, entry) == 0)
+        return;
+    if (e->n_queued < CO_EMCY_QUEUE)
+        e->queued[e->n_queued++] = *entry;
 }
 
 void co_emcy_clear_extra(co_emcy *e) { e->extra_reg = 0u; }

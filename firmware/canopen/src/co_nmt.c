@@ -13,6 +13,8 @@ void co_nmt_init(co_nmt *n, uint8_t state, uint32_t now_ms)
     n->state = state;
     n->reset_req = CO_NMT_RESET_NONE;
     n->hb_last_ms = now_ms;
+    n->hbc_state = CO_HBC_WAITING;
+    n->hbc_last_ms = now_ms;
 }
 
 void co_nmt_rx(co_nmt *n, uint8_t node_id, const hal_can_frame *f)
@@ -64,4 +66,31 @@ void co_nmt_heartbeat(struct co_dev *c, uint16_t period_ms, uint32_t now_ms)
     n->hb_last_ms = since >= 2u * (uint32_t)period_ms ? now_ms : n->hb_last_ms + period_ms;
     uint8_t b = n->state;
     (void)co_dev_send(c, (uint16_t)(HEARTBEAT_BASE + c->node_id), 1u, &b);
+}
+
+#define EMCY_HEARTBEAT_LOST 0x8130u /* CiA 301: life guard or heartbeat error */
+
+bool co_nmt_consume(struct co_dev *c, const hal_can_frame *f)
+{
+    uint32_t cfg = c->comm.hb_consumer;
+    uint32_t node = (cfg >> 16) & 0xFFu;
+    if ((cfg & 0xFFFFu) == 0u || node == 0u || node > 127u || f->id != HEARTBEAT_BASE + node)
+        return false;
+    if (f->rtr || f->dlc != 1u)
+        return true; /* the master's COB-ID, but not a heartbeat: no proof of life */
+    c->nmt.hbc_state = CO_HBC_ACTIVE;
+    c->nmt.hbc_last_ms = c->pass.now_ms;
+    return true;
+}
+
+void co_nmt_consumer_check(struct co_dev *c, uint32_t now_ms)
+{
+    co_nmt *n = &c->nmt;
+    uint32_t time_ms = c->comm.hb_consumer & 0xFFFFu;
+    if (time_ms == 0u || n->hbc_state != CO_HBC_ACTIVE)
+        return;
+    if (now_ms - n->hbc_last_ms > time_ms) {
+        n->hbc_state = CO_HBC_LOST;
+        co_dev_comm_error(c, CO_EVENT_HEARTBEAT_LOST, EMCY_HEARTBEAT_LOST);
+    }
 }

@@ -16,6 +16,9 @@ void co_pdo_init(co_pdo *p)
     p->acc = 0u;
     p->last_tick = 0u;
     p->primed = false;
+    p->rpdo_seen = false;
+    p->rpdo_timed_out = false;
+    p->rpdo_last_ms = 0u;
 }
 
 static void send_telemetry(co_dev *c)
@@ -81,6 +84,11 @@ void co_pdo_rx(co_dev *c, uint32_t num, const hal_can_frame *f)
         co_emcy_event(c, &rpdo_length, false);
         return;
     }
+    if (num == 0u) {
+        c->pdo.rpdo_seen = true;
+        c->pdo.rpdo_timed_out = false;
+        c->pdo.rpdo_last_ms = c->pass.now_ms;
+    }
     /* Everything but the controlword first, so enabling starts with the new reference. */
     for (uint32_t pass = 0u; pass < 2u; pass++) {
         uint32_t pos = 0u;
@@ -92,5 +100,19 @@ void co_pdo_rx(co_dev *c, uint32_t num, const hal_can_frame *f)
                 (void)co_od_write(c, e, &f->data[pos], n, CO_WR_PDO);
             pos += (uint32_t)n;
         }
+    }
+}
+
+#define EMCY_RPDO_TIMEOUT 0x8250u /* CiA 301: RPDO timeout */
+
+void co_pdo_rx_check(co_dev *c, uint32_t now_ms)
+{
+    co_pdo *p = &c->pdo;
+    uint32_t timeout = c->comm.rpdo_timeout_ms;
+    if (timeout == 0u || !p->rpdo_seen || p->rpdo_timed_out)
+        return;
+    if (now_ms - p->rpdo_last_ms > timeout) {
+        p->rpdo_timed_out = true;
+        co_dev_comm_error(c, CO_EVENT_RPDO_TIMEOUT, EMCY_RPDO_TIMEOUT);
     }
 }

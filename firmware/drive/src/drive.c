@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "dtc/drive_co.h"
+#include "dtc/num.h"
 #include "hal/hal.h"
 
 /* Compiler barrier: volatile orders only volatile accesses, so the plain
@@ -65,7 +66,45 @@ void drive_set_run(drive *d, bool run)
     d->run = run;
 }
 
-static void publish_snapshot(drive *d, const ctl_in *in)
+/* A quick stop ends when the ramp is at 0 and the estimate below this (20 rpm). */
+#define QS_STOPPED_RAD_S 2.0943951f
+
+/*
+ * Quick stop (ISR side): the speed reference ramps from the present estimate
+ * to 0 at the configured deceleration; at 0 with the estimate below
+ * QS_STOPPED_RAD_S (or when the control core is no longer running) the gates
+ * go off and the snapshot says so, so the background ends the run.
+ * @return true when the quick stop is done.
+ */
+static bool quick_stop_step(drive *d, const ctl_cfg *cfg, ctl_in *in)
+{
+    drive_quick_stop *q = &d->qs;
+    if (!d->quick_stop_req) {
+        q->active = false;
+        return false;
+    }
+    real_t w = d->out.tel.omega_est_rad_s;
+    if (!q->active) {
+        q->active = true;
+        q->ref_rad_s = w;
+    }
+    real_t step = q->decel_rad_s2 * cfg->period_s;
+    if (q->ref_rad_s > step)
+        q->ref_rad_s -= step;
+    else if (q->ref_rad_s < -step)
+        q->ref_rad_s += step;
+    else
+        q->ref_rad_s = R(0.0);
+    in->speed_ref_rad_s = q->ref_rad_s;
+    ctl_run_state st = d->ctl.run_state;
+    bool done = (q->ref_rad_s == R(0.0) && num_abs(w) < QS_STOPPED_RAD_S) ||
+                st == CTL_STOPPED || st == CTL_FAULTED;
+    if (done)
+        in->run = false;
+    return done;
+}
+
+static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
 {
     drive_snapshot *s = &d->snap;
     s->seq++; /* odd: being written */
@@ -80,6 +119,7 @@ static void publish_snapshot(drive *d, const ctl_in *in)
     s->tick = d->tick;
     s->speed_err_rad_s = d->out.tel.speed_ref_rad_s - d->out.tel.omega_est_rad_s;
     s->vdc_diff_V = in->sample.vc1_V - in->sample.vc2_V;
+    s->quick_stop_done = quick_stop_done;
     publish_fence();
     s->seq++; /* even: consistent */
 }
@@ -101,6 +141,7 @@ void drive_isr(void *ctx)
     in.sample_fresh = (hal_sample_read(&in.sample) == HAL_OK);
     in.run = d->run;
     in.speed_ref_rad_s = d->speed_ref_rad_s;
+    bool qs_done = quick_stop_step(d, cfg, &in);
     in.fault_input = hal_fault_input_active();
     in.overrun = d->tick_missed;
 
@@ -116,7 +157,7 @@ void drive_isr(void *ctx)
     (void)hal_actuate(&d->out.act);
 
     d->tick++;
-    publish_snapshot(d, &in);
+    publish_snapshot(d, &in, qs_done);
     scope_sample(&d->scope, &d->snap, in.speed_ref_rad_s, d->out.tel.faults, d->tick);
 
     /* Judged by the board's timer, so it latches CTL_FAULT_OVERRUN next tick. */

@@ -39,6 +39,8 @@ static const void *read_base(const drive *d, const co_param *p)
         return drive_cfg(d);
     case DRIVE_BIND_SCOPE:
         return &d->scope.cfg;
+    case DRIVE_BIND_APP:
+        return &d->app;
     case DRIVE_BIND_SNAP:
         return &d->bg_snap;
     case DRIVE_BIND_DRIVE:
@@ -165,17 +167,44 @@ static uint32_t fn_read(drive *d, const co_param *p, co_num *v)
     return CO_ABORT_NONE;
 }
 
+/* The quick stop ramp in rad/s^2 from 0x6049 (rpm per s). */
+static void derive_quick_stop(drive *d)
+{
+    uint32_t dt_s = d->app.qs_delta_s != 0u ? d->app.qs_delta_s : 1u;
+    d->qs.decel_rad_s2 = (float)d->app.qs_delta_rpm * 0.104719755f / (float)dt_s;
+}
+
+/* Quick stop per the option code 0x605A: ramp down (2) or coast (0). */
+static void quick_stop(drive *d)
+{
+    if (d->app.quick_stop_option == 0) {
+        drive_set_run(d, false);
+        co_cia402_quick_stop_done(&d->co.cia402);
+        return;
+    }
+    if (d->run)
+        d->quick_stop_req = true;
+    else
+        co_cia402_quick_stop_done(&d->co.cia402);
+}
+
 static void apply_cia402(drive *d, co_cia402_action a)
 {
     switch (a) {
+    case CO_CIA402_QUICK_STOP:
+        quick_stop(d);
+        break;
     case CO_CIA402_RUN:
         drive_set_run(d, true);
         break;
     case CO_CIA402_STOP:
+        d->quick_stop_req = false;
         drive_set_run(d, false);
         break;
     case CO_CIA402_FAULT_RESET:
+        d->quick_stop_req = false;
         drive_set_run(d, false);
+        d->drive_faults = 0u;
         d->clear_faults_req = true; /* the ISR clears what is no longer active */
         break;
     case CO_CIA402_KEEP:
@@ -260,6 +289,10 @@ static uint32_t app_write(void *ctx, const co_param *p, const co_num *internal)
     case DRIVE_BIND_SCOPE:
         co_field_set(&d->scope.cfg, p, internal);
         return CO_ABORT_NONE;
+    case DRIVE_BIND_APP:
+        co_field_set(&d->app, p, internal);
+        derive_quick_stop(d);
+        return CO_ABORT_NONE;
     case DRIVE_BIND_CFG: {
         /* Edit the inactive copy, refuse a change that makes a consistent
          * configuration inconsistent (ctl_cfg_check: e.g. a width of 0 for a
@@ -292,10 +325,45 @@ static int app_open(void *ctx, uint32_t bitrate_bps)
 
 static bool app_running(void *ctx) { return drive_co_running(ctx); }
 
+/* CiA 402 abort connection option 0x6007: what losing the master (or its NMT
+ * stop or reset) does to a drive whose operation is enabled. */
+static void app_event(void *ctx, co_event ev)
+{
+    drive *d = ctx;
+    (void)ev; /* every connection event gets the same reaction */
+    bool enabled = d->co.cia402.state == CO_CIA402_OPERATION_ENABLED || d->run;
+    if (!enabled || d->quick_stop_req)
+        return;
+    switch (d->app.abort_option) {
+    case 1: /* fault: coast and show the fault state until a fault reset */
+        d->drive_faults |= DRIVE_FAULT_COMM;
+        drive_set_run(d, false);
+        break;
+    case 2: /* disable voltage: coast */
+        drive_set_run(d, false);
+        co_cia402_disable_voltage(&d->co.cia402);
+        break;
+    case 3: /* quick stop */
+        (void)co_cia402_quick_stop(&d->co.cia402);
+        quick_stop(d);
+        break;
+    default: /* 0: no action */
+        break;
+    }
+}
+
+/* An NMT reset waits for a quick stop in progress to end. */
+static bool app_reset_ready(void *ctx)
+{
+    const drive *d = ctx;
+    return !d->quick_stop_req;
+}
+
 /* NMT reset node: stop, then parameters as at power-on. */
 static void app_reset_node(void *ctx)
 {
     drive *d = ctx;
+    d->quick_stop_req = false;
     drive_set_run(d, false);
     (void)persist_load(d);
     scope_stop(&d->scope);
@@ -330,6 +398,8 @@ void drive_co_init(drive *d)
     a->domain_size = domain_size;
     a->domain_read = domain_read;
     a->running = app_running;
+    a->event = app_event;
+    a->reset_ready = app_reset_ready;
     a->reset_node = app_reset_node;
     a->booted = app_booted;
     co_dev_init(&d->co, a);
@@ -342,7 +412,7 @@ void drive_co_defaults(drive *d)
     co_dev_comm_defaults(&d->co);
     for (uint32_t i = 0u; i < CO_PARAM_COUNT; i++) {
         const co_param *p = &co_params[i];
-        if (p->bind == DRIVE_BIND_SCOPE)
+        if (p->bind == DRIVE_BIND_SCOPE || p->bind == DRIVE_BIND_APP)
             drive_co_apply(d, p, &p->def, NULL);
     }
 }
@@ -360,6 +430,10 @@ void drive_co_apply(drive *d, const co_param *p, const co_num *raw, ctl_cfg *edi
         break;
     case DRIVE_BIND_SCOPE:
         co_field_set(&d->scope.cfg, p, &in);
+        break;
+    case DRIVE_BIND_APP:
+        co_field_set(&d->app, p, &in);
+        derive_quick_stop(d);
         break;
     case CO_BIND_COMM:
         co_field_set(&d->co.comm, p, &in);
@@ -381,13 +455,19 @@ static uint32_t tick_hz(const drive *d)
 void drive_co_process(drive *d)
 {
     drive_read_snapshot(d, &d->bg_snap);
-    co_pass pass = {hal_millis(), d->bg_snap.tick, tick_hz(d), d->bg_snap.tel.faults};
+    if (d->quick_stop_req && d->bg_snap.quick_stop_done) {
+        d->quick_stop_req = false;
+        drive_set_run(d, false);
+        co_cia402_quick_stop_done(&d->co.cia402);
+    }
+    co_pass pass = {hal_millis(), d->bg_snap.tick, tick_hz(d), d->bg_snap.tel.faults | d->drive_faults};
     co_dev_begin_pass(&d->co, &pass);
 
     hal_can_frame f;
     for (uint32_t i = 0u; i < CO_RX_BUDGET && hal_can_recv(&f) == HAL_OK; i++)
         co_dev_rx(&d->co, &f);
 
-    co_cia402_sync(&d->co.cia402, d->bg_snap.tel.state == (uint8_t)CTL_FAULTED, d->run);
+    bool faulted = d->bg_snap.tel.state == (uint8_t)CTL_FAULTED || d->drive_faults != 0u;
+    co_cia402_sync(&d->co.cia402, faulted, d->run);
     co_dev_end_pass(&d->co);
 }

@@ -26,6 +26,25 @@
 extern "C" {
 #endif
 
+/** The drive's CiA 402 settings (parameters app.*; persisted). */
+typedef struct {
+    int16_t abort_option;      /**< 0x6007 on master loss, NMT stop or reset while enabled:
+                                    0 none, 1 fault, 2 disable voltage, 3 quick stop */
+    int16_t quick_stop_option; /**< 0x605A: 0 coast, 2 ramp down on 0x6049 then switch on disabled */
+    uint32_t qs_delta_rpm;     /**< 0x6049:1 quick stop ramp, rpm per qs_delta_s */
+    uint16_t qs_delta_s;       /**< 0x6049:2, s (>= 1) */
+} drive_app_cfg;
+
+/** A drive-level fault bit in the published fault word, above the control core's (ctl_fault). */
+#define DRIVE_FAULT_COMM (1u << 16) /**< master lost with abort connection option 1 (fault) */
+
+/** Quick stop: requested by the background, carried out in the interrupt. */
+typedef struct {
+    float decel_rad_s2;        /**< ramp rate, rad/s^2 (derived from 0x6049 in the background) */
+    bool active;               /**< ISR: the ramp is running */
+    float ref_rad_s;           /**< ISR: the ramped speed reference, rad/s */
+} drive_quick_stop;
+
 /** Telemetry snapshot guarded by a sequence counter (odd while the ISR writes). */
 typedef struct {
     volatile uint32_t seq;
@@ -36,6 +55,7 @@ typedef struct {
     uint32_t tick;            /**< ISR tick counter */
     float speed_err_rad_s;    /**< tel.speed_ref_rad_s - tel.omega_est_rad_s (the controllers' e_x), rad/s */
     float vdc_diff_V;         /**< vc1_V - vc2_V (neutral-point deviation), V */
+    bool quick_stop_done;     /**< the quick stop ramp has brought the motor to a stop */
 } drive_snapshot;
 
 /** Interrupt timing statistics, in HAL cycles (hal_cycles_hz per second). */
@@ -56,6 +76,10 @@ typedef struct drive {
     volatile float speed_ref_rad_s; /**< command from background (scenario, CAN), rad/s */
     volatile bool run;              /**< run command from background */
     volatile bool clear_faults_req; /**< background asks the ISR to clear faults */
+    volatile bool quick_stop_req;   /**< background asks the ISR to ramp down, then stop */
+    drive_quick_stop qs;            /**< the quick stop ramp (decel set in BG, the rest ISR-owned) */
+    drive_app_cfg app;              /**< CiA 402 settings (background) */
+    uint32_t drive_faults;          /**< DRIVE_FAULT_* bits latched by the background */
     uint32_t tick;                  /**< ISR tick counter */
     bool tick_missed;               /**< the last tick ended after the next one was due */
     drive_snapshot snap;            /**< published each tick */

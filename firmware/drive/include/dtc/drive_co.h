@@ -25,6 +25,7 @@ extern "C" {
 enum drive_bind {
     DRIVE_BIND_CFG = CO_BIND_APP,  /**< ctl_cfg member at offset (written via drive_cfg_edit/commit) */
     DRIVE_BIND_SCOPE,              /**< scope_cfg member at offset (d->scope.cfg) */
+    DRIVE_BIND_APP,                /**< drive_app_cfg member at offset (d->app: CiA 402 settings) */
     DRIVE_BIND_SNAP,               /**< drive_snapshot member at offset (the background copy d->bg_snap) */
     DRIVE_BIND_DRIVE,              /**< drive member at offset (read only) */
     DRIVE_BIND_FN,                 /**< a handler in drive_co.c; offset is a co_fn_id */

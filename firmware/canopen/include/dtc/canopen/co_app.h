@@ -30,6 +30,14 @@
 extern "C" {
 #endif
 
+/** What the device tells the application about its connection to the master. */
+typedef enum {
+    CO_EVENT_HEARTBEAT_LOST = 1, /**< the consumed heartbeat (0x1016) stopped */
+    CO_EVENT_RPDO_TIMEOUT = 2,   /**< RPDO1 stopped arriving (event timer 0x1400:5) */
+    CO_EVENT_NMT_STOPPED = 3,    /**< an NMT stop command: SDO and RPDO are ignored from now on */
+    CO_EVENT_RESET = 4,          /**< an NMT reset (node or communication) is pending, see reset_ready */
+} co_event;
+
 typedef struct co_app {
     co_dict od;                  /**< the object dictionary, sorted by (index, sub) */
     const co_pdo_map *tpdo;      /**< telemetry TPDO mappings (sent together each cycle) */
@@ -55,6 +63,10 @@ typedef struct co_app {
     void (*domain_read)(void *ctx, const co_param *p, uint32_t offset, uint8_t *buf, size_t n);
     /** @return true while entries without CO_F_RUNTIME must not change (the machine runs). */
     bool (*running)(void *ctx);
+    /** The master connection changed (CiA 402: apply the abort connection option 0x6007). */
+    void (*event)(void *ctx, co_event ev);
+    /** @return true when a pending NMT reset may be carried out now (e.g. the machine has stopped). */
+    bool (*reset_ready)(void *ctx);
     /** An NMT reset-node command: the application's own reset (before the device boots up again). */
     void (*reset_node)(void *ctx);
     /** The device has just sent its boot-up message (power-on or NMT reset). */

@@ -6,9 +6,11 @@
  *
  * States: switch on disabled -> (shutdown 0x06) ready to switch on ->
  * (switch on 0x07) switched on -> (enable operation 0x0F) operation enabled
- * (machine running). Disable voltage (bit 1 = 0) and quick stop (bits 2..1 =
- * 01) return to switch on disabled and stop; disable operation (0x07) returns
- * to switched on and stops. A latched fault shows as the fault state; a rising
+ * (machine running). Disable voltage (bit 1 = 0) returns to switch on disabled
+ * and stops at once; quick stop (bits 2..1 = 01) from operation enabled enters
+ * quick stop active (the application ramps down and calls
+ * co_cia402_quick_stop_done), from the other states switch on disabled;
+ * disable operation (0x07) returns to switched on and stops. A latched fault shows as the fault state; a rising
  * edge of bit 7 (fault reset) clears it into switch on disabled. The state
  * follows the machine when something else starts or stops it (co_cia402_sync).
  * The state machine does nothing itself: it tells the application what to do.
@@ -30,6 +32,7 @@ typedef enum {
     CO_CIA402_SWITCHED_ON = 2,
     CO_CIA402_OPERATION_ENABLED = 3,
     CO_CIA402_FAULT = 4,
+    CO_CIA402_QUICK_STOP_ACTIVE = 5,
 } co_cia402_state;
 
 /** What a controlword asks the application to do. */
@@ -38,6 +41,7 @@ typedef enum {
     CO_CIA402_STOP = 1,        /**< stop (gates off) */
     CO_CIA402_RUN = 2,         /**< start (or keep running) */
     CO_CIA402_FAULT_RESET = 3, /**< stop and clear the faults that are no longer active */
+    CO_CIA402_QUICK_STOP = 4,  /**< ramp down (quick stop option 0x605A), then stop */
 } co_cia402_action;
 
 typedef struct {
@@ -50,6 +54,15 @@ void co_cia402_init(co_cia402 *c);
 
 /** Apply a controlword (from SDO or RPDO). @return the action for the application. Context: BG. */
 co_cia402_action co_cia402_controlword(co_cia402 *c, uint16_t cw);
+
+/** Enter quick stop active from operation enabled (e.g. the abort connection option). @return true if entered. Context: BG. */
+bool co_cia402_quick_stop(co_cia402 *c);
+
+/** The quick stop ramp has ended (machine stopped): switch on disabled. Context: BG. */
+void co_cia402_quick_stop_done(co_cia402 *c);
+
+/** Disable voltage from the application (e.g. the abort connection option): switch on disabled. Context: BG. */
+void co_cia402_disable_voltage(co_cia402 *c);
 
 /**
  * Follow the machine: @p faulted (a fault is latched) and @p running (the

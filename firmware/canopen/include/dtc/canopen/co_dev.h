@@ -41,6 +41,10 @@ typedef struct {
     uint16_t bitrate_kbps;  /**< 125, 250, 500, 1000, from the next boot or NMT reset */
     uint16_t heartbeat_ms;  /**< producer heartbeat period, ms (0: off) */
     uint16_t telemetry_hz;  /**< telemetry TPDO rate, Hz (0: off) */
+    uint32_t hb_consumer;   /**< 0x1016:1 heartbeat consumer: bits 23..16 node id, 15..0 time ms (0: off) */
+    uint16_t rpdo_timeout_ms; /**< 0x1400:5 RPDO1 event timer: once started, RPDO1 is expected this often (0: off) */
+    uint16_t emcy_inhibit_100us; /**< 0x1015 least time between two EMCY messages, 100 us */
+    uint8_t error_behaviour; /**< 0x1029:1 on a communication error: 0 pre-operational, 1 no change, 2 stopped */
 } co_comm_cfg;
 
 /** What the application tells the device at the start of a pass. */
@@ -63,6 +67,7 @@ typedef struct co_dev {
     co_pdo pdo;
     co_cia402 cia402;
     uint32_t rx_frames;     /**< frames received since boot */
+    bool reset_announced;   /**< the pending NMT reset was told to the application */
 } co_dev;
 
 /**
@@ -82,6 +87,13 @@ void co_dev_rx(co_dev *c, const hal_can_frame *f);
 
 /** Finish a pass: SDO timeout, heartbeat, EMCY for new faults, telemetry TPDOs when due. Context: BG. */
 void co_dev_end_pass(co_dev *c);
+
+/**
+ * A communication error (heartbeat lost, RPDO timeout): EMCY @p emcy_code
+ * (error register bit 4), the NMT state per 0x1029, then the application's
+ * event hook. Context: BG.
+ */
+void co_dev_comm_error(co_dev *c, co_event ev, uint16_t emcy_code);
 
 /** Send a frame through the application. @return 0 when queued, < 0 when refused. Context: BG. */
 int co_dev_send(co_dev *c, uint16_t id, uint8_t dlc, const uint8_t *data);

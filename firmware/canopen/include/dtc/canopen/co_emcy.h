@@ -29,9 +29,15 @@ typedef struct {
 /** The device's own event: an RPDO shorter than its mapping (CiA 301 0x8210, generic). */
 #define CO_EMCY_CODE_RPDO_LENGTH 0x8210u
 
+#define CO_EMCY_QUEUE 4u /**< events waiting for the inhibit time (0x1015) at most */
+
 typedef struct {
     uint32_t reported;   /**< fault bits already announced */
     uint8_t extra_reg;   /**< error-register bits of latched events without a fault bit */
+    bool sent_once;      /**< last_ms is valid */
+    uint32_t last_ms;    /**< pass clock of the last EMCY sent (inhibit time) */
+    uint8_t n_queued;    /**< events waiting */
+    co_emcy_entry queued[CO_EMCY_QUEUE]; /**< distinct events waiting for the inhibit time, oldest first */
 } co_emcy;
 
 /** Forget what was announced. Context: BG. */
@@ -44,7 +50,11 @@ void co_emcy_init(co_emcy *e);
  */
 uint8_t co_emcy_error_register(const struct co_dev *c);
 
-/** Send one emergency message (code, error register, fault word). @return 0 or < 0 (refused). Context: BG. */
+/**
+ * Send one emergency message (code, error register, fault word), unless the
+ * inhibit time 0x1015 since the last one has not passed. @return 0 when sent,
+ * < 0 when refused (inhibited or the queue full). Context: BG.
+ */
 int co_emcy_send(struct co_dev *c, uint16_t code, uint8_t error_register, uint32_t faults);
 
 /**
@@ -58,7 +68,9 @@ void co_emcy_poll(struct co_dev *c);
 /**
  * Send the EMCY of an event without a fault bit (@p entry: its code and
  * register bit); @p latch keeps the register bit set until
- * co_emcy_clear_extra(). Context: BG.
+ * co_emcy_clear_extra(). Within the inhibit time the event waits (sent by a
+ * later co_emcy_poll); an event whose code already waits is not queued twice,
+ * so a flood of one error gives one message. Context: BG.
  */
 void co_emcy_event(struct co_dev *c, const co_emcy_entry *entry, bool latch);
 

@@ -10,6 +10,7 @@
 #ifndef DTC_CANOPEN_CO_NMT_H
 #define DTC_CANOPEN_CO_NMT_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "hal/hal_types.h"
@@ -44,8 +45,17 @@ typedef enum {
     CO_NMT_RESET_NODE = 2, /**< also stop the drive and reload the stored parameters */
 } co_nmt_reset;
 
+/** Heartbeat consumer states (0x1016). */
+typedef enum {
+    CO_HBC_WAITING = 0, /**< configured, no heartbeat seen yet: not monitored (CiA 301) */
+    CO_HBC_ACTIVE = 1,  /**< heartbeats arriving */
+    CO_HBC_LOST = 2,    /**< none within the time: reported once, until one arrives again */
+} co_hbc_state;
+
 typedef struct {
     uint8_t state;         /**< co_nmt_state */
+    uint8_t hbc_state;     /**< co_hbc_state */
+    uint32_t hbc_last_ms;  /**< pass clock of the last consumed heartbeat */
     uint8_t reset_req;     /**< co_nmt_reset pending */
     uint32_t hb_last_ms;   /**< pass clock (now_ms) of the last heartbeat */
 } co_nmt;
@@ -68,6 +78,18 @@ int co_nmt_send_bootup(struct co_dev *c);
  * the pass clock; after a long pause it resumes without a burst. Context: BG.
  */
 void co_nmt_heartbeat(struct co_dev *c, uint16_t period_ms, uint32_t now_ms);
+
+/**
+ * Heartbeat consumer: a frame @p f on 0x700 + the configured node refreshes
+ * it. @return true when @p f was that heartbeat. Context: BG.
+ */
+bool co_nmt_consume(struct co_dev *c, const hal_can_frame *f);
+
+/**
+ * Heartbeat consumer check at @p now_ms: once heartbeats have been seen, none
+ * for the configured time is a communication error (reported once). Context: BG.
+ */
+void co_nmt_consumer_check(struct co_dev *c, uint32_t now_ms);
 
 #ifdef __cplusplus
 }

@@ -40,6 +40,9 @@ typedef struct {
     uint32_t seq;        /**< telemetry cycles sent (low 16 bits go on the bus) */
     uint32_t dropped;    /**< TPDO frames the transmit queue refused */
     bool primed;         /**< last_tick is valid */
+    bool rpdo_seen;      /**< an RPDO1 arrived since boot-up: its event timer is monitored */
+    bool rpdo_timed_out; /**< the timeout was reported (until the next RPDO1) */
+    uint32_t rpdo_last_ms; /**< pass clock of the last RPDO1 */
 } co_pdo;
 
 /** Restart pacing (keeps the counters). Context: BG. */
@@ -55,6 +58,12 @@ void co_pdo_tx_poll(struct co_dev *c);
  * controlword is applied last. Context: BG.
  */
 void co_pdo_rx(struct co_dev *c, uint32_t num, const hal_can_frame *f);
+
+/**
+ * RPDO1 event timer (0x1400:5): once an RPDO1 has arrived, none for longer
+ * than the timer is a communication error (reported once). Context: BG.
+ */
+void co_pdo_rx_check(struct co_dev *c, uint32_t now_ms);
 
 #ifdef __cplusplus
 }
