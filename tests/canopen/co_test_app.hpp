@@ -37,29 +37,30 @@ inline co_num u(uint32_t x) { co_num v; v.u = x; return v; }
 inline co_num i(int32_t x) { co_num v; v.i = x; return v; }
 
 constexpr uint8_t RW = CO_F_READ | CO_F_WRITE;
-// name, index, sub, dtype, flags, bind, ckind, csize, offset, k, min, max, def, allowed, n_allowed, str
+// name, index, sub, dtype, flags, bind, ckind, csize, offset, k, min, max, def, allowed, n_allowed, str,
+// max_step (gain: at most 50 % of its present value per write while running)
 static const uint32_t kModes[] = {1u, 2u, 4u};
 static const co_param kParams[] = {
-    {"device_type", 0x1000, 0, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_CONST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0x00020192u), nullptr, 0, nullptr},
-    {"error_register", 0x1001, 0, CO_DT_UNSIGNED8, CO_F_READ, BIND_FN, CO_CK_UINT, 1, FN_LOG, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"device_name", 0x1008, 0, CO_DT_VISIBLE_STRING, CO_F_READ, CO_BIND_CONST, CO_CK_BYTES, 0, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, "test application"},
-    {"emcy_inhibit", 0x1015, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, emcy_inhibit_100us), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"hb_consumer", 0x1016, 1, CO_DT_UNSIGNED32, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 4, offsetof(co_comm_cfg, hb_consumer), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"heartbeat_ms", 0x1017, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, heartbeat_ms), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"error_behaviour", 0x1029, 1, CO_DT_UNSIGNED8, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 1, offsetof(co_comm_cfg, error_behaviour), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"sdo_rx_cob", 0x1200, 1, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_NODEID, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0x600), nullptr, 0, nullptr},
-    {"rpdo1_event_timer", 0x1400, 5, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, rpdo_timeout_ms), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"gain", 0x2000, 0, CO_DT_REAL32, RW | CO_F_RUNTIME | CO_F_LIMITS, BIND_VARS, CO_CK_FLOAT, 4, offsetof(Vars, gain), 1.0f, f(0.0f), f(10.0f), f(1.0f), nullptr, 0, nullptr},
-    {"offset_A", 0x2001, 0, CO_DT_INTEGER16, RW | CO_F_LIMITS, BIND_VARS, CO_CK_FLOAT, 4, offsetof(Vars, offset_A), 10.0f, i(-100), i(100), i(0), nullptr, 0, nullptr},
-    {"mode", 0x2002, 0, CO_DT_UNSIGNED8, RW | CO_F_RUNTIME, BIND_VARS, CO_CK_UINT, 1, offsetof(Vars, mode), 1.0f, u(0), u(0), u(1), kModes, 3, nullptr},
-    {"log", 0x2100, 0, CO_DT_DOMAIN, CO_F_READ, BIND_FN, CO_CK_BYTES, 0, FN_LOG, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"node_id", 0x2500, 1, CO_DT_UNSIGNED8, RW | CO_F_LIMITS, CO_BIND_COMM, CO_CK_UINT, 1, offsetof(co_comm_cfg, node_id), 1.0f, u(1), u(127), u(kNode), nullptr, 0, nullptr},
-    {"bitrate_kbps", 0x2500, 3, CO_DT_UNSIGNED16, RW, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, bitrate_kbps), 1.0f, u(0), u(0), u(250), nullptr, 0, nullptr},
-    {"telemetry_hz", 0x2500, 5, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, telemetry_hz), 1.0f, u(0), u(0), u(100), nullptr, 0, nullptr},
-    {"tel_speed_rpm", 0x3000, 1, CO_DT_REAL32, CO_F_READ | CO_F_PDO, BIND_VARS, CO_CK_FLOAT, 4, offsetof(Vars, tel_speed), 9.549296f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"tel_state", 0x3000, 2, CO_DT_UNSIGNED16, CO_F_READ | CO_F_PDO, BIND_VARS, CO_CK_UINT, 2, offsetof(Vars, tel_state), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"controlword", 0x6040, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME | CO_F_PDO, BIND_FN, CO_CK_UINT, 2, FN_CONTROLWORD, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
-    {"statusword", 0x6041, 0, CO_DT_UNSIGNED16, CO_F_READ | CO_F_PDO, BIND_FN, CO_CK_UINT, 2, FN_STATUSWORD, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr},
+    {"device_type", 0x1000, 0, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_CONST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0x00020192u), nullptr, 0, nullptr, 0.0f},
+    {"error_register", 0x1001, 0, CO_DT_UNSIGNED8, CO_F_READ, BIND_FN, CO_CK_UINT, 1, FN_LOG, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"device_name", 0x1008, 0, CO_DT_VISIBLE_STRING, CO_F_READ, CO_BIND_CONST, CO_CK_BYTES, 0, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, "test application", 0.0f},
+    {"emcy_inhibit", 0x1015, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, emcy_inhibit_100us), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"hb_consumer", 0x1016, 1, CO_DT_UNSIGNED32, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 4, offsetof(co_comm_cfg, hb_consumer), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"heartbeat_ms", 0x1017, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, heartbeat_ms), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_behaviour", 0x1029, 1, CO_DT_UNSIGNED8, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 1, offsetof(co_comm_cfg, error_behaviour), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"sdo_rx_cob", 0x1200, 1, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_NODEID, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0x600), nullptr, 0, nullptr, 0.0f},
+    {"rpdo1_event_timer", 0x1400, 5, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, rpdo_timeout_ms), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"gain", 0x2000, 0, CO_DT_REAL32, RW | CO_F_RUNTIME | CO_F_LIMITS, BIND_VARS, CO_CK_FLOAT, 4, offsetof(Vars, gain), 1.0f, f(0.0f), f(10.0f), f(1.0f), nullptr, 0, nullptr, 0.5f},
+    {"offset_A", 0x2001, 0, CO_DT_INTEGER16, RW | CO_F_LIMITS, BIND_VARS, CO_CK_FLOAT, 4, offsetof(Vars, offset_A), 10.0f, i(-100), i(100), i(0), nullptr, 0, nullptr, 0.0f},
+    {"mode", 0x2002, 0, CO_DT_UNSIGNED8, RW | CO_F_RUNTIME, BIND_VARS, CO_CK_UINT, 1, offsetof(Vars, mode), 1.0f, u(0), u(0), u(1), kModes, 3, nullptr, 0.0f},
+    {"log", 0x2100, 0, CO_DT_DOMAIN, CO_F_READ, BIND_FN, CO_CK_BYTES, 0, FN_LOG, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"node_id", 0x2500, 1, CO_DT_UNSIGNED8, RW | CO_F_LIMITS, CO_BIND_COMM, CO_CK_UINT, 1, offsetof(co_comm_cfg, node_id), 1.0f, u(1), u(127), u(kNode), nullptr, 0, nullptr, 0.0f},
+    {"bitrate_kbps", 0x2500, 3, CO_DT_UNSIGNED16, RW, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, bitrate_kbps), 1.0f, u(0), u(0), u(250), nullptr, 0, nullptr, 0.0f},
+    {"telemetry_hz", 0x2500, 5, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, telemetry_hz), 1.0f, u(0), u(0), u(100), nullptr, 0, nullptr, 0.0f},
+    {"tel_speed_rpm", 0x3000, 1, CO_DT_REAL32, CO_F_READ | CO_F_PDO, BIND_VARS, CO_CK_FLOAT, 4, offsetof(Vars, tel_speed), 9.549296f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"tel_state", 0x3000, 2, CO_DT_UNSIGNED16, CO_F_READ | CO_F_PDO, BIND_VARS, CO_CK_UINT, 2, offsetof(Vars, tel_state), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"controlword", 0x6040, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME | CO_F_PDO, BIND_FN, CO_CK_UINT, 2, FN_CONTROLWORD, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"statusword", 0x6041, 0, CO_DT_UNSIGNED16, CO_F_READ | CO_F_PDO, BIND_FN, CO_CK_UINT, 2, FN_STATUSWORD, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
 };
 constexpr uint16_t kCount = sizeof kParams / sizeof kParams[0];
 constexpr uint16_t P_GAIN = 9, P_TEL_SPEED = 16, P_TEL_STATE = 17, P_CONTROLWORD = 18;

@@ -96,10 +96,20 @@ TEST(CoDevice, RunningLocksNonRuntimeEntriesAndTheApplicationMayRefuse)
     a.running = true;
     EXPECT_EQ(abort_of(a.sdo(download(0x2001, 0, {10, 0}))), CO_ABORT_STATE);
     EXPECT_EQ(a.vars.offset_A, 0.0f);
-    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(3.0f)))), 0u); // runtime entry
+    // A runtime entry with max_step 0.5: from 1.0, 1.5 is allowed, then 2.25, not 3.5.
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(1.5f)))), 0u);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(3.5f)))), CO_ABORT_STATE);
+    EXPECT_EQ(a.vars.gain, 1.5f);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(2.25f)))), 0u);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(1.0f)))), CO_ABORT_STATE); // down by 1.25 > 1.125
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(1.2f)))), 0u);
     a.refuse_next = true;
-    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(5.0f)))), CO_ABORT_PARAM_INCOMPAT);
-    EXPECT_EQ(a.vars.gain, 3.0f);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(1.5f)))), CO_ABORT_PARAM_INCOMPAT);
+    EXPECT_EQ(a.vars.gain, 1.2f);
+    // Stopped: any value in range.
+    a.running = false;
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(9.0f)))), 0u);
+    EXPECT_EQ(a.vars.gain, 9.0f);
 }
 
 TEST(CoDevice, SegmentedUploadOfAStringAndADomain)

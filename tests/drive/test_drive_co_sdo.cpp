@@ -263,6 +263,26 @@ TEST(DriveCoSdo, AbortRefusedWhileRunning)
     EXPECT_EQ(drive_cfg(b.d.get())->speed.rbfn.n_nodes, 4u);
 }
 
+// Access classes: observer and protection settings only while stopped; gains
+// while running only in bounded steps (max_step in the table); the rest freely.
+TEST(DriveCoSdo, AccessClassesWhileRunning)
+{
+    Bench b;
+    drive_set_run(b.d.get(), true);
+    auto before = b.dump();
+    EXPECT_EQ(b.download_f32(0x2300, 2, 0.0f).abort_code(), kAbortState); // obs_kp_speed to 0: the case
+    EXPECT_EQ(b.download_f32(0x2300, 3, 0.0f).abort_code(), kAbortState); // obs_ki_speed
+    EXPECT_EQ(b.download_f32(0x2400, 1, 60.0f).abort_code(), kAbortState); // i_trip_A (in range)
+    float wn = drive_cfg(b.d.get())->speed.ip.wn_rad_s;
+    EXPECT_EQ(b.download_f32(0x2010, 1, wn * 2.0f).abort_code(), kAbortState); // +100 % > max_step 25 %
+    EXPECT_TRUE(changed(before, b.dump()).empty());
+    EXPECT_FALSE(b.download_f32(0x2010, 1, wn * 1.2f).aborted()); // +20 %: a bounded step
+    EXPECT_FLOAT_EQ(drive_cfg(b.d.get())->speed.ip.wn_rad_s, wn * 1.2f);
+    drive_set_run(b.d.get(), false);
+    EXPECT_FALSE(b.download_f32(0x2010, 1, wn * 2.0f).aborted()); // stopped: anything in range
+    EXPECT_FALSE(b.download_f32(0x2300, 2, 0.0f).aborted());
+}
+
 TEST(DriveCoSdo, AbortStoreWithWrongSignature)
 {
     Bench b;

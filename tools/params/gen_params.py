@@ -170,7 +170,8 @@ def expand_params(raw: list) -> list[Param]:
         if not isinstance(name, str) or not NAME_RE.match(name):
             raise TableError(f"{where}: name must be an identifier")
         known = {"name", "index", "sub", "count", "type", "unit", "scale", "resolution", "min", "max",
-                 "allowed", "default", "access", "persist", "runtime", "pdo", "bind", "ctype", "description"}
+                 "allowed", "default", "access", "persist", "runtime", "max_step", "pdo", "bind", "ctype",
+                 "description"}
         for key in e:
             if key not in known:
                 raise TableError(f"{name}: unknown key '{key}'")
@@ -202,6 +203,7 @@ def expand_params(raw: list) -> list[Param]:
                 resolution=float(e.get("resolution", 1.0)), min=e.get("min"), max=e.get("max"),
                 allowed=e.get("allowed"), default=defaults[i], access=e["access"],
                 persist=bool(e.get("persist", False)), runtime=bool(e.get("runtime", False)),
+                max_step=e.get("max_step", 0.0),
                 pdo=bool(e.get("pdo", False)), bind=bind, ctype=e.get("ctype"),
                 description=e["description"], generated=False))
     return out
@@ -291,6 +293,11 @@ def check_param(p: Param, fn_names: set) -> None:
             raise TableError(f"{p.name}: at most 32 allowed values")
     if p.persist and p.access != "rw":
         raise TableError(f"{p.name}: only rw parameters can persist")
+    ms = getattr(p, "max_step", 0.0)
+    if isinstance(ms, bool) or not isinstance(ms, (int, float)) or not 0.0 <= ms <= 10.0:
+        raise TableError(f"{p.name}: max_step must be a number 0..10 (a fraction of the present value)")
+    if ms and (not p.runtime or ctype != "float"):
+        raise TableError(f"{p.name}: max_step needs runtime = true and a float field")
     if kind == "real":
         p.raw_min = None if p.min is None else f32(p.min)
         p.raw_max = None if p.max is None else f32(p.max)
@@ -630,7 +637,7 @@ def gen_source(t: Table) -> str:
             f"    [{p.ident}] = {{{c_string(p.name)}, 0x{p.index:04X}u, {p.sub}u, 0x{p.code:02X}u, "
             f"{entry_flags(p)}, {p.bind_kind}, {ckind}, {csize}, {offset}, {c_float(k)}, "
             f"{c_num(p, getattr(p, 'raw_min', None))}, {c_num(p, getattr(p, 'raw_max', None))}, "
-            f"{c_num(p, dflt)}, {allowed}, {nallowed}u, {sval}}},")
+            f"{c_num(p, dflt)}, {allowed}, {nallowed}u, {sval}, {c_float(getattr(p, 'max_step', 0.0) or 0.0)}}},")
     lines += ["};", ""]
     for name, pdos in (("co_tpdo_maps", t.tpdos), ("co_rpdo_maps", t.rpdos)):
         lines.append(f"const co_pdo_map {name}[{'CO_TPDO_COUNT' if 'tpdo' in name else 'CO_RPDO_COUNT'}] = {{")

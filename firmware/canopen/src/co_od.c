@@ -361,14 +361,32 @@ uint32_t co_od_check(const co_param *p, const uint8_t *data, size_t len, co_wr_o
     return CO_ABORT_NONE;
 }
 
+/* A running machine takes a new value of @p p only within max_step of the
+ * present one (in internal units: floats only, see the table generator). */
+static bool within_step(co_dev *c, const co_param *p, const co_num *raw)
+{
+    co_num cur_raw;
+    if (co_od_read_num(c, p, &cur_raw) != CO_ABORT_NONE)
+        return false;
+    float cur = co_od_to_internal(p, &cur_raw).f;
+    float next = co_od_to_internal(p, raw).f;
+    float diff = next - cur;
+    float mag = cur < 0.0f ? -cur : cur;
+    return (diff < 0.0f ? -diff : diff) <= p->max_step * mag;
+}
+
 uint32_t co_od_write(co_dev *c, const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin)
 {
     co_num v;
     uint32_t rc = co_od_check(p, data, len, origin, &v);
     if (rc != CO_ABORT_NONE)
         return rc;
-    if (origin != CO_WR_LOAD && (p->flags & CO_F_RUNTIME) == 0u && c->app->running(c->app->ctx))
-        return CO_ABORT_STATE;
+    if (origin != CO_WR_LOAD && c->app->running(c->app->ctx)) {
+        if ((p->flags & CO_F_RUNTIME) == 0u)
+            return CO_ABORT_STATE;
+        if (p->max_step > 0.0f && !within_step(c, p, &v))
+            return CO_ABORT_STATE;
+    }
     co_num in = co_od_to_internal(p, &v);
     if (p->bind == CO_BIND_COMM) {
         co_field_set(&c->comm, p, &in);

@@ -114,6 +114,8 @@ typedef struct co_param {
     const uint32_t *allowed; /**< optional set of allowed raw values (NULL: any in range) */
     uint8_t n_allowed;       /**< entries in allowed */
     const char *str;         /**< value of a constant string */
+    float max_step;          /**< while the machine runs, a write may change the value by at most this
+                                  fraction of its present magnitude (0: any change; needs CO_F_RUNTIME) */
 } co_param;
 
 /** The entries of a dictionary, sorted by (index, subindex). */
@@ -166,9 +168,11 @@ typedef enum {
 uint32_t co_od_check(const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin, co_num *v);
 
 /**
- * Decode, check and apply a write of @p len bytes. Entries without
- * CO_F_RUNTIME are refused with CO_ABORT_STATE while the application says it
- * runs. Application entries are applied by its write hook, which may refuse.
+ * Decode, check and apply a write of @p len bytes. While the application says
+ * it runs, entries without CO_F_RUNTIME are refused with CO_ABORT_STATE, and
+ * so is a change larger than max_step x |present value| (a gain moves in
+ * bounded steps while running). Application entries are applied by its write
+ * hook, which may refuse.
  * @return CO_ABORT_NONE (applied) or an abort code (nothing changed). Context: BG.
  */
 uint32_t co_od_write(struct co_dev *c, const co_param *p, const uint8_t *data, size_t len, co_wr_origin origin);
