@@ -366,8 +366,11 @@ static void hrtim_init_static(void)
     /* FLT3 = PB10 pin, active low, no digital filter: the fastest response
      * (a few tHRTIM of input synchronisation). The comparators on the power
      * board filter the desaturation glitches. Locked until reset. */
-    HRTIM_FLTINR1 = (HRTIM_FLTINR1 & ~(0xFFu << 16)) | HRTIM_FLTINR1_FLT3E | (0u << HRTIM_FLTINR1_FLT3F_SHIFT) |
-                    HRTIM_FLTINR1_FLT3LCK;
+    /* Polarity, source and filter may change only while FLT3E = 0, so: configure,
+     * enable, then lock (RM0440, HRTIM chapter, HRTIM_FLTINR1 description). */
+    HRTIM_FLTINR1 = (HRTIM_FLTINR1 & ~(0xFFu << 16)) | (0u << HRTIM_FLTINR1_FLT3F_SHIFT);
+    HRTIM_FLTINR1 |= HRTIM_FLTINR1_FLT3E;
+    HRTIM_FLTINR1 |= HRTIM_FLTINR1_FLT3LCK;
     HRTIM_ICR = HRTIM_ICR_FLT3C;
     HRTIM_IER |= HRTIM_IER_FLT3IE;
     nvic_enable(IRQN_HRTIM1_FLT, PRIO_HRTIM_FAULT);
@@ -380,6 +383,9 @@ void HRTIM1_FLT_IRQHandler(void)
 {
     delay_ns(BOARD_FAULT_INNER_DELAY_NS);
     HRTIM_ODISR = HRTIM_OUT_ALL;
+    /* One interrupt per trip: a line held low must not starve the tick.
+     * hal_gate_enable(true) re-arms it once the line is high again. */
+    HRTIM_IER &= ~HRTIM_IER_FLT3IE;
     HRTIM_ICR = HRTIM_ICR_FLT3C;
     g_board.gates_on = false;
     g_board.fault_latched = true;
@@ -490,7 +496,10 @@ static bool adc_init(void)
     RCC_CCIPR = (RCC_CCIPR & ~RCC_CCIPR_ADC12SEL_MASK) | RCC_CCIPR_ADC12SEL_SYSCLK;
     RCC_AHB2ENR |= RCC_AHB2ENR_ADC12EN;
     (void)RCC_AHB2ENR;
-    ADC12_CCR = (ADC12_CCR & ~(ADC12_CCR_CKMODE_MASK | ADC12_CCR_DUAL_MASK)) | ADC12_CCR_CKMODE_HCLK_DIV4;
+    /* Clock mode and dual mode may be written only while both ADCs are
+     * disabled (RM0440, ADC chapter, ADC_CCR description). */
+    ADC12_CCR = (ADC12_CCR & ~(ADC12_CCR_CKMODE_MASK | ADC12_CCR_DUAL_MASK)) | ADC12_CCR_CKMODE_HCLK_DIV4 |
+                ADC12_CCR_DUAL_INJ_SIMULT;
 
     if (!adc_power_up(ADC1_BASE) || !adc_power_up(ADC2_BASE))
         return false;
@@ -510,8 +519,6 @@ static bool adc_init(void)
     ADC_REG(ADC2_BASE, ADC_JSQR_OFS) = (2u << ADC_JSQR_JL_SHIFT) | (ADC2_CH_IB << ADC_JSQR_JSQ1_SHIFT) |
                                       (ADC2_CH_VC2 << ADC_JSQR_JSQ2_SHIFT) | (ADC2_CH_VC2 << ADC_JSQR_JSQ3_SHIFT);
 
-    /* Dual mode is selected with both ADCs enabled and idle (RM0440 21.4.31). */
-    ADC12_CCR = (ADC12_CCR & ~ADC12_CCR_DUAL_MASK) | ADC12_CCR_DUAL_INJ_SIMULT;
     ADC_REG(ADC1_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
     ADC_REG(ADC2_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
     ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTART; /* the master starts both */
@@ -604,13 +611,15 @@ void board_init(void)
 
 void board_safe_state(void)
 {
-    /* Works before board_init too: ODISR of an unclocked HRTIM is ignored and
-     * the pins are then still analog (gate drivers held off by pull-downs). */
-    HRTIM_ODISR = HRTIM_OUT_OUTER;
-    for (volatile uint32_t n = 0u; n < 60u; n++) {
-        /* >= 1 us at 170 MHz without relying on any RAM state */
+    /* Before board_init the HRTIM is not clocked and the pins are still
+     * analog (gate drivers held off by the pull-downs): nothing to do. */
+    if ((RCC_APB2ENR & RCC_APB2ENR_HRTIM1EN) != 0u) {
+        HRTIM_ODISR = HRTIM_OUT_OUTER;
+        for (volatile uint32_t n = 0u; n < 60u; n++) {
+            /* >= 1 us at 170 MHz without relying on any RAM state */
+        }
+        HRTIM_ODISR = HRTIM_OUT_INNER;
     }
-    HRTIM_ODISR = HRTIM_OUT_INNER;
     g_board.gates_on = false;
 }
 
@@ -754,7 +763,7 @@ int hal_actuate(const hal_actuation *act)
     const uint32_t per = g_board.per_counts;
     uint32_t t0 = (uint32_t)(act->duty0 * (float)per + 0.5f);
 
-    /* RM0440 27.3.? (CR1 TxUDIS): hold the preload transfer while the six
+    /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer while the six
      * programs are written, so a period never starts with half of them. */
     HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
     for (uint32_t leg = 0u; leg < 3u; leg++) {
@@ -820,7 +829,8 @@ static bool fault_pin_active(void) { return (GPIO_REG(GPIOB_BASE, GPIO_IDR_OFS) 
 void hal_gate_enable(bool enable)
 {
     if (!enable) {
-        hrtim_outputs_off();
+        if ((HRTIM_OENR & HRTIM_OUT_ALL) != 0u)
+            hrtim_outputs_off(); /* the 1 us outer-first sequence only when something is on */
         g_board.gates_on = false;
         return;
     }
@@ -829,8 +839,10 @@ void hal_gate_enable(bool enable)
     if (!g_board.tick_running || !g_board.adc_ok || fault_pin_active() || g_board.fault_latched)
         return;
     HRTIM_ICR = HRTIM_ICR_FLT3C;
+    HRTIM_IER |= HRTIM_IER_FLT3IE;
     HRTIM_OENR = HRTIM_OUT_ALL;
-    g_board.gates_on = (HRTIM_ODSR & HRTIM_OUT_ALL) == 0u ? true : false;
+    /* Reading OENR gives the outputs' enable status (RM0440, HRTIM chapter, HRTIM_OENR description). */
+    g_board.gates_on = (HRTIM_OENR & HRTIM_OUT_ALL) == HRTIM_OUT_ALL;
     if ((HRTIM_ISR & HRTIM_ISR_FLT3) != 0u) /* tripped meanwhile */
         g_board.gates_on = false;
 }
@@ -861,7 +873,7 @@ uint32_t hal_millis(void) { return g_board.millis; }
 /*
  * Nominal bit timing from the FDCAN kernel clock (PCLK1 = SYSCLK): the
  * prescaler and number of time quanta (8..80) whose sample point is closest
- * to 87.5 % (CiA 301 recommendation), SJW = phase segment 2 (RM0440 44.3.?).
+ * to 87.5 % (CiA 301 recommendation), SJW = phase segment 2 (RM0440, FDCAN chapter, FDCAN_NBTP description).
  */
 static bool can_bit_timing(uint32_t clk_hz, uint32_t bitrate, uint32_t *nbtp)
 {
@@ -889,7 +901,7 @@ static bool can_bit_timing(uint32_t clk_hz, uint32_t bitrate, uint32_t *nbtp)
     return best_err < 1000u;
 }
 
-/* Standard filter element (RM0440 44.4.? "standard message ID filter"):
+/* Standard filter element (RM0440, FDCAN chapter, "Standard message ID filter element"):
  * SFT range (0) or dual (1), SFEC 1 = store in Rx FIFO 0. */
 static uint32_t can_filter(uint32_t type, uint32_t id1, uint32_t id2)
 {
@@ -909,7 +921,7 @@ int hal_can_open(uint32_t bitrate_bps)
     RCC_APB1ENR1 |= RCC_APB1ENR1_FDCANEN;
     (void)RCC_APB1ENR1;
 
-    /* Initialisation mode, then configuration change enable (RM0440 44.3.?). */
+    /* Initialisation mode, then configuration change enable (RM0440, FDCAN chapter, FDCAN_CCCR description). */
     FDCAN1_CCCR |= FDCAN_CCCR_INIT;
     if (!wait_set(&FDCAN1_CCCR, FDCAN_CCCR_INIT, FDCAN_CCCR_INIT, WAIT_LOOPS))
         return HAL_EIO;
@@ -942,7 +954,7 @@ int hal_can_open(uint32_t bitrate_bps)
 }
 
 /* Bus-off: the controller sets INIT by itself; after CAN_BUSOFF_RETRY_MS
- * clearing INIT starts the recovery (128 x 11 recessive bits, RM0440 44.3.?).
+ * clearing INIT starts the recovery (128 x 11 recessive bits; RM0440, FDCAN chapter, bus-off recovery).
  * @return true while the controller is usable. Context: BG. */
 static bool can_service(void)
 {
@@ -1052,6 +1064,17 @@ static void wdg_service_bg(void);
     (FLASH_SR_OPERR | FLASH_SR_PROGERR | FLASH_SR_WRPERR | FLASH_SR_PGAERR | FLASH_SR_SIZERR |          \
      FLASH_SR_PGSERR | FLASH_SR_MISSERR | FLASH_SR_FASTERR | FLASH_SR_RDERR | FLASH_SR_OPTVERR)
 
+/* The flash data cache may hold a page's old contents after an erase or a
+ * program: reset it (RM0440, FLASH chapter, FLASH_ACR DCRST: only while DCEN = 0). */
+static void flash_dcache_reset(void)
+{
+    uint32_t acr = FLASH_ACR;
+    FLASH_ACR = acr & ~FLASH_ACR_DCEN;
+    FLASH_ACR = (acr & ~FLASH_ACR_DCEN) | FLASH_ACR_DCRST;
+    FLASH_ACR = acr & ~(FLASH_ACR_DCEN | FLASH_ACR_DCRST);
+    FLASH_ACR = acr & ~FLASH_ACR_DCRST;
+}
+
 static bool flash_wait(void)
 {
     for (uint32_t n = 0u; n < WAIT_FLASH_LOOPS; n++) {
@@ -1107,6 +1130,7 @@ static uint8_t g_page_buf[NVM_PAGE_SIZE] __attribute__((aligned(8)));
 static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src, uint32_t n)
 {
     const uint8_t *flash = (const uint8_t *)(uintptr_t)page_addr;
+    flash_dcache_reset();
     memcpy(g_page_buf, flash, NVM_PAGE_SIZE);
     memcpy(g_page_buf + from, src, n);
 
@@ -1130,10 +1154,13 @@ static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src
             continue; /* erased already */
         if (!need_erase && memcmp(flash + dw, g_page_buf + dw, 8u) == 0)
             continue;
-        if (!flash_program_dword(page_addr + dw, w[0], w[1]))
+        if (!flash_program_dword(page_addr + dw, w[0], w[1])) {
+            flash_dcache_reset();
             return false;
+        }
     }
-    return memcmp(flash + from, src, n) == 0;
+    flash_dcache_reset();
+    return memcmp(flash + from, src, n) == 0; /* read back through the bus */
 }
 
 int hal_nvm_write(uint32_t offset, const void *buf, size_t len)
@@ -1168,11 +1195,6 @@ int hal_nvm_write(uint32_t offset, const void *buf, size_t len)
         left -= n;
     }
     FLASH_CR |= FLASH_CR_LOCK;
-    /* The data cache may hold the old contents (RM0440 5.3.? : reset it). */
-    FLASH_ACR &= ~FLASH_ACR_DCEN;
-    FLASH_ACR |= FLASH_ACR_DCRST;
-    FLASH_ACR &= ~FLASH_ACR_DCRST;
-    FLASH_ACR |= FLASH_ACR_DCEN;
     if (!ok) {
         g_board.faults |= BOARD_FAULT_NVM;
         return HAL_EIO;
