@@ -1163,6 +1163,16 @@ static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src
     return memcmp(flash + from, src, n) == 0; /* read back through the bus */
 }
 
+/*
+ * hal.h contract, with this board's reading of "a power loss may leave any
+ * prefix written": a write that needs an erase rewrites its whole 2 KiB page,
+ * so a power loss in the middle can leave that page partly erased. The
+ * persist layer keeps each of its two slots in its own page (slot size =
+ * hal_nvm_size() / 2 = one page) and writes the header last, so the other
+ * slot is never touched and a reset at any point leaves one valid slot.
+ * Blocks the background for up to about 2 x 40 ms (two page erases) plus
+ * 90 us per double word. Context: BG only (refused from an interrupt).
+ */
 int hal_nvm_write(uint32_t offset, const void *buf, size_t len)
 {
     int rc = nvm_check(offset, buf, len);
@@ -1235,4 +1245,8 @@ static void wdg_service_bg(void)
     IWDG_KR = IWDG_KEY_REFRESH;
 }
 
+/* hal.h: refresh the watchdog. Here the refresh happens only if the control
+ * tick has also run since the last refresh (two-flag scheme, docs/board.md),
+ * so neither a stuck background nor a dead tick keeps the chip alive.
+ * Context: BG. */
 void hal_watchdog_kick(void) { wdg_service_bg(); }
