@@ -336,11 +336,13 @@ static void hrtim_init_static(void)
     (void)RCC_APB2ENR;
     HRTIM_ODISR = HRTIM_OUT_ALL;
 
-    /* Dead time: tDTG = 2^DTPRSC x tHRTIM / 8 (RM0440 27.3.9), 9-bit count;
-     * the smallest prescaler that fits gives the finest resolution. */
-    uint32_t dt_prsc = 0u;
+    /* Dead time: tDTG = 2^DTPRSC x tHRTIM / 8 (RM0440, HRTIM dead-time
+     * generator), 9-bit count. Prescalers below 3 (finer than tHRTIM) use the
+     * high-resolution delay line, which needs the DLL; this port runs the
+     * HRTIM in low resolution, so the search starts at DTPRSC = 3 (5.88 ns). */
+    uint32_t dt_prsc = 3u;
     uint32_t dt_counts = 0u;
-    for (dt_prsc = 0u; dt_prsc < 8u; dt_prsc++) {
+    for (dt_prsc = 3u; dt_prsc < 8u; dt_prsc++) {
         uint64_t tdtg_hz = ((uint64_t)g_board.sysclk_hz * 8u) >> dt_prsc;
         dt_counts = (uint32_t)(((uint64_t)BOARD_DEAD_TIME_NS * tdtg_hz + 999999999u) / 1000000000u);
         if (dt_counts <= 511u)
