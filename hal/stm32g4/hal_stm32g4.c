@@ -27,6 +27,7 @@
 
 #include "board.h"
 #include "hal/hal.h"
+#include "npc_plan.h"
 #include "stm32g474_regs.h"
 
 /* ------------------------------------------------------------ board facts */
@@ -734,18 +735,11 @@ int hal_sample_read(hal_sample *out)
     return HAL_OK;
 }
 
-static bool pn_step(uint8_t a, uint8_t b)
-{
-    return (a == (uint8_t)HAL_LEG_P && b == (uint8_t)HAL_LEG_N) ||
-           (a == (uint8_t)HAL_LEG_N && b == (uint8_t)HAL_LEG_P);
-}
-
-/* Output 1 level of a pair for a leg state: S1/S3 pair: S1 on only in P;
- * S2/S4 pair: S2 on in P and O. Output 2 is its complement with dead time. */
-static bool pair_level(bool pair_s1_s3, uint8_t leg)
-{
-    return pair_s1_s3 ? leg == (uint8_t)HAL_LEG_P : leg != (uint8_t)HAL_LEG_N;
-}
+/* The planner's event bits are the HRTIM's CMP2/CMP1 set/reset bits. */
+_Static_assert(NPC_EV_START == HRTIM_SET_CMP2 && NPC_EV_START == HRTIM_RST_CMP2, "CMP2 event bit");
+_Static_assert(NPC_EV_T == HRTIM_SET_CMP1 && NPC_EV_T == HRTIM_RST_CMP1, "CMP1 event bit");
+_Static_assert(NPC_P == (unsigned)HAL_LEG_P && NPC_O == (unsigned)HAL_LEG_O && NPC_N == (unsigned)HAL_LEG_N,
+               "leg states");
 
 int hal_actuate(const hal_actuation *act)
 {
@@ -762,63 +756,28 @@ int hal_actuate(const hal_actuation *act)
     if (g_board.per_counts == 0u)
         return HAL_OK; /* tick not started: nothing to program */
 
-    const uint32_t per = g_board.per_counts;
-    uint32_t t0 = (uint32_t)(act->duty0 * (float)per + 0.5f);
+    const npc_timing tm = {g_board.per_counts, g_board.keepout_counts, g_board.min_pulse_counts};
+    uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
 
-    /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer while the six
-     * programs are written, so a period never starts with half of them. */
+    /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
+     * while the six programmes are written, so a period never starts with
+     * half of them. */
     HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
     for (uint32_t leg = 0u; leg < 3u; leg++) {
-        uint8_t prev = g_board.last_leg[leg];
-        uint8_t v0 = act->vector[0].leg[leg];
-        uint8_t v1 = act->vector[1].leg[leg];
-        /* Never a direct P<->N step: O is inserted (the firmware already
-         * guarantees this; the board enforces it, RM-independent). */
-        if (pn_step(prev, v0)) {
-            v0 = (uint8_t)HAL_LEG_O;
-            g_board.pn_fixups++;
+        npc_leg_plan plan;
+        npc_plan_leg(&tm, g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg], t0, &plan);
+        if (plan.fixups != 0u) {
+            g_board.pn_fixups += plan.fixups;
             g_board.faults |= BOARD_FAULT_PN_STEP;
         }
-        if (pn_step(v0, v1)) {
-            v1 = (uint8_t)HAL_LEG_O;
-            g_board.pn_fixups++;
-            g_board.faults |= BOARD_FAULT_PN_STEP;
-        }
-        /* Keep the switching instant out of the sampling window [0, keep-out)
-         * and the second pulse at least min_pulse long. Dropping v0 (t = 0)
-         * is allowed only if prev -> v1 is not a P<->N step. */
-        uint32_t t = t0;
-        if (t < g_board.keepout_counts)
-            t = (t < g_board.keepout_counts / 2u && !pn_step(prev, v1)) ? 0u : g_board.keepout_counts;
-        if (t + g_board.min_pulse_counts > per)
-            t = per; /* v0 for the whole period */
-        if (v0 == v1)
-            t = per;
-
         for (uint32_t k = 0u; k < 2u; k++) {
-            uint32_t tim = 2u * leg + k;
-            bool s1s3 = k == 0u;
-            bool l_start = pair_level(s1s3, t == 0u ? v1 : v0);
-            bool l_end = pair_level(s1s3, v1);
-            uint32_t set = 0u, rst = 0u;
-            /* CMP2 (3 counts after roll-over) gives the period-start level,
-             * CMP1 = t the change to the second vector. */
-            if (l_start)
-                set |= HRTIM_SET_CMP2;
-            else
-                rst |= HRTIM_RST_CMP2;
-            if (t != 0u && t != per && l_end != l_start) {
-                if (l_end)
-                    set |= HRTIM_SET_CMP1;
-                else
-                    rst |= HRTIM_RST_CMP1;
-            }
-            HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = set;
-            HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = rst;
-            if (t != 0u && t != per)
-                HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = t;
+            uint32_t tim = 2u * leg + k; /* A/B: leg a, C/D: leg b, E/F: leg c */
+            HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = plan.set[k];
+            HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = plan.rst[k];
+            if (plan.t != 0u && plan.t != tm.per)
+                HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = plan.t;
         }
-        g_board.last_leg[leg] = t == per ? v0 : v1;
+        g_board.last_leg[leg] = plan.end;
     }
     HRTIM_CR1 &= ~HRTIM_CR1_UDIS_ALL;
     return HAL_OK;
