@@ -921,17 +921,19 @@ static bool can_service(void)
 {
     if (!g_board.can_open)
         return false;
-    if ((FDCAN1_PSR & FDCAN_PSR_BO) != 0u || (FDCAN1_CCCR & FDCAN_CCCR_INIT) != 0u) {
+    /* PSR.BO stays set from bus-off until the recovery sequence completes. */
+    if ((FDCAN1_PSR & FDCAN_PSR_BO) != 0u) {
         if (!g_board.can_busoff) {
             g_board.can_busoff = true;
             g_board.can_busoff_ms = g_board.millis;
             g_board.can_busoff_count++;
             g_board.faults |= BOARD_FAULT_CAN_BUSOFF;
-        } else if (g_board.millis - g_board.can_busoff_ms >= CAN_BUSOFF_RETRY_MS) {
-            FDCAN1_CCCR &= ~FDCAN_CCCR_INIT;
+        } else if ((FDCAN1_CCCR & FDCAN_CCCR_INIT) != 0u &&
+                   g_board.millis - g_board.can_busoff_ms >= CAN_BUSOFF_RETRY_MS) {
+            FDCAN1_CCCR &= ~FDCAN_CCCR_INIT; /* start the recovery */
             g_board.can_busoff_ms = g_board.millis;
         }
-        return (FDCAN1_CCCR & FDCAN_CCCR_INIT) == 0u;
+        return false;
     }
     g_board.can_busoff = false;
     return true;
