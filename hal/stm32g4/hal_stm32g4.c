@@ -365,7 +365,12 @@ static void hrtim_init_static(void)
         HRTIM_TIM_REG(t, HRTIM_DTxR_OFS) = dtr;
         HRTIM_TIM_REG(t, HRTIM_FLTxR_OFS) = HRTIM_FLTxR_FLT3EN | HRTIM_FLTxR_FLTLCK;
     }
+}
 
+/* Arm the fault input once PB10 is in its HRTIM alternate function (in
+ * analog mode the input would read low = fault). */
+static void hrtim_arm_fault(void)
+{
     /* FLT3 = PB10 pin, active low, no digital filter: the fastest response
      * (a few tHRTIM of input synchronisation). The comparators on the power
      * board filter the desaturation glitches. Locked until reset. */
@@ -604,6 +609,7 @@ void board_init(void)
      * pins switch from analog to the HRTIM alternate function. */
     hrtim_init_static();
     gpio_init();
+    hrtim_arm_fault();
 
     /* SysTick: 1 ms, least urgent interrupt. */
     SCB_SHPR3 = (SCB_SHPR3 & 0x00FFFFFFu) | ((PRIO_SYSTICK << NVIC_PRIO_SHIFT) << 24);
