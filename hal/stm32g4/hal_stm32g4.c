@@ -533,12 +533,22 @@ static bool adc_init(void)
     return true;
 }
 
+/* Stop the injected conversions and disable both ADCs (JADSTP, then ADDIS,
+ * RM0440, ADC chapter, "Stopping an ongoing conversion" / "ADC on-off
+ * control"), so a later adc_init() finds them disabled as it must. */
 static void adc_stop(void)
 {
     ADC_REG(ADC1_BASE, ADC_IER_OFS) = 0u;
     if ((ADC_REG(ADC1_BASE, ADC_CR_OFS) & ADC_CR_JADSTART) != 0u) {
         ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTP;
         (void)wait_set(&ADC_REG(ADC1_BASE, ADC_CR_OFS), ADC_CR_JADSTART, 0u, WAIT_LOOPS);
+    }
+    const uint32_t bases[2] = {ADC1_BASE, ADC2_BASE};
+    for (unsigned k = 0u; k < 2u; k++) {
+        if ((ADC_REG(bases[k], ADC_CR_OFS) & ADC_CR_ADEN) != 0u) {
+            ADC_REG(bases[k], ADC_CR_OFS) |= ADC_CR_ADDIS;
+            (void)wait_set(&ADC_REG(bases[k], ADC_CR_OFS), ADC_CR_ADEN, 0u, WAIT_LOOPS);
+        }
     }
 }
 
@@ -699,6 +709,7 @@ int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us)
     g_board.gates_on = false;
     g_board.adc_ok = false;
     if (!adc_init()) {
+        adc_stop();
         g_board.faults |= BOARD_FAULT_ADC_CAL;
         return HAL_EIO;
     }
