@@ -70,7 +70,6 @@
 /* ------------------------------------------------ STM32G474 interrupt numbers (RM0440 table 97) */
 #define IRQN_ADC1_2 18u       /* @const */
 #define IRQN_FDCAN1_IT0 21u   /* @const */
-#define IRQN_TIM6_DAC 54u     /* @const */
 #define IRQN_HRTIM1_MASTER 67u /* @const */
 #define IRQN_HRTIM1_FLT 73u   /* @const */
 #define IRQN_COUNT 102u       /* @const 0..101 (FMAC is the last) */
