@@ -34,9 +34,10 @@ enum board_fault {
     BOARD_FAULT_ADC_RANGE = 1u << 4,  /**< a conversion was saturated (code <= 2 or >= 4093) */
     BOARD_FAULT_HRTIM = 1u << 5,      /**< HRTIM fault input tripped (desat/over-current) */
     BOARD_FAULT_CAN_BUSOFF = 1u << 6, /**< FDCAN1 went bus-off (recovered automatically) */
-    BOARD_FAULT_NVM = 1u << 7,        /**< flash erase/program error or single-bank flash */
+    BOARD_FAULT_NVM = 1u << 7,        /**< flash erase/program error, or single-bank flash (seen at boot) */
     BOARD_FAULT_WDG_RESET = 1u << 8,  /**< the last reset came from the independent watchdog */
     BOARD_FAULT_PN_STEP = 1u << 9,    /**< an actuation asked for a direct P<->N step (O inserted) */
+    BOARD_FAULT_BOOT0_PIN = 1u << 10, /**< option bytes still boot from the PB8/BOOT0 pin (CAN RX!) */
 };
 
 /**

@@ -608,6 +608,12 @@ void board_init(void)
 
     if ((RCC_CSR & RCC_CSR_IWDGRSTF) != 0u)
         g_board.faults |= BOARD_FAULT_WDG_RESET;
+    /* Option bytes this board depends on (docs/board.md, NUCLEO caveats):
+     * boot not taken from PB8 (= CAN RX), flash in dual-bank mode. */
+    if ((FLASH_OPTR & FLASH_OPTR_NSWBOOT0) != 0u)
+        g_board.faults |= BOARD_FAULT_BOOT0_PIN;
+    if ((FLASH_OPTR & FLASH_OPTR_DBANK) == 0u)
+        g_board.faults |= BOARD_FAULT_NVM;
 
     DEMCR |= DEMCR_TRCENA;
     DWT_CYCCNT = 0u;
