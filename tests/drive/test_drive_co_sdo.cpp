@@ -209,16 +209,49 @@ TEST(DriveCoSdo, AbortValueTooHighOrTooLowChangesNothing)
     EXPECT_EQ(b.download(0x2000, 2, {3}).abort_code(), kAbortHigh);
     EXPECT_EQ(b.download(0x2500, 1, {0}).abort_code(), kAbortLow);
     EXPECT_EQ(b.download(0x2500, 1, {128}).abort_code(), kAbortHigh);
-    // INTEGER32 target_velocity -2000..2000 rpm (signed compare)
-    EXPECT_EQ(b.download_u32(0x60FF, 0, uint32_t(-2001)).abort_code(), kAbortLow);
-    EXPECT_EQ(b.download_u32(0x60FF, 0, 2001).abort_code(), kAbortHigh);
+    // INTEGER32 target_velocity -3000..3000 rpm (signed compare)
+    EXPECT_EQ(b.download_u32(0x60FF, 0, uint32_t(-3001)).abort_code(), kAbortLow);
+    EXPECT_EQ(b.download_u32(0x60FF, 0, 3001).abort_code(), kAbortHigh);
     // UNSIGNED16 telemetry_hz 0..5000
     EXPECT_EQ(b.download(0x2500, 3, {0x89, 0x13}).abort_code(), kAbortHigh); // 5001
     EXPECT_TRUE(changed(before, b.dump()).empty());
     // The limits themselves are accepted.
     EXPECT_FALSE(b.download_f32(0x2100, 1, 1000.0f).aborted());
     EXPECT_FALSE(b.download_f32(0x2100, 1, 0.1f).aborted());
-    EXPECT_FALSE(b.download_u32(0x60FF, 0, uint32_t(-2000)).aborted());
+    EXPECT_FALSE(b.download_u32(0x60FF, 0, uint32_t(-3000)).aborted());
+}
+
+// CiA 402 velocity mode (vl): the only mode, target limits, halt, the ramp in rpm/s.
+TEST(DriveCoSdo, Cia402VelocityMode)
+{
+    Bench b;
+    constexpr double k = 60.0 / (2.0 * M_PI);
+    EXPECT_EQ(b.read_u32(0x6502, 0), 0x2u);         // supported: vl
+    EXPECT_EQ(b.read_u32(0x6061, 0) & 0xFF, 2u);    // display: vl
+    EXPECT_EQ(b.download(0x6060, 0, {3}).abort_code(), kAbortInvalid); // profile velocity: not supported
+    EXPECT_FALSE(b.download(0x6060, 0, {2}).aborted());
+    // 0x6042 INTEGER16 rpm, limited by 0x6046 (max 2610 by default).
+    EXPECT_FALSE(b.download(0x6042, 0, {0x2C, 0x01}).aborted()); // 300 rpm
+    EXPECT_NEAR(b.d->speed_ref_rad_s * k, 300.0, 1e-3);
+    EXPECT_FALSE(b.download(0x6042, 0, {0xB8, 0x0B}).aborted()); // 3000 rpm -> 2610
+    EXPECT_NEAR(b.d->speed_ref_rad_s * k, 2610.0, 1e-2);
+    EXPECT_FALSE(b.download_u32(0x6046, 1, 100).aborted()); // min 100 rpm
+    EXPECT_FALSE(b.download(0x6042, 0, {0xD8, 0xFF}).aborted()); // -40 rpm -> -100
+    EXPECT_NEAR(b.d->speed_ref_rad_s * k, -100.0, 1e-3);
+    EXPECT_EQ(int16_t(b.read_u32(0x6042, 0)), -40); // the target as written
+    // Halt (controlword bit 8) holds 0 and stays enabled; releasing it restores the target.
+    b.download(0x6040, 0, {0x06, 0x00});
+    b.download(0x6040, 0, {0x0F, 0x00});
+    ASSERT_TRUE(b.d->run);
+    b.download(0x6040, 0, {0x0F, 0x01});
+    EXPECT_EQ(b.d->speed_ref_rad_s, 0.0f);
+    EXPECT_TRUE(b.d->run);
+    b.download(0x6040, 0, {0x0F, 0x00});
+    EXPECT_NEAR(b.d->speed_ref_rad_s * k, -100.0, 1e-3);
+    // 0x6048 shows and sets the speed ramp (0x2000:4) in rpm/s.
+    EXPECT_EQ(b.read_u32(0x6048, 1), uint32_t(std::lround(drive_cfg(b.d.get())->speed.ramp_rad_s2 * k)));
+    EXPECT_FALSE(b.download_u32(0x6048, 1, 600).aborted());
+    EXPECT_NEAR(drive_cfg(b.d.get())->speed.ramp_rad_s2 * k, 600.0, 1e-3);
 }
 
 TEST(DriveCoSdo, AbortInvalidValue)

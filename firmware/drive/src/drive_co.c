@@ -126,6 +126,14 @@ static uint32_t fn_read(drive *d, const co_param *p, co_num *v)
     case CO_FN_SPEED_REF:
         v->f = d->speed_ref_rad_s;
         break;
+    case CO_FN_VL_TARGET:
+        v->f = d->target_rad_s;
+        break;
+    case CO_FN_VL_ACCEL: {
+        float rpm_s = drive_cfg(d)->speed.ramp_rad_s2 * 9.549296586f;
+        v->u = (uint32_t)(rpm_s + 0.5f);
+        break;
+    }
     case CO_FN_ERROR_REGISTER:
         v->u = co_emcy_error_register(&d->co);
         break;
@@ -188,6 +196,23 @@ static void quick_stop(drive *d)
         co_cia402_quick_stop_done(&d->co.cia402);
 }
 
+/* The bus's target velocity into the speed reference: 0x6046 limits the
+ * magnitude (a non-zero target at least vl_min, at most vl_max), the halt bit
+ * holds it at 0 (the speed ramp slows the motor, operation stays enabled). */
+static void apply_target(drive *d)
+{
+    const float rpm_per_rad_s = 9.549296586f;
+    float t = d->target_rad_s;
+    float mag = (t < 0.0f ? -t : t) * rpm_per_rad_s;
+    float lo = (float)d->app.vl_min_rpm, hi = (float)d->app.vl_max_rpm;
+    if (mag > hi)
+        mag = hi;
+    if (mag > 0.0f && mag < lo)
+        mag = lo;
+    float ref = (t < 0.0f ? -mag : mag) / rpm_per_rad_s;
+    drive_set_speed_ref(d, d->halt ? 0.0f : ref);
+}
+
 static void apply_cia402(drive *d, co_cia402_action a)
 {
     switch (a) {
@@ -217,8 +242,19 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
 {
     switch ((co_fn_id)p->offset) {
     case CO_FN_SPEED_REF:
-        drive_set_speed_ref(d, v->f);
+    case CO_FN_VL_TARGET:
+        d->target_rad_s = v->f;
+        apply_target(d);
         return CO_ABORT_NONE;
+    case CO_FN_VL_ACCEL: {
+        bool was_ok = ctl_cfg_check(drive_cfg(d)) == CTL_CFG_OK;
+        ctl_cfg *e = drive_cfg_edit(d);
+        e->speed.ramp_rad_s2 = (float)v->u * 0.104719755f; /* rpm/s -> rad/s^2 */
+        if (was_ok && ctl_cfg_check(e) != CTL_CFG_OK)
+            return CO_ABORT_PARAM_INCOMPAT;
+        drive_cfg_commit(d);
+        return CO_ABORT_NONE;
+    }
     case CO_FN_STORE:
         if (v->u != SIGNATURE_SAVE)
             return CO_ABORT_STORE;
@@ -237,9 +273,15 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
         (void)persist_load(d);
         co_emcy_clear_extra(&d->co.emcy);
         return CO_ABORT_NONE;
-    case CO_FN_CONTROLWORD:
+    case CO_FN_CONTROLWORD: {
+        bool halt = (v->u & 0x0100u) != 0u; /* bit 8: halt (option 1: slow down on the speed ramp) */
+        if (halt != d->halt) {
+            d->halt = halt;
+            apply_target(d);
+        }
         apply_cia402(d, co_cia402_controlword(&d->co.cia402, (uint16_t)v->u));
         return CO_ABORT_NONE;
+    }
     case CO_FN_SCOPE_COMMAND:
         if (v->u == 0u) {
             scope_stop(&d->scope);

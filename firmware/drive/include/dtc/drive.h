@@ -33,6 +33,9 @@ typedef struct {
     int16_t quick_stop_option; /**< 0x605A: 0 coast, 2 ramp down on 0x6049 then switch on disabled */
     uint32_t qs_delta_rpm;     /**< 0x6049:1 quick stop ramp, rpm per qs_delta_s */
     uint16_t qs_delta_s;       /**< 0x6049:2, s (>= 1) */
+    int8_t mode;               /**< 0x6060 modes of operation: 2 (vl), the only one */
+    uint32_t vl_min_rpm;       /**< 0x6046:1 least magnitude of a non-zero target velocity, rpm */
+    uint32_t vl_max_rpm;       /**< 0x6046:2 largest magnitude of the target velocity, rpm */
 } drive_app_cfg;
 
 /** A drive-level fault bit in the published fault word, above the control core's (ctl_fault). */
@@ -79,6 +82,8 @@ typedef struct drive {
     volatile bool quick_stop_req;   /**< background asks the ISR to ramp down, then stop */
     drive_quick_stop qs;            /**< the quick stop ramp (decel set in BG, the rest ISR-owned) */
     drive_app_cfg app;              /**< CiA 402 settings (background) */
+    float target_rad_s;             /**< the bus's target velocity before 0x6046 limits and halt, rad/s */
+    bool halt;                      /**< controlword bit 8: hold the speed at 0, stay enabled */
     uint32_t drive_faults;          /**< DRIVE_FAULT_* bits latched by the background */
     uint32_t tick;                  /**< ISR tick counter */
     bool tick_missed;               /**< the last tick ended after the next one was due */
