@@ -149,7 +149,7 @@ TEST(DriveCoScope, StopAndRearm)
         isr_tick(b, float(i));
     EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_IDLE));
     // Out-of-range channel settings are refused at the write, not at arming.
-    EXPECT_EQ(b.download(0x2600, 1, {24}).abort_code(), kAbortHigh);
+    EXPECT_EQ(b.download(0x2600, 1, {uint8_t(CO_TEL_COUNT + 1)}).abort_code(), kAbortHigh);
     EXPECT_EQ(b.download(0x2600, 7, {0, 0}).abort_code(), kAbortLow);
 }
 

@@ -120,6 +120,9 @@ static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
     s->speed_err_rad_s = d->out.tel.speed_ref_rad_s - d->out.tel.omega_est_rad_s;
     s->vdc_diff_V = in->sample.vc1_V - in->sample.vc2_V;
     s->quick_stop_done = quick_stop_done;
+    const hal_sample *x = &in->sample;
+    s->i_peak_A = num_sqrt(R(0.6666667) * (x->ia_A * x->ia_A + x->ib_A * x->ib_A + x->ic_A * x->ic_A));
+    s->vdc_V = x->vc1_V + x->vc2_V;
     publish_fence();
     s->seq++; /* even: consistent */
 }

@@ -59,6 +59,8 @@ typedef struct {
     float speed_err_rad_s;    /**< tel.speed_ref_rad_s - tel.omega_est_rad_s (the controllers' e_x), rad/s */
     float vdc_diff_V;         /**< vc1_V - vc2_V (neutral-point deviation), V */
     bool quick_stop_done;     /**< the quick stop ramp has brought the motor to a stop */
+    float i_peak_A;           /**< stator current magnitude sqrt(2/3 (ia^2 + ib^2 + ic^2)), A */
+    float vdc_V;              /**< DC link voltage vc1_V + vc2_V, V */
 } drive_snapshot;
 
 /** Interrupt timing statistics, in HAL cycles (hal_cycles_hz per second). */
