@@ -146,3 +146,46 @@ TEST(SimMetrics, ShortRunHasNoSteadyWindow)
     ASSERT_EQ(f.out.n_windows, 1);
     EXPECT_FALSE(f.out.windows[0].valid);
 }
+
+// Runaway: |true speed| > 1.5 x the largest |reference| so far + 300 rpm at
+// any tick. 500 rpm reference -> limit 1050 rpm; a speed that passes it for a
+// single tick and comes back still flags the run.
+TEST(SimMetrics, RunawayFlaggedEvenWhenTheEndLooksFine)
+{
+    Feed f;
+    f.scen = simtest::parse_text("[sim]\nduration_s = 2\nperiod_s = 1e-3\n[reference]\nstep = 0 500\n");
+    feed(f, 2000, [](double t) {
+        metrics_sample s{};
+        s.ref_rpm = 500.0;
+        s.speed_rpm = std::fabs(t - 1.0) < 0.5e-3 ? -1051.0 : 500.0; // one tick beyond, negative
+        return s;
+    });
+    EXPECT_NEAR(f.out.runaway_limit_rpm, 1050.0, 1e-12);
+    EXPECT_TRUE(f.out.runaway);
+    EXPECT_DOUBLE_EQ(f.out.speed_true_max_abs_rpm, 1051.0);
+    EXPECT_DOUBLE_EQ(f.out.speed_true_end_rpm, 500.0);
+    EXPECT_NEAR(f.out.steady_error_rpm, 0.0, 1e-12); // the run would otherwise look perfect
+
+    Feed g; // exactly at the limit is not a runaway; the limit follows the largest |reference|
+    g.scen = simtest::parse_text("[sim]\nduration_s = 2\nperiod_s = 1e-3\n[reference]\nstep = 0 -200\nstep = 1 100\n");
+    feed(g, 2000, [](double t) {
+        metrics_sample s{};
+        s.ref_rpm = t < 1.0 ? -200.0 : 100.0;
+        s.speed_rpm = t < 1.0 ? -600.0 : 600.0; // 1.5 x 200 + 300 = 600
+        return s;
+    });
+    EXPECT_FALSE(g.out.runaway);
+    EXPECT_NEAR(g.out.runaway_limit_rpm, 600.0, 1e-12);
+    EXPECT_DOUBLE_EQ(g.out.speed_true_end_rpm, 600.0);
+
+    Feed h; // before the reference rises the limit is 300 rpm
+    h.scen = simtest::parse_text("[sim]\nduration_s = 1\nperiod_s = 1e-3\n[reference]\nstep = 0.5 2000\n");
+    feed(h, 1000, [](double t) {
+        metrics_sample s{};
+        s.ref_rpm = t < 0.5 ? 0.0 : 2000.0;
+        s.speed_rpm = t < 0.1 ? 0.0 : (t < 0.2 ? 350.0 : 2000.0);
+        return s;
+    });
+    EXPECT_TRUE(h.out.runaway);
+    EXPECT_NEAR(h.out.runaway_limit_rpm, 3300.0, 1e-12);
+}

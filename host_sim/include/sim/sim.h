@@ -105,6 +105,10 @@ typedef struct {
     double speed_final_rpm;    /**< same, rpm */
     double te_final_nm;        /**< mean true torque over the last 0.1 s, N m */
     double is_rms_final_a;     /**< stator rms current (per phase) over the last 0.1 s, A */
+    double speed_true_end_rpm; /**< the plant's true speed at the last tick, rpm */
+    double speed_true_max_abs_rpm; /**< largest |true speed| over the run, rpm */
+    double runaway_limit_rpm;  /**< 1.5 x the largest |reference| of the run + 300 rpm */
+    bool runaway;              /**< |true speed| exceeded runaway_limit_rpm at some tick */
 
     bool has_disturbance;      /**< a disturbance time exists (see scenario_disturbance) */
     double disturbance_t_s;

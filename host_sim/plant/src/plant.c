@@ -68,6 +68,8 @@ static void store_x(plant_state *s, const double *x)
 static void setup(const plant_state *s, plant_seg *g)
 {
     plant_im_coeffs(&s->cfg.motor, s->t_load_Nm, g);
+    plant_load_coeffs(&s->cfg.load, g);
+    g->coul_dir = 0;
     plant_dc_coeffs(&s->cfg.dc, g);
     g->sine = s->cfg.supply == PLANT_SUPPLY_SINE;
     g->v_pk = sqrt(2.0 / 3.0) * s->cfg.sine.v_ll_rms_V;
@@ -147,7 +149,11 @@ static void integrate_segment(plant_seg *g, const uint8_t *legs, double *x,
     for (i = 0; i < n; ++i) {
         if (diodes && i > 0)
             plant_npc_connect(g, legs, x);
+        if (g->load_ext)
+            plant_load_decide(g, x);
         rk4_step(g, t0 + (double)i * h, h, x);
+        if (g->load_ext)
+            plant_load_stop(g, x);
         if (diodes)
             plant_npc_clamp(g, x);
     }
@@ -289,4 +295,16 @@ void plant_set_rr(plant_state *s, double Rr_ohm)
 {
     if (s != NULL && isfinite(Rr_ohm) && Rr_ohm > 0.0)
         s->cfg.motor.Rr_ohm = Rr_ohm;
+}
+
+void plant_set_lm(plant_state *s, double Lm_H)
+{
+    if (s != NULL && isfinite(Lm_H) && Lm_H > 0.0)
+        s->cfg.motor.Lm_H = Lm_H;
+}
+
+void plant_set_vdc(plant_state *s, double vdc_V)
+{
+    if (s != NULL && isfinite(vdc_V) && vdc_V > 0.0)
+        s->cfg.dc.vdc_V = vdc_V;
 }

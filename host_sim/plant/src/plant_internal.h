@@ -10,6 +10,9 @@
 #ifndef PLANT_INTERNAL_H
 #define PLANT_INTERNAL_H
 
+#include <math.h>
+#include <stddef.h>
+
 #include "plant/plant.h"
 
 /* Integration state vector layout. */
@@ -35,6 +38,10 @@ typedef struct {
     double d_lr;            /* D/Lr = sigma Ls, H: stator flux per stator current at fixed psi_r */
     double Rs, Rr, p;       /* ohm, ohm, pole pairs */
     double inv_J, B, TL;    /* 1/(kg m^2), N m s/rad, N m */
+    /* load models besides TL (load_model.c); load_ext = 0 skips them */
+    int load_ext;
+    double Tc, Bv, kf;      /* Coulomb N m, viscous N m s/rad, fan N m s^2/rad^2 */
+    int coul_dir;           /* Coulomb direction for this step: +1, -1, 0 = stuck */
     /* DC link */
     double vdc, inv_r, inv_c1, inv_c2;
     /* supply: sine source, or inverter as a linear map from (vc1, vc2) */
@@ -53,6 +60,38 @@ typedef struct {
 /* Unit vectors of the phase axes in alpha-beta (amplitude-invariant: x_k = u_k . x_ab). */
 static const double plant_u[3][2] = {
     {1.0, 0.0}, {-0.5, 0.5 * PLANT_SQRT3}, {-0.5, -0.5 * PLANT_SQRT3}};
+
+/* --- load_model.c --- */
+/** Fill the load-model coefficients of @p g. */
+void plant_load_coeffs(const plant_load_params *l, plant_seg *g);
+/**
+ * Coulomb + viscous + fan torque at speed @p w, N m (opposing positive w).
+ * The Coulomb direction is decided once per step (plant_load_decide), like
+ * the diodes' state, so the RK4 stages of a step that reaches zero speed do
+ * not see the sign flip. Stuck (coul_dir = 0): the friction balances
+ * @p t_drive (every other torque on the shaft, Te - B w - T_L) up to its level.
+ */
+static inline double plant_load_extra(const plant_seg *g, double w, double t_drive)
+{
+    double tc;
+    if (g->coul_dir != 0)
+        tc = g->coul_dir > 0 ? g->Tc : -g->Tc;
+    else
+        tc = t_drive > g->Tc ? g->Tc : (t_drive < -g->Tc ? -g->Tc : t_drive);
+    return tc + g->Bv * w + g->kf * w * fabs(w);
+}
+/**
+ * Before a step: the Coulomb direction is the sign of the speed; a stopped
+ * rotor stays stuck unless the other torques pass the Coulomb level, and
+ * then moves their way.
+ */
+void plant_load_decide(plant_seg *g, const double *x);
+/**
+ * After a step: a Coulomb friction cannot reverse the rotor, so a speed that
+ * reached or crossed zero inside the step stops at zero (error O(h) on the
+ * stopping instant); from there plant_load_decide holds it or lets it go.
+ */
+void plant_load_stop(const plant_seg *g, double *x);
 
 /* --- induction_machine.c --- */
 /** Fill the machine and mechanical coefficients of @p g from @p m and the load. */
@@ -90,7 +129,10 @@ static inline void plant_im_rhs(const plant_seg *restrict g, const double *restr
     dx[PX_PSB] = v_s[1] - g->Rs * i_s[1];
     dx[PX_PRA] = -g->Rr * i_r[0] - pw * x[PX_PRB];
     dx[PX_PRB] = -g->Rr * i_r[1] + pw * x[PX_PRA];
-    dx[PX_W] = (te - g->B * w - g->TL) * g->inv_J;
+    double tl = g->TL;
+    if (g->load_ext)
+        tl += plant_load_extra(g, w, te - g->B * w - g->TL);
+    dx[PX_W] = (te - g->B * w - tl) * g->inv_J;
     dx[PX_TH] = w;
     dx[PX_EIN] = 1.5 * (v_s[0] * i_s[0] + v_s[1] * i_s[1]);
     dx[PX_ECU] = 1.5 * (g->Rs * (i_s[0] * i_s[0] + i_s[1] * i_s[1]) +
