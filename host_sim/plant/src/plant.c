@@ -15,9 +15,6 @@
 
 #include "plant_internal.h"
 
-/* Segments shorter than this (s) are not applied: no step, no commutation. */
-#define PLANT_MIN_SEGMENT_S 1e-12
-
 int plant_init(plant_state *s, const plant_config *cfg)
 {
     const char *what;
@@ -76,6 +73,9 @@ static void setup(const plant_state *s, plant_seg *g)
     g->w_e = PLANT_TWO_PI * s->cfg.sine.f_Hz;
     g->phase = s->cfg.sine.phase_rad;
     g->n_float = 0;
+    g->v_on2 = 2.0 * s->cfg.inverter.v_on_V;
+    g->has_drop = g->v_on2 > 0.0;
+    g->dvs[0] = g->dvs[1] = 0.0;
 }
 
 static void sine_voltage(const plant_seg *g, double t, double v_s[2])
@@ -137,17 +137,20 @@ static void integrate_segment(plant_seg *g, const uint8_t *legs, double *x,
         h_max = tau_dc;
     n = (long)ceil(len / h_max - 1e-9);
     double h;
-    int diodes = 0;
+    int diodes = 0, reconnect = 0;
     long i;
     if (n < 1)
         n = 1;
     h = len / (double)n;
     if (legs != NULL) {
-        diodes = legs[0] == PLANT_LEG_OFF || legs[1] == PLANT_LEG_OFF || legs[2] == PLANT_LEG_OFF;
+        /* gates off (3) and dead time (4, 5) conduct through diodes */
+        diodes = legs[0] >= PLANT_LEG_OFF || legs[1] >= PLANT_LEG_OFF || legs[2] >= PLANT_LEG_OFF;
+        /* diode states and on-state drops follow the currents: decide per step */
+        reconnect = diodes || g->has_drop;
         plant_npc_connect(g, legs, x);
     }
     for (i = 0; i < n; ++i) {
-        if (diodes && i > 0)
+        if (reconnect && i > 0)
             plant_npc_connect(g, legs, x);
         if (g->load_ext)
             plant_load_decide(g, x);
@@ -217,10 +220,24 @@ void plant_advance(plant_state *s, const uint8_t vec0[3], const uint8_t vec1[3],
         len[0] = duty0 * period_s;
         len[1] = period_s - len[0];
         for (j = 0; j < 2; ++j) {
+            double ts = j == 0 ? t0 : t0 + len[0];
             if (len[j] < PLANT_MIN_SEGMENT_S)
                 continue;
+            if (s->cfg.inverter.dead_time_s > 0.0)
+                plant_dead_edge(s, v[j], ts);
             count_switches(s, v[j]);
-            integrate_segment(&g, v[j], x, j == 0 ? t0 : t0 + len[0], len[j], s->cfg.h_max_s);
+            if (s->cfg.inverter.dead_time_s > 0.0) {
+                /* Sub-segments between the ends of the legs' blanking intervals. */
+                double t = ts, te = ts + len[j];
+                while (te - t >= PLANT_MIN_SEGMENT_S) {
+                    uint8_t eff[3];
+                    double tn = plant_dead_legs(s, v[j], t, te, eff);
+                    integrate_segment(&g, eff, x, t, tn - t, s->cfg.h_max_s);
+                    t = tn;
+                }
+            } else {
+                integrate_segment(&g, v[j], x, ts, len[j], s->cfg.h_max_s);
+            }
         }
         /* Voltages and NP current at the end, in the last vector's connection. */
         if (s->legs_valid) {

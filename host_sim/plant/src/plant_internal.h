@@ -15,6 +15,15 @@
 
 #include "plant/plant.h"
 
+/*
+ * Internal leg codes beyond the API's 0..3: a leg inside the dead time of a
+ * commutation between two adjacent levels (dead_time.c). Like gates off, its
+ * current picks the level through the diodes: i > 0 (into the motor) the
+ * lower one, i < 0 the upper one; zero current floats between the two.
+ */
+#define PLANT_LEG_DEAD_NO 4u /* between N and O */
+#define PLANT_LEG_DEAD_OP 5u /* between O and P */
+
 /* Integration state vector layout. */
 enum {
     PX_PSA = 0, PX_PSB,  /* stator flux alpha, beta, Wb */
@@ -53,8 +62,15 @@ typedef struct {
     double gP[2], gN[2];
     /* per-leg connection for this step: +1 at P, -1 at N, 0 at O, 2 floating */
     signed char conn[3];
-    unsigned char diode[3]; /* 1: gates off, conducting through its diodes */
+    unsigned char diode[3]; /* 1: gates off or dead time, conducting through its diodes */
+    signed char dsign[3];   /* diode legs: the current sign the diodes carry (+1, -1) */
+    signed char lo[3], hi[3]; /* diode legs: the levels the diodes can reach (conn codes) */
     int n_float;            /* number of floating legs (slow path when > 0) */
+    /* on-state voltage: leg voltage = level - vdrop[k], vdrop = 2 v_on sgn(i_k) at the step start */
+    double v_on2;           /* 2 v_on: two devices conduct in every NPC path, V */
+    int has_drop;           /* v_on2 > 0 */
+    double vdrop[3];        /* per-leg drop, V */
+    double dvs[2];          /* alpha-beta of -vdrop (common mode removed), V */
 } plant_seg;
 
 /* Unit vectors of the phase axes in alpha-beta (amplitude-invariant: x_k = u_k . x_ab). */
@@ -149,9 +165,10 @@ double plant_im_torque(const plant_seg *g, const double *x, const double i_s[2])
 /* --- npc_inverter.c --- */
 /**
  * Decide every leg's connection for the next step: driven legs as coded,
- * gates-off legs from their current sign or, with zero current, floating
- * unless their open-circuit voltage would pass a rail. Fills g->conn,
- * g->n_float and the linear maps.
+ * gates-off and dead-time legs (codes 3..5) from their current sign or, with
+ * zero current, floating unless their open-circuit voltage would pass one of
+ * the two levels their diodes reach. Fills g->conn, g->n_float, the linear
+ * maps and the on-state drops (sign of each current at this instant).
  */
 void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x);
 /** Stator voltage (alpha-beta) and rail currents i_P, i_N for the state @p x. */
@@ -164,6 +181,10 @@ static inline void plant_npc_drive_connected(const plant_seg *g, const double *x
 {
     v_s[0] = g->va1 * x[PX_VC1] - g->va2 * x[PX_VC2];
     v_s[1] = g->vb1 * x[PX_VC1] - g->vb2 * x[PX_VC2];
+    if (g->has_drop) {
+        v_s[0] += g->dvs[0];
+        v_s[1] += g->dvs[1];
+    }
     *i_P = g->gP[0] * i_s[0] + g->gP[1] * i_s[1];
     *i_N = g->gN[0] * i_s[0] + g->gN[1] * i_s[1];
 }
@@ -176,6 +197,22 @@ void plant_npc_phase(const plant_seg *g, const double *x, const double i_s[2],
  * correcting the stator leakage flux in @p x).
  */
 void plant_npc_clamp(const plant_seg *g, double *x);
+
+/* --- dead_time.c --- */
+/* Segments shorter than this (s) are not applied: no step, no commutation. */
+#define PLANT_MIN_SEGMENT_S 1e-12
+/**
+ * A vector @p legs is applied from absolute time @p t_s (after the one in
+ * s->legs_last): every leg that commutates between two driven levels starts
+ * its blanking interval.
+ */
+void plant_dead_edge(plant_state *s, const uint8_t legs[3], double t_s);
+/**
+ * Effective leg codes from @p t_s on for the commanded @p cmd: legs inside
+ * their blanking interval get its dead code. @return the end of the first
+ * blanking interval before @p t_end_s (then the codes change), else t_end_s.
+ */
+double plant_dead_legs(const plant_state *s, const uint8_t cmd[3], double t_s, double t_end_s, uint8_t eff[3]);
 
 /* --- dc_link.c --- */
 /** Capacitor derivatives for rail currents i_P, i_N drawn by the inverter (see dc_link.c). */

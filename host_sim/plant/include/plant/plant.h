@@ -187,6 +187,9 @@ typedef struct {
     uint8_t sensor_fault[PLANT_N_CH]; /**< plant_sensor_fault per channel */
     uint16_t code_last[PLANT_N_CH];   /**< codes of the last plant_sample (for a stuck channel) */
     uint8_t code_valid;               /**< 1 once plant_sample has run */
+    /* dead time (dead_time.c): per leg, end of the blanking interval (absolute s) and its code */
+    double dead_until_s[3];
+    uint8_t dead_code[3];
 } plant_state;
 
 /** A snapshot of true values, for metrics and tests (not seen by the firmware). */
