@@ -46,6 +46,9 @@ typedef struct {
     double lm_lr;           /* Lm/Lr: rotor-flux emf seen by the stator */
     double d_lr;            /* D/Lr = sigma Ls, H: stator flux per stator current at fixed psi_r */
     double Rs, Rr, p;       /* ohm, ohm, pole pairs */
+    /* main-flux saturation (induction_machine.c); sat = 0: the linear maps above */
+    int sat;
+    double inv_Lls, inv_Llr, inv_Lm0, inv_psik, sat_n;
     double inv_J, B, TL;    /* 1/(kg m^2), N m s/rad, N m */
     /* load models besides TL (load_model.c); load_ext = 0 skips them */
     int load_ext;
@@ -118,10 +121,17 @@ void plant_im_coeffs(const plant_motor_params *m, double t_load_Nm, plant_seg *g
  * than in their .c files: the integrator compiles to straight-line code.
  */
 
+/** Currents with a saturating Lm (induction_machine.c). */
+void plant_im_currents_sat(const plant_seg *g, const double *x, double i_s[2], double i_r[2]);
+
 /** Stator and rotor currents (alpha-beta, A) from the fluxes in @p x. */
 static inline void plant_im_currents(const plant_seg *g, const double *x,
                                      double i_s[2], double i_r[2])
 {
+    if (g->sat) {
+        plant_im_currents_sat(g, x, i_s, i_r);
+        return;
+    }
     i_s[0] = g->cLr * x[PX_PSA] - g->cLm * x[PX_PRA];
     i_s[1] = g->cLr * x[PX_PSB] - g->cLm * x[PX_PRB];
     i_r[0] = g->cLs * x[PX_PRA] - g->cLm * x[PX_PSA];
