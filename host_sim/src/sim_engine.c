@@ -352,6 +352,8 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         if (tl != load_nm)
             plant_set_load(&e->ps, tl);
         load_nm = tl;
+        if (o->on_plant != NULL)
+            o->on_plant(o->user, t, &e->ps);
         double ref_rpm = scenario_ref_rpm(sc, t + T_EPS);
         if (firmware && ref_rpm != last_ref_rpm)
             drive_set_speed_ref(&e->drv, (float)(ref_rpm * RPM_TO_RAD_S));
@@ -398,7 +400,8 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         metrics_acc_add(&e->acc, &ms);
         if (e->trace_open && k % trace_every == 0u) {
             sim_trace_row row = { t, tr.omega_m_rad_s, tr.te_Nm, tr.ia_A, tr.ib_A, tr.ic_A, tr.vc1_V, tr.vc2_V,
-                                  ref_rpm, e->ps.t_load_Nm, eps, firmware ? &snap : NULL };
+                                  ref_rpm, plant_load_torque(&e->ps, tr.omega_m_rad_s), eps,
+                                  firmware ? &snap : NULL };
             trace_write(&e->trace, &row);
         }
         res->ticks = k + 1u;

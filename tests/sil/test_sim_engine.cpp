@@ -385,3 +385,50 @@ TEST(SimEngine, SensorFaultActsOnTheSampleAtItsTick)
     EXPECT_EQ(lost, 249);        // ticks 0.4002 .. 0.4498 s: every one reads 0 A
     EXPECT_GE(live_after, 150);  // of 200 ticks 0.46 .. 0.5 s
 }
+
+// Ramps and steps reach the plant at the tick: the value the plant holds at
+// tick t is the hand-computed profile (linear interpolation inside a ramp) at
+// t + 1 ns, the engine's tolerance for "the time has come" (as for the
+// speed reference).
+TEST(SimEngine, ParameterAndLoadRampsReachThePlantTickByTick)
+{
+    auto l = simtest::parse_text("[sim]\nduration_s = 0.05\n[supply]\nmode = sine\n"
+                                 "[load]\nramp = 0.01 0.03 6\ncoulomb_Nm = 0.5\n"
+                                 "[events]\nRs_ramp = 0.01 0.02 1.5\nLm_scale = 0.02 0.8\nRr_ramp = 0.03 0.04 2\n"
+                                 "[faults]\nvdc = 0.025 250\ngain = 0.03 vc2 1.1\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    struct Seen {
+        std::vector<double> t, rs, rr, lm, tl, vdc, g2, coul;
+    } seen;
+    sim_options o;
+    sim_options_default(&o);
+    o.user = &seen;
+    o.on_plant = [](void *user, double t_s, const plant_state *ps) {
+        auto *s = static_cast<Seen *>(user);
+        s->t.push_back(t_s);
+        s->rs.push_back(ps->cfg.motor.Rs_ohm);
+        s->rr.push_back(ps->cfg.motor.Rr_ohm);
+        s->lm.push_back(ps->cfg.motor.Lm_H);
+        s->tl.push_back(ps->t_load_Nm);
+        s->vdc.push_back(ps->cfg.dc.vdc_V);
+        s->g2.push_back(ps->cfg.sensor.v_gain[1]);
+        s->coul.push_back(ps->cfg.load.coulomb_Nm);
+    };
+    sim_result res;
+    ASSERT_EQ(sim_run(l.sc.get(), &o, &res), SIM_OK) << res.error;
+    ASSERT_EQ(seen.t.size(), 251u);
+    const double Rs0 = 0.288, Rr0 = 0.158, Lm0 = 0.0416;
+    for (size_t k = 0; k < seen.t.size(); ++k) {
+        double t = k * 200e-6 + 1e-9;
+        double rs = t < 0.01 ? 1.0 : (t < 0.02 ? 1.0 + 0.5 * (t - 0.01) / 0.01 : 1.5);
+        double rr = t < 0.03 ? 1.0 : (t < 0.04 ? 1.0 + (t - 0.03) / 0.01 : 2.0);
+        double tl = t < 0.01 ? 0.0 : (t < 0.03 ? 6.0 * (t - 0.01) / 0.02 : 6.0);
+        EXPECT_NEAR(seen.rs[k], Rs0 * rs, 1e-14) << "t = " << t;
+        EXPECT_NEAR(seen.rr[k], Rr0 * rr, 1e-14) << "t = " << t;
+        EXPECT_DOUBLE_EQ(seen.lm[k], t < 0.02 ? Lm0 : Lm0 * 0.8) << "t = " << t;
+        EXPECT_NEAR(seen.tl[k], tl, 1e-12) << "t = " << t;
+        EXPECT_DOUBLE_EQ(seen.vdc[k], t < 0.025 ? 311.0 : 250.0) << "t = " << t;
+        EXPECT_DOUBLE_EQ(seen.g2[k], t < 0.03 ? 1.0 : 1.1) << "t = " << t;
+        EXPECT_DOUBLE_EQ(seen.coul[k], 0.5);
+    }
+}

@@ -69,7 +69,11 @@ typedef struct {
      *  tick time t_s = k T and the drive (NULL in sine mode). It may inject
      *  CAN frames, read snapshots or call drive_* background functions. */
     void (*on_tick)(void *user, double t_s, struct drive *d);
-    void *user;                /**< passed to on_tick */
+    void *user;                /**< passed to on_tick and on_plant */
+    /** Optional hook called every tick after the events due (load,
+     *  parameters, faults) were applied, with the plant's state (read-only;
+     *  for tests and instrumentation). */
+    void (*on_plant)(void *user, double t_s, const plant_state *ps);
     /** Optional stop request (set from a signal handler). In realtime mode
      *  the run ends cleanly (outputs written, SIM_OK); in batch mode it is
      *  abandoned (SIM_ERUNTIME, no outputs). */
