@@ -101,7 +101,7 @@ TEST(DtcSimCli, BadScenarioFilesNameTheLineAndLeaveNothing)
         { "rs_ramp", "[events]\nRs_ramp = 2 8 1.5\nRs_scale = 4 1\n", 3, "starts inside the ramp on line 2" },
         { "fault_channel", "[faults]\n\nlost = 0.5 phase_a\n", 3, "unknown channel 'phase_a'" },
         { "fault_vdc", "[faults]\nvdc = 0.5 -311\n", 2, "out of range" },
-        { "dead_time", "[inverter]\ndead_time_s = -2e-6\n", 2, "[inverter] dead_time_s must be in [0, 1e-4] s" },
+        { "dead_time", "[inverter]\ndead_time_s = -2e-6\n", 2, "[inverter] dead_time_s must be in [0, 5e-05] s" },
         { "saturation", "[motor]\nLm_sat_psi_Wb = 0.7\nLm_sat_exponent = 1.5\n", 3, "Lm_sat_exponent must be in [2, 20]" },
     };
     TempDir d;

@@ -321,9 +321,9 @@ TEST(ScenarioParser, NewKeyErrors)
     expect_error("[events]\nLm_scale = 1 0\n", 2, "factor 0 is out of range");
     expect_error("[events]\nJ_ramp = 1 2 -1\n", 2, "factor");
     expect_error("[events]\nRr_ramp = 1 x 1.5\n", 2, "malformed number 'x'");
-    expect_error("[inverter]\ndead_time_s = -1e-6\n", 2, "[inverter] dead_time_s must be in [0, 1e-4] s");
+    expect_error("[inverter]\ndead_time_s = -1e-6\n", 2, "[inverter] dead_time_s must be in [0, 5e-05] s");
     expect_error("[inverter]\ndead_time_s = 1e-3\n", 2, "out of range");
-    expect_error("[inverter]\n\nv_on_V = -0.5\n", 3, "[inverter] v_on_V must be in [0, 100] V");
+    expect_error("[inverter]\n\nv_on_V = -0.5\n", 3, "[inverter] v_on_V must be in [0, 50] V");
     expect_error("[inverter]\nv_on_V = 1\nv_on_V = 2\n", 3, "set twice (first on line 2)");
     expect_error("[inverter]\nswitch_s = 1\n", 2, "unknown key 'switch_s' in section [inverter]");
     expect_error("[motor]\nLm_sat_psi_Wb = -0.7\n", 2, "[motor] Lm_sat_psi_Wb must be >= 0");

@@ -8,7 +8,8 @@
  *   dpsi_s/dt = v_s - Rs i_s
  *   dpsi_r/dt = -Rr i_r + j p omega_m psi_r         (squirrel cage, stationary frame)
  *   Te = 1.5 p (psi_s x i_s)                         (amplitude-invariant Clarke)
- *   J domega_m/dt = Te - B omega_m - T_L             (T_L a plain constant, see plant.h)
+ *   J domega_m/dt = Te - B omega_m - T_L - T_models  (T_L a plain constant, see plant.h;
+ *                                                     T_models: load_model.c)
  * Inverting the inductance matrix: D = Ls Lr - Lm^2,
  *   i_s = (Lr psi_s - Lm psi_r) / D,  i_r = (Ls psi_r - Lm psi_s) / D.
  * Powers in abc terms are 1.5 times the alpha-beta dot products (no zero

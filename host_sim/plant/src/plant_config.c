@@ -112,10 +112,10 @@ int plant_check_config(const plant_config *cfg, const char **what)
     POS(cfg->dc.c2_F, "dc.c2_F must be > 0");
 
     REQ(isfinite(cfg->inverter.dead_time_s) && cfg->inverter.dead_time_s >= 0.0 &&
-            cfg->inverter.dead_time_s <= 1e-4,
-        "inverter.dead_time_s must be in [0, 1e-4] s");
-    REQ(isfinite(cfg->inverter.v_on_V) && cfg->inverter.v_on_V >= 0.0 && cfg->inverter.v_on_V <= 100.0,
-        "inverter.v_on_V must be in [0, 100] V");
+            cfg->inverter.dead_time_s <= 50e-6,
+        "inverter.dead_time_s must be in [0, 5e-05] s");
+    REQ(isfinite(cfg->inverter.v_on_V) && cfg->inverter.v_on_V >= 0.0 && cfg->inverter.v_on_V <= 50.0,
+        "inverter.v_on_V must be in [0, 50] V");
 
     sp = &cfg->sensor;
     REQ(sp->adc_bits >= 1 && sp->adc_bits <= 16, "sensor.adc_bits must be in 1..16");

@@ -77,8 +77,8 @@ typedef struct {
  * series, so the leg voltage drops by 2 v_on_V in the direction of the current.
  */
 typedef struct {
-    double dead_time_s;      /**< blanking time per commutation, s (0 .. 1e-4) */
-    double v_on_V;           /**< on-state voltage of one device (switch or diode), V (0 .. 100) */
+    double dead_time_s;      /**< blanking time per commutation, s (0 .. 50e-6) */
+    double v_on_V;           /**< on-state voltage of one device (switch or diode), V (0 .. 50) */
 } plant_inverter_params;
 
 /** Sensor channels (plant_set_sensor_* and plant_adc order). */
@@ -158,9 +158,10 @@ typedef struct {
     double theta_m;          /**< mechanical angle, rad (wrapped to -pi..pi) */
     double vc1, vc2;         /**< capacitor voltages, V */
     /**
-     * Load torque, N m. Enters the mechanics as a plain constant:
-     * J domega/dt = Te - B omega - T_L (it opposes positive speed; at
-     * negative speed it keeps its sign, it is not sign(omega) * T_L).
+     * Constant (active) load torque, N m. Enters the mechanics as a plain
+     * constant: J domega/dt = Te - B omega - T_L - (the load models of
+     * cfg.load) (it opposes positive speed; at negative speed it keeps its
+     * sign, it is not sign(omega) * T_L).
      */
     double t_load_Nm;
     uint64_t rng;            /**< noise generator state */
@@ -233,7 +234,9 @@ int plant_init(plant_state *s, const plant_config *cfg);
 /**
  * Integrate over one control period with the inverter applying @p vec0 for
  * duty0 * period_s and then @p vec1 for the rest (each leg: 0 = N, 1 = O, 2 = P).
- * Every switching instant is honoured exactly (one segment per vector).
+ * Every switching instant is honoured exactly (one segment per vector); with
+ * cfg.inverter.dead_time_s > 0 each commutation edge of a leg is followed by
+ * its blanking interval (plant_inverter_params), also across periods.
  * In PLANT_SUPPLY_SINE mode the vectors are ignored.
  * Bad input changes nothing or is made safe: a period that is not finite and
  * > 0 does nothing; duty0 is clamped to 0..1 (NaN -> 0); a NULL vector or a
@@ -288,7 +291,7 @@ double plant_load_torque(const plant_state *s, double omega_m_rad_s);
 
 /**
  * Motor phase voltages (isolated star) and neutral-point current for one
- * switching state.
+ * switching state of the IDEAL inverter (no dead time, no on-state drop).
  * @param legs  leg states a, b, c (0 = N, 1 = O, 2 = P, 3 = gates off: the
  *              sign of its current picks N or P; with zero current the leg
  *              floats, is left out of the star-point average and reported as
