@@ -271,6 +271,26 @@ TEST(ScenarioParser, LoadAndParameterRamps)
     EXPECT_DOUBLE_EQ(scenario_load_nm(m.sc.get(), 1.0), 2.0);
 }
 
+TEST(ScenarioSet, FaultKeysReplaceOnlyTheirOwnEntries)
+{
+    auto l = parse_text("[faults]\nvdc = 1 250\nvdc = 1.5 311\nstale = 2\n",
+                        { "faults.vdc=0.5 420", "inverter.dead_time_s=0", "load.fan_Nms2=0.001" });
+    ASSERT_EQ(l.rc, 0) << l.error;
+    ASSERT_EQ(l.sc->n_faults, 2);
+    EXPECT_EQ(l.sc->faults[0].kind, SCENARIO_FAULT_STALE);
+    EXPECT_EQ(l.sc->faults[1].kind, SCENARIO_FAULT_VDC);
+    EXPECT_DOUBLE_EQ(l.sc->faults[1].value, 420.0);
+    EXPECT_EQ(l.sc->faults[1].line, SCENARIO_LINE_SET);
+    EXPECT_DOUBLE_EQ(l.sc->plant.inverter.dead_time_s, 0.0);
+    EXPECT_DOUBLE_EQ(l.sc->plant.load.fan_Nms2, 0.001);
+    auto e = parse_text("", { "faults.gain=1 x 2" });
+    EXPECT_EQ(e.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(e.error, "--set faults.gain: [faults] gain: unknown channel 'x' (expected a, b, c, vc1 or vc2)");
+    auto v = parse_text("", { "inverter.v_on_V=-1" });
+    EXPECT_EQ(v.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(v.error, "--set inverter.v_on_V: [inverter] v_on_V must be in [0, 50] V");
+}
+
 TEST(ScenarioParser, FaultEntries)
 {
     auto l = parse_text("[faults]\ngain = 0.5 a 1.2\noffset = 0.5 vc2 -3\nstuck = 0.6 b\nlost = 0.7 c\n"
@@ -573,6 +593,8 @@ TEST(ScenarioParser, GarbageNeverCrashes)
 {
     const std::vector<std::string> vocab = {
         "[sim]", "[motor]", "[reference]", "[events]", "[control]", "[metrics]", "[load]", "[", "]",
+        "[faults]", "[inverter]", "gain", "stuck", "vdc", "hw", "a", "vc2", "on", "Rs_ramp", "fan_Nms2",
+        "dead_time_s", "Lm_sat_exponent",
         "duration_s", "J_kgm2", "step", "ramp", "window", "J_scale", "ip_zeta", "mode", "=", " = ", ":",
         "1", "-1", "0.5", "1e-4", "nan", "inf", "1e999", "abc", "#", ";", "\n", "\n", "\n", "\r\n", " ", "\t",
         std::string(1, '\0'), "\xff\xfe", std::string(120, 'x'),
