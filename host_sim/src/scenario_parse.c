@@ -150,6 +150,7 @@ static const list_def lists[] = {
     { "faults", "vdc", L_FAULT, SCENARIO_FAULT_VDC, "T_S VOLTS" },
     { "faults", "stale", L_FAULT, SCENARIO_FAULT_STALE, "T_S" },
     { "faults", "hw", L_FAULT, SCENARIO_FAULT_HW, "T_S ON" },
+    { "faults", "open_phase", L_FAULT, SCENARIO_FAULT_OPEN_PHASE, "T_S PHASE" },
     { "metrics", "window", L_WINDOW, 0, "NAME T0_S T1_S" },
 };
 
@@ -418,7 +419,7 @@ static int add_fault(parse_ctx *c, const list_def *l, char **tok, int ntok)
 {
     scenario *sc = c->sc;
     const scenario_fault_kind kind = (scenario_fault_kind)l->event_kind;
-    const bool has_ch = kind <= SCENARIO_FAULT_RESTORE;
+    const bool has_ch = kind <= SCENARIO_FAULT_RESTORE || kind == SCENARIO_FAULT_OPEN_PHASE;
     const bool has_val = kind == SCENARIO_FAULT_GAIN || kind == SCENARIO_FAULT_OFFSET ||
                          kind == SCENARIO_FAULT_VDC || kind == SCENARIO_FAULT_HW;
     const int want = 1 + (has_ch ? 1 : 0) + (has_val ? 1 : 0);
@@ -435,6 +436,8 @@ static int add_fault(parse_ctx *c, const list_def *l, char **tok, int ntok)
         for (int i = 0; i < SCENARIO_N_CHANNELS; i++)
             if (strcmp(tok[1], channel_names[i]) == 0)
                 ch = i;
+        if (kind == SCENARIO_FAULT_OPEN_PHASE && (ch < 0 || ch > 2))
+            return fail(c, "[faults] open_phase: unknown phase '%s' (expected a, b or c)", tok[1]);
         if (ch < 0)
             return fail(c, "[faults] %s: unknown channel '%s' (expected a, b, c, vc1 or vc2)", l->key, tok[1]);
     }

@@ -166,3 +166,4 @@ TEST(PlantOnStateVoltage, DropFollowsTheSignOfEachCurrent)
     EXPECT_NEAR(d_alpha(z), 0.0, 1e-12);
     EXPECT_NEAR(d_beta(z), -4.0 / std::sqrt(3.0) * kT, 1e-6 * 4.0 / std::sqrt(3.0) * kT);
 }
+

@@ -295,10 +295,12 @@ TEST(ScenarioParser, FaultEntries)
 {
     auto l = parse_text("[faults]\ngain = 0.5 a 1.2\noffset = 0.5 vc2 -3\nstuck = 0.6 b\nlost = 0.7 c\n"
                         "invalid = 0.8 vc1\nrestore = 0.9 b\nvdc = 1 250\nvdc = 1.2 311\nstale = 1.3\n"
-                        "hw = 1.4 on\nhw = 1.5 0\n");
+                        "hw = 1.4 on\nhw = 1.5 0\nopen_phase = 1.6 c\n");
     ASSERT_EQ(l.rc, 0) << l.error;
     const scenario *sc = l.sc.get();
-    ASSERT_EQ(sc->n_faults, 11);
+    ASSERT_EQ(sc->n_faults, 12);
+    EXPECT_EQ(sc->faults[11].kind, SCENARIO_FAULT_OPEN_PHASE);
+    EXPECT_EQ(sc->faults[11].channel, 2);
     EXPECT_EQ(sc->faults[0].kind, SCENARIO_FAULT_GAIN);
     EXPECT_EQ(sc->faults[0].channel, 0);
     EXPECT_DOUBLE_EQ(sc->faults[0].value, 1.2);
@@ -361,6 +363,8 @@ TEST(ScenarioParser, NewKeyErrors)
     expect_error("[faults]\nstale = 1 2\n", 2, "expected 'stale = T_S', got 2 values");
     expect_error("[faults]\nhw = 1 maybe\n", 2, "expected on or off, got 'maybe'");
     expect_error("[faults]\nvdc = 2 250\nstale = 1\n", 3, "out of time order (line 2 is at 2 s)");
+    expect_error("[faults]\nopen_phase = 1 vc1\n", 2, "unknown phase 'vc1' (expected a, b or c)");
+    expect_error("[faults]\nopen_phase = 1\n", 2, "expected 'open_phase = T_S PHASE', got 1 value");
     expect_error("[faults]\nbroken = 1 a\n", 2, "unknown key 'broken' in section [faults]");
     expect_error("[fault]\nstale = 1\n", 1 + 1, "unknown section [fault]");
 }

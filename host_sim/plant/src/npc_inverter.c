@@ -92,6 +92,11 @@ void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x)
         g->diode[k] = 0;
         if (legs[k] <= PLANT_LEG_P) {
             g->conn[k] = (signed char)((int)legs[k] - 1);
+        } else if (legs[k] == PLANT_LEG_OPEN) {
+            g->diode[k] = 1; /* so the clamp keeps its current at zero */
+            g->dsign[k] = 0;
+            g->conn[k] = 2;
+            ++g->n_float;
         } else {
             double i_k = phase_current(k, i_s);
             g->diode[k] = 1;
@@ -119,12 +124,14 @@ void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x)
         for (k = 0; k < 3; ++k)
             e_k[k] = phase_current(k, e);
         if (n_c == 0) {
-            int kmax = 0, kmin = 0;
-            for (k = 1; k < 3; ++k) {
-                if (e_k[k] > e_k[kmax]) kmax = k;
-                if (e_k[k] < e_k[kmin]) kmin = k;
+            int kmax = -1, kmin = -1;
+            for (k = 0; k < 3; ++k) {
+                if (legs[k] == PLANT_LEG_OPEN)
+                    continue;
+                if (kmax < 0 || e_k[k] > e_k[kmax]) kmax = k;
+                if (kmin < 0 || e_k[k] < e_k[kmin]) kmin = k;
             }
-            if (e_k[kmax] - e_k[kmin] >
+            if (kmax >= 0 && kmax != kmin && e_k[kmax] - e_k[kmin] >
                 leg_voltage(g->hi[kmax], vc1, vc2) - leg_voltage(g->lo[kmin], vc1, vc2)) {
                 g->conn[kmax] = g->hi[kmax];
                 g->dsign[kmax] = -1;
@@ -139,7 +146,7 @@ void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x)
                     v_nO += leg_voltage(g->conn[k], vc1, vc2) - e_k[k];
             v_nO /= n_c;
             for (k = 0; k < 3; ++k) {
-                if (g->conn[k] != 2)
+                if (g->conn[k] != 2 || legs[k] == PLANT_LEG_OPEN)
                     continue;
                 if (v_nO + e_k[k] > leg_voltage(g->hi[k], vc1, vc2)) {
                     g->conn[k] = g->hi[k];

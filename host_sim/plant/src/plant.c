@@ -170,6 +170,15 @@ static void normalise(const uint8_t *in, uint8_t out[3])
         out[k] = in == NULL || in[k] > PLANT_LEG_OFF ? (uint8_t)PLANT_LEG_OFF : in[k];
 }
 
+/* A disconnected phase overrides whatever its leg does. */
+static void open_phases(const plant_state *s, uint8_t legs[3])
+{
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (s->phase_open[k])
+            legs[k] = (uint8_t)PLANT_LEG_OPEN;
+}
+
 static void count_switches(plant_state *s, const uint8_t legs[3])
 {
     int k;
@@ -215,6 +224,7 @@ void plant_advance(plant_state *s, const uint8_t vec0[3], const uint8_t vec1[3],
         uint8_t v[2][3];
         double len[2];
         int j;
+        const int any_open = s->phase_open[0] || s->phase_open[1] || s->phase_open[2];
         normalise(vec0, v[0]);
         normalise(vec1, v[1]);
         len[0] = duty0 * period_s;
@@ -226,12 +236,13 @@ void plant_advance(plant_state *s, const uint8_t vec0[3], const uint8_t vec1[3],
             if (s->cfg.inverter.dead_time_s > 0.0)
                 plant_dead_edge(s, v[j], ts);
             count_switches(s, v[j]);
-            if (s->cfg.inverter.dead_time_s > 0.0) {
+            if (s->cfg.inverter.dead_time_s > 0.0 || any_open) {
                 /* Sub-segments between the ends of the legs' blanking intervals. */
                 double t = ts, te = ts + len[j];
                 while (te - t >= PLANT_MIN_SEGMENT_S) {
                     uint8_t eff[3];
                     double tn = plant_dead_legs(s, v[j], t, te, eff);
+                    open_phases(s, eff);
                     integrate_segment(&g, eff, x, t, tn - t, s->cfg.h_max_s);
                     t = tn;
                 }
@@ -241,7 +252,10 @@ void plant_advance(plant_state *s, const uint8_t vec0[3], const uint8_t vec1[3],
         }
         /* Voltages and NP current at the end, in the last vector's connection. */
         if (s->legs_valid) {
-            plant_npc_connect(&g, s->legs_last, x);
+            uint8_t last[3];
+            memcpy(last, s->legs_last, sizeof last);
+            open_phases(s, last);
+            plant_npc_connect(&g, last, x);
             plant_im_currents(&g, x, i_s, i_r);
             plant_npc_phase(&g, x, i_s, i_r, s->v_last_V, &s->i_np_last_A);
         }
@@ -318,6 +332,12 @@ void plant_set_lm(plant_state *s, double Lm_H)
 {
     if (s != NULL && isfinite(Lm_H) && Lm_H > 0.0)
         s->cfg.motor.Lm_H = Lm_H;
+}
+
+void plant_set_phase_open(plant_state *s, int k, int open)
+{
+    if (s != NULL && k >= 0 && k < 3)
+        s->phase_open[k] = (uint8_t)(open != 0);
 }
 
 void plant_set_vdc(plant_state *s, double vdc_V)

@@ -23,6 +23,8 @@
  */
 #define PLANT_LEG_DEAD_NO 4u /* between N and O */
 #define PLANT_LEG_DEAD_OP 5u /* between O and P */
+/* A disconnected motor phase (plant_set_phase_open): never conducts. */
+#define PLANT_LEG_OPEN 6u
 
 /* Integration state vector layout. */
 enum {

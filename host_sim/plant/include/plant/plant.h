@@ -191,6 +191,7 @@ typedef struct {
     /* dead time (dead_time.c): per leg, end of the blanking interval (absolute s) and its code */
     double dead_until_s[3];
     uint8_t dead_code[3];
+    uint8_t phase_open[3];   /**< 1: motor phase disconnected (plant_set_phase_open) */
 } plant_state;
 
 /** A snapshot of true values, for metrics and tests (not seen by the firmware). */
@@ -279,6 +280,14 @@ void plant_set_sensor_gain(plant_state *s, int ch, double gain);
 void plant_set_sensor_offset(plant_state *s, int ch, double offset);
 /** Fault of sensor channel @p ch from the next plant_sample on (PLANT_SENSOR_OK clears it). */
 void plant_set_sensor_fault(plant_state *s, int ch, plant_sensor_fault f);
+
+/**
+ * Disconnect (@p open = 1) or reconnect motor phase @p k (0..2) from its
+ * inverter leg: a broken cable or a blown fuse. The phase carries no current
+ * (its voltage is the machine's emf); the leg keeps switching (switch_count).
+ * Inverter supply only (the sine source ignores it).
+ */
+void plant_set_phase_open(plant_state *s, int k, int open);
 
 /**
  * Total load torque (constant + Coulomb + viscous + fan, not motor.B_Nms) at
