@@ -49,15 +49,15 @@ void metrics_acc_add(metrics_acc *a, const metrics_sample *s)
     if (s->w_norm > a->w_norm_max)
         a->w_norm_max = s->w_norm;
 
-    /* Runaway: judged at every tick against the largest |reference| so far,
-     * so a motor that spins away before the reference rises is caught too.
-     * NaN speed counts as a runaway (the negated comparison). */
+    /* Runaway (judged in metrics_acc_finish): the largest |true speed| of
+     * the run against the largest |reference| of the run. A NaN speed
+     * counts as a runaway. */
     if (fabs(s->ref_rpm) > a->ref_max_abs_rpm)
         a->ref_max_abs_rpm = fabs(s->ref_rpm);
-    if (fabs(s->speed_rpm) > a->speed_max_abs_rpm || isnan(s->speed_rpm))
+    if (fabs(s->speed_rpm) > a->speed_max_abs_rpm)
         a->speed_max_abs_rpm = fabs(s->speed_rpm);
-    if (!(fabs(s->speed_rpm) <= METRICS_RUNAWAY_FACTOR * a->ref_max_abs_rpm + METRICS_RUNAWAY_MARGIN_RPM))
-        a->runaway = true;
+    if (isnan(s->speed_rpm))
+        a->speed_nan = true;
 
     if (a->has_dist && at_or_after(a, s->t_s, a->t_dist)) {
         double err = fabs(s->ref_rpm - s->speed_rpm);
@@ -139,7 +139,7 @@ void metrics_acc_finish(const metrics_acc *a, sim_metrics *out)
     out->speed_true_end_rpm = a->last.speed_rpm;
     out->speed_true_max_abs_rpm = a->speed_max_abs_rpm;
     out->runaway_limit_rpm = METRICS_RUNAWAY_FACTOR * a->ref_max_abs_rpm + METRICS_RUNAWAY_MARGIN_RPM;
-    out->runaway = a->runaway;
+    out->runaway = a->speed_nan || a->speed_max_abs_rpm > out->runaway_limit_rpm;
 
     n = last_n(a, 0.5);
     double e_ref = 0.0, e_est = 0.0, eh = 0.0, et = 0.0;

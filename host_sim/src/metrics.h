@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-/** Runaway: |true speed| > FACTOR x the largest |reference| + MARGIN at any tick. */
+/** Runaway: |true speed| > FACTOR x the largest |reference| of the run + MARGIN at any tick. */
 #define METRICS_RUNAWAY_FACTOR 1.5
 #define METRICS_RUNAWAY_MARGIN_RPM 300.0
 
@@ -63,10 +63,10 @@ typedef struct {
     unsigned long steady_sw0;
     double np_max;
     double w_norm_max;
-    /* runaway: largest |true speed| and |reference| seen */
+    /* runaway: largest |true speed| and |reference| of the run */
     double speed_max_abs_rpm;
     double ref_max_abs_rpm;
-    bool runaway;
+    bool speed_nan;
     /* [metrics] windows */
     double win_speed[SCENARIO_MAX_WINDOWS];
     double win_is_sq[SCENARIO_MAX_WINDOWS];

@@ -33,3 +33,25 @@ TEST(Duty, PumpDutyRunsWithoutFaultOrRunaway)
         EXPECT_GT(m.te_final_nm, 10.0) << ctl;
     }
 }
+
+// An overhauling load beyond the torque limit drives the motor away while
+// the firmware reports no fault: the metrics must say so.
+TEST(Duty, OverhaulingLoadIsFlaggedAsRunaway)
+{
+    auto l = simtest::parse_text("[sim]\nduration_s = 2\n[reference]\nramp = 0.2 0.4 300\n"
+                                 "[load]\nstep = 0.5 -30\n[control]\nte_max_Nm = 20\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    sim_result res;
+    ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;
+    EXPECT_NEAR(res.metrics.runaway_limit_rpm, 750.0, 1e-9);
+    EXPECT_TRUE(res.metrics.runaway);
+    EXPECT_GT(res.metrics.speed_true_end_rpm, 750.0);
+    EXPECT_EQ(res.metrics.faults, 0u); // what makes the flag necessary
+
+    auto ok = simtest::parse_text("[sim]\nduration_s = 2\n[reference]\nramp = 0.2 0.4 300\n"
+                                  "[load]\nstep = 0.5 -10\n[control]\nte_max_Nm = 20\n");
+    ASSERT_EQ(ok.rc, 0) << ok.error;
+    ASSERT_EQ(sim_run(ok.sc.get(), nullptr, &res), SIM_OK) << res.error;
+    EXPECT_FALSE(res.metrics.runaway); // held within the torque limit
+    EXPECT_NEAR(res.metrics.speed_true_end_rpm, 300.0, 15.0);
+}

@@ -147,9 +147,9 @@ TEST(SimMetrics, ShortRunHasNoSteadyWindow)
     EXPECT_FALSE(f.out.windows[0].valid);
 }
 
-// Runaway: |true speed| > 1.5 x the largest |reference| so far + 300 rpm at
-// any tick. 500 rpm reference -> limit 1050 rpm; a speed that passes it for a
-// single tick and comes back still flags the run.
+// Runaway: |true speed| > 1.5 x the largest |reference| of the run + 300 rpm
+// at any tick. 500 rpm reference -> limit 1050 rpm; a speed that passes it
+// for a single tick and comes back still flags the run.
 TEST(SimMetrics, RunawayFlaggedEvenWhenTheEndLooksFine)
 {
     Feed f;
@@ -178,14 +178,24 @@ TEST(SimMetrics, RunawayFlaggedEvenWhenTheEndLooksFine)
     EXPECT_NEAR(g.out.runaway_limit_rpm, 600.0, 1e-12);
     EXPECT_DOUBLE_EQ(g.out.speed_true_end_rpm, 600.0);
 
-    Feed h; // before the reference rises the limit is 300 rpm
+    Feed h; // the limit comes from the largest |reference| of the whole run
     h.scen = simtest::parse_text("[sim]\nduration_s = 1\nperiod_s = 1e-3\n[reference]\nstep = 0.5 2000\n");
     feed(h, 1000, [](double t) {
         metrics_sample s{};
         s.ref_rpm = t < 0.5 ? 0.0 : 2000.0;
-        s.speed_rpm = t < 0.1 ? 0.0 : (t < 0.2 ? 350.0 : 2000.0);
+        s.speed_rpm = t < 0.1 ? 0.0 : (t < 0.2 ? 3300.0 : 2000.0); // at the limit, not beyond
         return s;
     });
-    EXPECT_TRUE(h.out.runaway);
+    EXPECT_FALSE(h.out.runaway);
     EXPECT_NEAR(h.out.runaway_limit_rpm, 3300.0, 1e-12);
+
+    Feed n; // no reference at all: 300 rpm; a NaN speed is a runaway
+    n.scen = simtest::parse_text("[sim]\nduration_s = 1\nperiod_s = 1e-3\n");
+    feed(n, 1000, [](double t) {
+        metrics_sample s{};
+        s.speed_rpm = std::fabs(t - 0.5) < 0.5e-3 ? std::nan("") : 100.0;
+        return s;
+    });
+    EXPECT_TRUE(n.out.runaway);
+    EXPECT_NEAR(n.out.runaway_limit_rpm, 300.0, 1e-12);
 }
