@@ -104,6 +104,11 @@ static void print_summary(const char *file, const scenario *sc, const sim_result
            m->wall_seconds > 0.0 ? m->sim_seconds / m->wall_seconds : 0.0, (unsigned long long)r->ticks);
     printf("  final (last 0.1 s): speed %.2f rpm, torque %.2f N m, stator current %.2f A rms\n", m->speed_final_rpm,
            m->te_final_nm, m->is_rms_final_a);
+    printf("  true speed at the end %.2f rpm, largest |true speed| %.2f rpm", m->speed_true_end_rpm,
+           m->speed_true_max_abs_rpm);
+    if (m->firmware)
+        printf(" (runaway limit %.0f rpm)%s", m->runaway_limit_rpm, m->runaway ? ": RUNAWAY" : "");
+    printf("\n");
     for (int i = 0; i < m->n_windows; i++)
         if (m->windows[i].valid)
             printf("  window %s: speed %.2f rpm, stator current %.2f A rms\n", m->windows[i].name,

@@ -49,6 +49,16 @@ void metrics_acc_add(metrics_acc *a, const metrics_sample *s)
     if (s->w_norm > a->w_norm_max)
         a->w_norm_max = s->w_norm;
 
+    /* Runaway (judged in metrics_acc_finish): the largest |true speed| of
+     * the run against the largest |reference| of the run. A NaN speed
+     * counts as a runaway. */
+    if (fabs(s->ref_rpm) > a->ref_max_abs_rpm)
+        a->ref_max_abs_rpm = fabs(s->ref_rpm);
+    if (fabs(s->speed_rpm) > a->speed_max_abs_rpm)
+        a->speed_max_abs_rpm = fabs(s->speed_rpm);
+    if (isnan(s->speed_rpm))
+        a->speed_nan = true;
+
     if (a->has_dist && at_or_after(a, s->t_s, a->t_dist)) {
         double err = fabs(s->ref_rpm - s->speed_rpm);
         if (err > a->max_dip_rpm)
@@ -126,6 +136,10 @@ void metrics_acc_finish(const metrics_acc *a, sim_metrics *out)
     out->speed_final_rad_s = out->speed_final_rpm * rad_per_rpm;
     out->te_final_nm = te / (double)n;
     out->is_rms_final_a = sqrt(is_sq / (3.0 * (double)n));
+    out->speed_true_end_rpm = a->last.speed_rpm;
+    out->speed_true_max_abs_rpm = a->speed_max_abs_rpm;
+    out->runaway_limit_rpm = METRICS_RUNAWAY_FACTOR * a->ref_max_abs_rpm + METRICS_RUNAWAY_MARGIN_RPM;
+    out->runaway = a->speed_nan || a->speed_max_abs_rpm > out->runaway_limit_rpm;
 
     n = last_n(a, 0.5);
     double e_ref = 0.0, e_est = 0.0, eh = 0.0, et = 0.0;

@@ -17,6 +17,10 @@
 extern "C" {
 #endif
 
+/** Runaway: |true speed| > FACTOR x the largest |reference| of the run + MARGIN at any tick. */
+#define METRICS_RUNAWAY_FACTOR 1.5
+#define METRICS_RUNAWAY_MARGIN_RPM 300.0
+
 /** What the engine records at every tick (true plant values unless noted). */
 typedef struct {
     double t_s;
@@ -59,6 +63,10 @@ typedef struct {
     unsigned long steady_sw0;
     double np_max;
     double w_norm_max;
+    /* runaway: largest |true speed| and |reference| of the run */
+    double speed_max_abs_rpm;
+    double ref_max_abs_rpm;
+    bool speed_nan;
     /* [metrics] windows */
     double win_speed[SCENARIO_MAX_WINDOWS];
     double win_is_sq[SCENARIO_MAX_WINDOWS];

@@ -28,6 +28,12 @@ static cJSON *build(const sim_metrics *m)
     cJSON_AddNumberToObject(o, "speed_final_rpm", m->speed_final_rpm);
     cJSON_AddNumberToObject(o, "te_final_nm", m->te_final_nm);
     cJSON_AddNumberToObject(o, "is_rms_final_a", m->is_rms_final_a);
+    cJSON_AddNumberToObject(o, "speed_true_end_rpm", m->speed_true_end_rpm);
+    cJSON_AddNumberToObject(o, "speed_true_max_abs_rpm", m->speed_true_max_abs_rpm);
+    if (m->firmware) { /* a sine or open-loop run has no reference to run away from */
+        cJSON_AddNumberToObject(o, "runaway_limit_rpm", m->runaway_limit_rpm);
+        cJSON_AddBoolToObject(o, "runaway", m->runaway);
+    }
     if (m->has_disturbance && m->firmware) { /* no reference to recover to without the firmware */
         cJSON_AddNumberToObject(o, "disturbance_t_s", m->disturbance_t_s);
         cJSON_AddNumberToObject(o, "recovery_time_s", m->recovery_time_s);

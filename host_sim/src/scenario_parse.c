@@ -67,6 +67,15 @@ static const key_def keys[] = {
     { "motor", "pole_pairs", K_INT, OFF(plant.motor.pole_pairs), 1.0, 32.0, false, 1.0, "1", "pole_pairs", 0 },
     PLANTK("motor", "J_kgm2", plant.motor.J_kgm2, 1e4, "kg m^2", "J_kgm2"),
     PLANTK("motor", "B_Nms", plant.motor.B_Nms, 1e3, "N m s/rad", "B_Nms"),
+    PLANTK("motor", "Lm_sat_psi_Wb", plant.motor.Lm_sat_psi_Wb, 10.0, "Wb", "Lm_sat_psi_Wb"),
+    PLANTK("motor", "Lm_sat_exponent", plant.motor.Lm_sat_exponent, 20.0, "1", "Lm_sat_exponent"),
+
+    PLANTK("load", "coulomb_Nm", plant.load.coulomb_Nm, 1e4, "N m", "coulomb_Nm"),
+    PLANTK("load", "viscous_Nms", plant.load.viscous_Nms, 1e3, "N m s/rad", "viscous_Nms"),
+    PLANTK("load", "fan_Nms2", plant.load.fan_Nms2, 100.0, "N m s^2/rad^2", "fan_Nms2"),
+
+    PLANTK("inverter", "dead_time_s", plant.inverter.dead_time_s, 50e-6, "s", "dead_time_s"),
+    PLANTK("inverter", "v_on_V", plant.inverter.v_on_V, 50.0, "V", "v_on_V"),
 
     PLANTK("drive", "vdc_V", plant.dc.vdc_V, 1e4, "V", "vdc_V"),
     PLANTK("drive", "r_src_ohm", plant.dc.r_src_ohm, 1e3, "ohm", "r_src_ohm"),
@@ -107,13 +116,13 @@ static const key_def keys[] = {
 _Static_assert(sizeof keys / sizeof keys[0] <= SCENARIO_MAX_SCALAR_KEYS, "raise SCENARIO_MAX_SCALAR_KEYS");
 
 /* Repeated keys: section, key, the tokens they take. */
-typedef enum { L_REF_STEP, L_REF_RAMP, L_LOAD_STEP, L_EVENT, L_WINDOW } list_kind;
+typedef enum { L_REF_STEP, L_REF_RAMP, L_LOAD_STEP, L_LOAD_RAMP, L_EVENT, L_EVENT_RAMP, L_FAULT, L_WINDOW } list_kind;
 
 typedef struct {
     const char *section;
     const char *key;
     list_kind kind;
-    int event_kind;     /**< for L_EVENT */
+    int event_kind;     /**< for L_EVENT, L_EVENT_RAMP and L_FAULT (scenario_fault_kind) */
     const char *syntax; /**< for messages and docs */
 } list_def;
 
@@ -121,17 +130,34 @@ static const list_def lists[] = {
     { "reference", "step", L_REF_STEP, 0, "T_S RPM" },
     { "reference", "ramp", L_REF_RAMP, 0, "T0_S T1_S RPM" },
     { "load", "step", L_LOAD_STEP, 0, "T_S NM" },
+    { "load", "ramp", L_LOAD_RAMP, 0, "T0_S T1_S NM" },
     { "events", "J_scale", L_EVENT, SCENARIO_EV_J, "T_S FACTOR" },
     { "events", "B_scale", L_EVENT, SCENARIO_EV_B, "T_S FACTOR" },
     { "events", "Rs_scale", L_EVENT, SCENARIO_EV_RS, "T_S FACTOR" },
     { "events", "Rr_scale", L_EVENT, SCENARIO_EV_RR, "T_S FACTOR" },
+    { "events", "Lm_scale", L_EVENT, SCENARIO_EV_LM, "T_S FACTOR" },
+    { "events", "J_ramp", L_EVENT_RAMP, SCENARIO_EV_J, "T0_S T1_S FACTOR" },
+    { "events", "B_ramp", L_EVENT_RAMP, SCENARIO_EV_B, "T0_S T1_S FACTOR" },
+    { "events", "Rs_ramp", L_EVENT_RAMP, SCENARIO_EV_RS, "T0_S T1_S FACTOR" },
+    { "events", "Rr_ramp", L_EVENT_RAMP, SCENARIO_EV_RR, "T0_S T1_S FACTOR" },
+    { "events", "Lm_ramp", L_EVENT_RAMP, SCENARIO_EV_LM, "T0_S T1_S FACTOR" },
+    { "faults", "gain", L_FAULT, SCENARIO_FAULT_GAIN, "T_S CHANNEL FACTOR" },
+    { "faults", "offset", L_FAULT, SCENARIO_FAULT_OFFSET, "T_S CHANNEL VALUE" },
+    { "faults", "stuck", L_FAULT, SCENARIO_FAULT_STUCK, "T_S CHANNEL" },
+    { "faults", "lost", L_FAULT, SCENARIO_FAULT_LOST, "T_S CHANNEL" },
+    { "faults", "invalid", L_FAULT, SCENARIO_FAULT_INVALID, "T_S CHANNEL" },
+    { "faults", "restore", L_FAULT, SCENARIO_FAULT_RESTORE, "T_S CHANNEL" },
+    { "faults", "vdc", L_FAULT, SCENARIO_FAULT_VDC, "T_S VOLTS" },
+    { "faults", "stale", L_FAULT, SCENARIO_FAULT_STALE, "T_S" },
+    { "faults", "hw", L_FAULT, SCENARIO_FAULT_HW, "T_S ON" },
+    { "faults", "open_phase", L_FAULT, SCENARIO_FAULT_OPEN_PHASE, "T_S PHASE" },
     { "metrics", "window", L_WINDOW, 0, "NAME T0_S T1_S" },
 };
 
 #define N_LISTS (sizeof lists / sizeof lists[0])
 
-static const char *const sections[] = { "sim", "motor", "drive", "sensors", "supply", "controller",
-                                        "control", "reference", "load", "events", "metrics" };
+static const char *const sections[] = { "sim", "motor", "load", "drive", "inverter", "sensors", "supply",
+                                        "controller", "control", "reference", "events", "faults", "metrics" };
 
 bool scenario_key_info_at(size_t i, scenario_key_info *out)
 {
@@ -386,6 +412,72 @@ static int parse_list_numbers(parse_ctx *c, const list_def *l, char **tok, int n
     return 1;
 }
 
+static const char *const channel_names[SCENARIO_N_CHANNELS] = { "a", "b", "c", "vc1", "vc2" };
+
+/* One [faults] entry: T_S, then CHANNEL and/or a value depending on the kind. */
+static int add_fault(parse_ctx *c, const list_def *l, char **tok, int ntok)
+{
+    scenario *sc = c->sc;
+    const scenario_fault_kind kind = (scenario_fault_kind)l->event_kind;
+    const bool has_ch = kind <= SCENARIO_FAULT_RESTORE || kind == SCENARIO_FAULT_OPEN_PHASE;
+    const bool has_val = kind == SCENARIO_FAULT_GAIN || kind == SCENARIO_FAULT_OFFSET ||
+                         kind == SCENARIO_FAULT_VDC || kind == SCENARIO_FAULT_HW;
+    const int want = 1 + (has_ch ? 1 : 0) + (has_val ? 1 : 0);
+    if (ntok != want)
+        return fail(c, "[faults] %s: expected '%s = %s', got %s%d value%s", l->key, l->key, l->syntax,
+                    ntok > 7 ? "more than " : "", ntok > 7 ? 7 : ntok, ntok == 1 ? "" : "s");
+    double t, v = 0.0;
+    int ch = -1;
+    if (!parse_number(tok[0], &t))
+        return fail(c, "[faults] %s: malformed number '%s' (expected %s)", l->key, tok[0], l->syntax);
+    if (t < 0.0 || t > 600.0)
+        return fail(c, "[faults] %s: time %g s is out of range (0..600 s)", l->key, t);
+    if (has_ch) {
+        for (int i = 0; i < SCENARIO_N_CHANNELS; i++)
+            if (strcmp(tok[1], channel_names[i]) == 0)
+                ch = i;
+        if (kind == SCENARIO_FAULT_OPEN_PHASE && (ch < 0 || ch > 2))
+            return fail(c, "[faults] open_phase: unknown phase '%s' (expected a, b or c)", tok[1]);
+        if (ch < 0)
+            return fail(c, "[faults] %s: unknown channel '%s' (expected a, b, c, vc1 or vc2)", l->key, tok[1]);
+    }
+    if (has_val) {
+        const char *vt = tok[want - 1];
+        if (kind == SCENARIO_FAULT_HW) {
+            if (strcmp(vt, "1") == 0 || strcmp(vt, "on") == 0 || strcmp(vt, "true") == 0 || strcmp(vt, "yes") == 0)
+                v = 1.0;
+            else if (strcmp(vt, "0") == 0 || strcmp(vt, "off") == 0 || strcmp(vt, "false") == 0 ||
+                     strcmp(vt, "no") == 0)
+                v = 0.0;
+            else
+                return fail(c, "[faults] hw: expected on or off, got '%s'", vt);
+        } else if (!parse_number(vt, &v)) {
+            return fail(c, "[faults] %s: malformed number '%s' (expected %s)", l->key, vt, l->syntax);
+        } else if (kind == SCENARIO_FAULT_GAIN && !(v > 0.0 && v <= 10.0)) {
+            return fail(c, "[faults] gain: factor %g is out of range (must be > 0 and <= 10)", v);
+        } else if (kind == SCENARIO_FAULT_OFFSET && fabs(v) > 1e4) {
+            return fail(c, "[faults] offset: %g is out of range (|offset| <= 10000 A or V)", v);
+        } else if (kind == SCENARIO_FAULT_VDC && !(v > 0.0 && v <= 1e4)) {
+            return fail(c, "[faults] vdc: %g V is out of range (must be > 0 and <= 10000 V)", v);
+        }
+    }
+    if (c->from_set) {
+        /* Replace the faults of this key only. */
+        int n = 0;
+        for (int i = 0; i < sc->n_faults; i++)
+            if (sc->faults[i].kind != kind)
+                sc->faults[n++] = sc->faults[i];
+        sc->n_faults = n;
+    } else if (sc->n_faults > 0 && t < sc->faults[sc->n_faults - 1].t_s) {
+        return fail(c, "[faults] %s at %g s is out of time order (line %d is at %g s)", l->key, t,
+                    sc->faults[sc->n_faults - 1].line, sc->faults[sc->n_faults - 1].t_s);
+    }
+    if (sc->n_faults >= SCENARIO_MAX_ENTRIES)
+        return fail(c, "[faults] too many entries (at most %d)", SCENARIO_MAX_ENTRIES);
+    sc->faults[sc->n_faults++] = (scenario_fault){ kind, t, ch, v, c->line };
+    return 1;
+}
+
 static int add_list(parse_ctx *c, const list_def *l, const char *value)
 {
     scenario *sc = c->sc;
@@ -422,44 +514,74 @@ static int add_list(parse_ctx *c, const list_def *l, const char *value)
         return 1;
     }
     case L_LOAD_STEP:
-        if (!parse_list_numbers(c, l, tok, ntok, 0, x, 2))
+    case L_LOAD_RAMP: {
+        bool ramp = l->kind == L_LOAD_RAMP;
+        if (!parse_list_numbers(c, l, tok, ntok, 0, x, ramp ? 3 : 2))
             return 0;
-        if (x[0] < 0.0 || x[0] > 600.0)
-            return fail(c, "[load] step: time %g s is out of range (0..600 s)", x[0]);
-        if (fabs(x[1]) > 10000.0)
-            return fail(c, "[load] step: torque %g N m is out of range (|T| <= 10000 N m)", x[1]);
+        double t0 = x[0], t1 = ramp ? x[1] : x[0], nm = ramp ? x[2] : x[1];
+        if (t0 < 0.0 || t0 > 600.0)
+            return fail(c, "[load] %s: time %g s is out of range (0..600 s)", l->key, t0);
+        if (ramp && !(t1 > t0 && t1 <= 600.0))
+            return fail(c, "[load] ramp: end time %g s must be after the start %g s (and <= 600 s)", t1, t0);
+        if (fabs(nm) > 10000.0)
+            return fail(c, "[load] %s: torque %g N m is out of range (|T| <= 10000 N m)", l->key, nm);
         if (c->from_set)
-            sc->n_load = 0;
-        if (sc->n_load > 0 && x[0] < sc->load[sc->n_load - 1].t_s)
-            return fail(c, "[load] step at %g s is out of time order (line %d is at %g s)", x[0],
-                        sc->load[sc->n_load - 1].line, sc->load[sc->n_load - 1].t_s);
+            sc->n_load = 0; /* --set replaces the whole load profile */
+        if (sc->n_load > 0 && t0 < sc->load[sc->n_load - 1].t1_s) {
+            const scenario_load_entry *p = &sc->load[sc->n_load - 1];
+            if (p->ramp)
+                return fail(c, "[load] %s at %g s is out of time order (the ramp on line %d ends at %g s)",
+                            l->key, t0, p->line, p->t1_s);
+            return fail(c, "[load] %s at %g s is out of time order (line %d is at %g s)", l->key, t0, p->line,
+                        p->t_s);
+        }
         if (sc->n_load >= SCENARIO_MAX_ENTRIES)
             return fail(c, "[load] too many entries (at most %d)", SCENARIO_MAX_ENTRIES);
-        sc->load[sc->n_load++] = (scenario_load_entry){ x[0], x[1], c->line };
+        sc->load[sc->n_load++] = (scenario_load_entry){ ramp, t0, t1, nm, c->line };
         return 1;
-    case L_EVENT: {
-        if (!parse_list_numbers(c, l, tok, ntok, 0, x, 2))
+    }
+    case L_EVENT:
+    case L_EVENT_RAMP: {
+        bool ramp = l->kind == L_EVENT_RAMP;
+        if (!parse_list_numbers(c, l, tok, ntok, 0, x, ramp ? 3 : 2))
             return 0;
-        if (x[0] < 0.0 || x[0] > 600.0)
-            return fail(c, "[events] %s: time %g s is out of range (0..600 s)", l->key, x[0]);
-        if (!(x[1] > 0.0 && x[1] <= 1000.0))
-            return fail(c, "[events] %s: factor %g is out of range (must be > 0 and <= 1000)", l->key, x[1]);
+        double t0 = x[0], t1 = ramp ? x[1] : x[0], factor = ramp ? x[2] : x[1];
+        if (t0 < 0.0 || t0 > 600.0)
+            return fail(c, "[events] %s: time %g s is out of range (0..600 s)", l->key, t0);
+        if (ramp && !(t1 > t0 && t1 <= 600.0))
+            return fail(c, "[events] %s: end time %g s must be after the start %g s (and <= 600 s)", l->key, t1,
+                        t0);
+        if (!(factor > 0.0 && factor <= 1000.0))
+            return fail(c, "[events] %s: factor %g is out of range (must be > 0 and <= 1000)", l->key, factor);
         if (c->from_set) {
-            /* Replace the events of this kind only. */
+            /* Replace the events of this parameter only (steps and ramps). */
             int n = 0;
             for (int i = 0; i < sc->n_events; i++)
                 if ((int)sc->events[i].kind != l->event_kind)
                     sc->events[n++] = sc->events[i];
             sc->n_events = n;
-        } else if (sc->n_events > 0 && x[0] < sc->events[sc->n_events - 1].t_s) {
-            return fail(c, "[events] %s at %g s is out of time order (line %d is at %g s)", l->key, x[0],
+        } else if (sc->n_events > 0 && t0 < sc->events[sc->n_events - 1].t_s) {
+            return fail(c, "[events] %s at %g s is out of time order (line %d is at %g s)", l->key, t0,
                         sc->events[sc->n_events - 1].line, sc->events[sc->n_events - 1].t_s);
+        }
+        /* A change of one parameter must not start inside a ramp of the same parameter. */
+        for (int i = sc->n_events - 1; i >= 0; i--) {
+            const scenario_event *p = &sc->events[i];
+            if ((int)p->kind != l->event_kind)
+                continue;
+            if (p->ramp && t0 < p->t1_s)
+                return fail(c, "[events] %s at %g s starts inside the ramp on line %d (it ends at %g s)", l->key,
+                            t0, p->line, p->t1_s);
+            break;
         }
         if (sc->n_events >= SCENARIO_MAX_ENTRIES)
             return fail(c, "[events] too many entries (at most %d)", SCENARIO_MAX_ENTRIES);
-        sc->events[sc->n_events++] = (scenario_event){ (scenario_event_kind)l->event_kind, x[0], x[1], c->line };
+        sc->events[sc->n_events++] =
+            (scenario_event){ (scenario_event_kind)l->event_kind, ramp, t0, t1, factor, c->line };
         return 1;
     }
+    case L_FAULT:
+        return add_fault(c, l, tok, ntok);
     case L_WINDOW: {
         if (ntok < 1)
             return fail(c, "[metrics] window: expected '%s'", l->syntax);
@@ -503,8 +625,8 @@ static int assign(parse_ctx *c, const char *section, const char *name, const cha
         if (strcmp(section, sections[i]) == 0)
             known = true;
     if (!known)
-        return fail(c, "unknown section [%s] (sections: sim, motor, drive, sensors, supply, controller, "
-                       "control, reference, load, events, metrics)", section);
+        return fail(c, "unknown section [%s] (sections: sim, motor, load, drive, inverter, sensors, supply, "
+                       "controller, control, reference, events, faults, metrics)", section);
     if (strcmp(section, "control") == 0)
         return set_control(c, name, value);
     for (size_t i = 0; i < N_KEYS; i++)

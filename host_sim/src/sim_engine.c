@@ -38,8 +38,10 @@ typedef struct {
     bool acc_init;
     sim_trace trace;
     bool trace_open;
-    scenario_event events[SCENARIO_MAX_ENTRIES]; /* sorted by time (stable) */
-    int n_events;
+    scenario_fault faults[SCENARIO_MAX_ENTRIES]; /* sorted by time (stable) */
+    int n_faults;
+    double factor[SCENARIO_EV_KINDS];            /* parameter factors applied so far */
+    bool invalid[SCENARIO_N_CHANNELS];           /* channels the firmware reads as NaN */
 } engine;
 
 void sim_options_default(sim_options *o)
@@ -92,38 +94,92 @@ static void configure_firmware(engine *e, const scenario *sc, int controller)
     ctl_init(&d->ctl, drive_cfg(d));
 }
 
-static void sort_events(engine *e, const scenario *sc)
+static void sort_faults(engine *e, const scenario *sc)
 {
-    e->n_events = sc->n_events;
-    memcpy(e->events, sc->events, (size_t)sc->n_events * sizeof sc->events[0]);
-    for (int i = 1; i < e->n_events; i++) { /* stable insertion sort */
-        scenario_event x = e->events[i];
+    e->n_faults = sc->n_faults;
+    memcpy(e->faults, sc->faults, (size_t)sc->n_faults * sizeof sc->faults[0]);
+    for (int i = 1; i < e->n_faults; i++) { /* stable insertion sort (--set may append out of order) */
+        scenario_fault x = e->faults[i];
         int j = i - 1;
-        while (j >= 0 && e->events[j].t_s > x.t_s) {
-            e->events[j + 1] = e->events[j];
+        while (j >= 0 && e->faults[j].t_s > x.t_s) {
+            e->faults[j + 1] = e->faults[j];
             j--;
         }
-        e->events[j + 1] = x;
+        e->faults[j + 1] = x;
     }
 }
 
-static void apply_event(engine *e, const scenario *sc, const scenario_event *ev)
+/* Parameter steps and ramps: the factor of each kind at t, pushed into the
+ * plant when it changed (every tick during a ramp: a staircase of one tick). */
+static void apply_params(engine *e, const scenario *sc, double t)
 {
     const plant_motor_params *m0 = &sc->plant.motor; /* events scale the ORIGINAL values */
-    switch (ev->kind) {
-    case SCENARIO_EV_J:
-        plant_set_inertia(&e->ps, m0->J_kgm2 * ev->factor);
+    for (int k = 0; k < SCENARIO_EV_KINDS; k++) {
+        double f = scenario_param_factor(sc, (scenario_event_kind)k, t);
+        if (f == e->factor[k])
+            continue;
+        e->factor[k] = f;
+        switch ((scenario_event_kind)k) {
+        case SCENARIO_EV_J:
+            plant_set_inertia(&e->ps, m0->J_kgm2 * f);
+            break;
+        case SCENARIO_EV_B:
+            plant_set_friction(&e->ps, m0->B_Nms * f);
+            break;
+        case SCENARIO_EV_RS:
+            plant_set_rs(&e->ps, m0->Rs_ohm * f);
+            break;
+        case SCENARIO_EV_RR:
+            plant_set_rr(&e->ps, m0->Rr_ohm * f);
+            break;
+        case SCENARIO_EV_LM:
+            plant_set_lm(&e->ps, m0->Lm_H * f);
+            break;
+        case SCENARIO_EV_KINDS:
+            break;
+        }
+    }
+}
+
+/* One [faults] entry. Plant-side faults go to the plant's sensor chain and
+ * supply; the rest act on what the board hands the firmware. */
+static void apply_fault(engine *e, const scenario *sc, const scenario_fault *f)
+{
+    const plant_sensor_params *s0 = &sc->plant.sensor;
+    const int ch = f->channel;
+    switch (f->kind) {
+    case SCENARIO_FAULT_GAIN:
+        plant_set_sensor_gain(&e->ps, ch, f->value);
         break;
-    case SCENARIO_EV_B:
-        plant_set_friction(&e->ps, m0->B_Nms * ev->factor);
+    case SCENARIO_FAULT_OFFSET:
+        plant_set_sensor_offset(&e->ps, ch, f->value);
         break;
-    case SCENARIO_EV_RS:
-        plant_set_rs(&e->ps, m0->Rs_ohm * ev->factor);
+    case SCENARIO_FAULT_STUCK:
+        plant_set_sensor_fault(&e->ps, ch, PLANT_SENSOR_STUCK);
         break;
-    case SCENARIO_EV_RR:
-        plant_set_rr(&e->ps, m0->Rr_ohm * ev->factor);
+    case SCENARIO_FAULT_LOST:
+        plant_set_sensor_fault(&e->ps, ch, PLANT_SENSOR_LOST);
         break;
-    case SCENARIO_EV_KINDS:
+    case SCENARIO_FAULT_INVALID:
+        e->invalid[ch] = true;
+        break;
+    case SCENARIO_FAULT_RESTORE:
+        plant_set_sensor_fault(&e->ps, ch, PLANT_SENSOR_OK);
+        plant_set_sensor_gain(&e->ps, ch, ch < 3 ? s0->i_gain[ch] : s0->v_gain[ch - 3]);
+        plant_set_sensor_offset(&e->ps, ch, ch < 3 ? s0->i_offset_A[ch] : s0->v_offset_V[ch - 3]);
+        e->invalid[ch] = false;
+        break;
+    case SCENARIO_FAULT_VDC:
+        plant_set_vdc(&e->ps, f->value);
+        break;
+    case SCENARIO_FAULT_HW:
+        e->board.fault_input = f->value != 0.0;
+        break;
+    case SCENARIO_FAULT_OPEN_PHASE:
+        plant_set_phase_open(&e->ps, ch, 1);
+        break;
+    case SCENARIO_FAULT_STALE: /* handled at the sample (one tick only) */
+    case SCENARIO_FAULT_KINDS:
         break;
     }
 }
@@ -134,7 +190,7 @@ static double eps_true(const engine *e, const scenario *sc, double omega, double
 {
     double J = sc->plant.motor.J_kgm2, B = sc->plant.motor.B_Nms;
     double Jp = e->ps.cfg.motor.J_kgm2, Bp = e->ps.cfg.motor.B_Nms;
-    return (-Bp / Jp + B / J) * omega + (1.0 / Jp - 1.0 / J) * te - e->ps.t_load_Nm / Jp;
+    return (-Bp / Jp + B / J) * omega + (1.0 / Jp - 1.0 / J) * te - plant_load_torque(&e->ps, omega) / Jp;
 }
 
 static int check_writable(const char *path, sim_result *res)
@@ -254,7 +310,10 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
 
     hal_actuation prev; /* latched on the previous tick: applied in this period */
     hal_host_take_actuation(&e->board, &prev, &(bool){ false });
-    int ev_i = 0, load_i = 0;
+    int fault_i = 0;
+    double load_nm = 0.0; /* the plant starts without load */
+    for (int k = 0; k < SCENARIO_EV_KINDS; k++)
+        e->factor[k] = 1.0;
     double last_ref_rpm = NAN;
     drive_snapshot snap;
     memset(&snap, 0, sizeof snap);
@@ -270,21 +329,34 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
             break; /* realtime: a clean stop */
         }
 
-        /* 1. sample at the period start */
+        /* 1. sample at the period start; faults due now act on this sample */
+        bool stale = false;
+        while (fault_i < e->n_faults && e->faults[fault_i].t_s <= t + T_EPS) {
+            stale = stale || e->faults[fault_i].kind == SCENARIO_FAULT_STALE;
+            apply_fault(e, sc, &e->faults[fault_i++]);
+        }
         plant_adc adc;
         plant_sample(&e->ps, &adc);
         double i_A[3], v_V[2];
         plant_adc_to_units(&e->ps.cfg, &adc, i_A, v_V);
         hal_sample s = { (float)i_A[0], (float)i_A[1], (float)i_A[2], (float)v_V[0], (float)v_V[1],
                          (float)adc.omega_m_rad_s, true, (uint32_t)(k + 1u) };
-        hal_host_set_sample(&e->board, &s);
+        float *chan[SCENARIO_N_CHANNELS] = { &s.ia_A, &s.ib_A, &s.ic_A, &s.vc1_V, &s.vc2_V };
+        for (int c = 0; c < SCENARIO_N_CHANNELS; c++)
+            if (e->invalid[c])
+                *chan[c] = NAN;
+        if (!stale) /* a stale tick: the ADC did not convert, hal_sample_read finds nothing new */
+            hal_host_set_sample(&e->board, &s);
         e->board.t_s = t;
 
         /* 2. events whose time has come */
-        while (ev_i < e->n_events && e->events[ev_i].t_s <= t + T_EPS)
-            apply_event(e, sc, &e->events[ev_i++]);
-        while (load_i < sc->n_load && sc->load[load_i].t_s <= t + T_EPS)
-            plant_set_load(&e->ps, sc->load[load_i++].nm);
+        apply_params(e, sc, t + T_EPS);
+        double tl = scenario_load_nm(sc, t + T_EPS);
+        if (tl != load_nm)
+            plant_set_load(&e->ps, tl);
+        load_nm = tl;
+        if (o->on_plant != NULL)
+            o->on_plant(o->user, t, &e->ps);
         double ref_rpm = scenario_ref_rpm(sc, t + T_EPS);
         if (firmware && ref_rpm != last_ref_rpm)
             drive_set_speed_ref(&e->drv, (float)(ref_rpm * RPM_TO_RAD_S));
@@ -331,7 +403,8 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         metrics_acc_add(&e->acc, &ms);
         if (e->trace_open && k % trace_every == 0u) {
             sim_trace_row row = { t, tr.omega_m_rad_s, tr.te_Nm, tr.ia_A, tr.ib_A, tr.ic_A, tr.vc1_V, tr.vc2_V,
-                                  ref_rpm, e->ps.t_load_Nm, eps, firmware ? &snap : NULL };
+                                  ref_rpm, plant_load_torque(&e->ps, tr.omega_m_rad_s), eps,
+                                  firmware ? &snap : NULL };
             trace_write(&e->trace, &row);
         }
         res->ticks = k + 1u;
@@ -411,7 +484,7 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
         rc = set_error(res, SIM_EINPUT, "%s: invalid plant configuration: %s", sc->source, what);
         goto out;
     }
-    sort_events(e, sc);
+    sort_faults(e, sc);
 
     hal_host_board_init(&e->board);
     if (o.nvm_path != NULL) {

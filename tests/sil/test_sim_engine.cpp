@@ -313,3 +313,122 @@ TEST(SimEngine, BadOptionsAreInputErrors)
     EXPECT_EQ(sim_run(l.sc.get(), &o, &res), SIM_EINPUT);
     EXPECT_NE(std::string(res.error).find("cannot create"), std::string::npos) << res.error;
 }
+
+// docs/faults.md: every fault the firmware knows (except OVERRUN, which the
+// host board cannot produce) can be injected from a scenario, and it latches
+// exactly its own bit. The base run (300 rpm, no fault) ends with no fault.
+TEST(SimEngine, EveryCatalogueFaultCanBeInjectedFromAScenario)
+{
+    const std::string base = "[sim]\nduration_s = 0.8\n[reference]\nramp = 0.2 0.4 300\n";
+    struct Case {
+        const char *extra;
+        uint32_t bit;
+    };
+    const Case cases[] = {
+        { "", 0u },
+        { "[faults]\noffset = 0.6 a 120\n", CTL_FAULT_OVERCURRENT },
+        { "[faults]\nvdc = 0.6 420\n", CTL_FAULT_DC_OVERVOLT },
+        { "[faults]\nvdc = 0.6 150\n", CTL_FAULT_DC_UNDERVOLT },
+        { "[faults]\noffset = 0.6 vc1 40\n", CTL_FAULT_NP_IMBALANCE },
+        { "[control]\noverspeed_rad_s = 20\n", CTL_FAULT_OVERSPEED },
+        { "[faults]\nstale = 0.6\n", CTL_FAULT_STALE_SAMPLE },
+        { "[faults]\nhw = 0.6 on\n", CTL_FAULT_HW },
+        { "[faults]\ninvalid = 0.6 b\n", CTL_FAULT_SAMPLE_INVALID },
+    };
+    for (const Case &c : cases) {
+        auto l = simtest::parse_text(base + c.extra);
+        ASSERT_EQ(l.rc, 0) << l.error;
+        sim_result res;
+        ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;
+        EXPECT_EQ(res.metrics.faults, c.bit) << c.extra;
+        EXPECT_FALSE(res.metrics.runaway) << c.extra;
+    }
+}
+
+// A sensor fault acts on the sample of the first tick at or after its time:
+// a lost phase-a current sensor reads 0 A from then on (the firmware's
+// telemetry sees it), and a restore brings the true reading back.
+TEST(SimEngine, SensorFaultActsOnTheSampleAtItsTick)
+{
+    struct Seen {
+        std::vector<double> t, ia;
+    } seen;
+    auto l = simtest::parse_text("[sim]\nduration_s = 0.5\n[reference]\nramp = 0.2 0.3 100\n"
+                                 "[faults]\nlost = 0.40005 a\nrestore = 0.45 a\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    sim_options o;
+    sim_options_default(&o);
+    o.user = &seen;
+    o.on_tick = [](void *user, double t_s, struct drive *d) {
+        auto *s = static_cast<Seen *>(user);
+        hal_sample smp;
+        std::memcpy(&smp, &hal_host_bound()->sample, sizeof smp);
+        (void)d;
+        s->t.push_back(t_s);
+        s->ia.push_back(smp.ia_A);
+    };
+    sim_result res;
+    ASSERT_EQ(sim_run(l.sc.get(), &o, &res), SIM_OK) << res.error;
+    int lost = 0, live_before = 0, live_after = 0;
+    for (size_t k = 0; k < seen.t.size(); ++k) {
+        double t = seen.t[k];
+        if (t > 0.38 - 1e-9 && t < 0.4 - 1e-9)
+            live_before += std::fabs(seen.ia[k]) > 0.2;
+        else if (t >= 0.4002 - 1e-9 && t < 0.45 - 1e-9)
+            lost += std::fabs(seen.ia[k]) < 0.05; // 0 A within one code (150 A / 2047)
+        else if (t > 0.46 - 1e-9)
+            live_after += std::fabs(seen.ia[k]) > 0.2;
+    }
+    // Magnetising current (about 11 A peak) flows: all but the samples next
+    // to a slow zero crossing (3 Hz) read more than 0.2 A.
+    EXPECT_GE(live_before, 80);  // of 100 ticks 0.38 .. 0.3998 s
+    EXPECT_EQ(lost, 249);        // ticks 0.4002 .. 0.4498 s: every one reads 0 A
+    EXPECT_GE(live_after, 150);  // of 200 ticks 0.46 .. 0.5 s
+}
+
+// Ramps and steps reach the plant at the tick: the value the plant holds at
+// tick t is the hand-computed profile (linear interpolation inside a ramp) at
+// t + 1 ns, the engine's tolerance for "the time has come" (as for the
+// speed reference).
+TEST(SimEngine, ParameterAndLoadRampsReachThePlantTickByTick)
+{
+    auto l = simtest::parse_text("[sim]\nduration_s = 0.05\n[supply]\nmode = sine\n"
+                                 "[load]\nramp = 0.01 0.03 6\ncoulomb_Nm = 0.5\n"
+                                 "[events]\nRs_ramp = 0.01 0.02 1.5\nLm_scale = 0.02 0.8\nRr_ramp = 0.03 0.04 2\n"
+                                 "[faults]\nvdc = 0.025 250\ngain = 0.03 vc2 1.1\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    struct Seen {
+        std::vector<double> t, rs, rr, lm, tl, vdc, g2, coul;
+    } seen;
+    sim_options o;
+    sim_options_default(&o);
+    o.user = &seen;
+    o.on_plant = [](void *user, double t_s, const plant_state *ps) {
+        auto *s = static_cast<Seen *>(user);
+        s->t.push_back(t_s);
+        s->rs.push_back(ps->cfg.motor.Rs_ohm);
+        s->rr.push_back(ps->cfg.motor.Rr_ohm);
+        s->lm.push_back(ps->cfg.motor.Lm_H);
+        s->tl.push_back(ps->t_load_Nm);
+        s->vdc.push_back(ps->cfg.dc.vdc_V);
+        s->g2.push_back(ps->cfg.sensor.v_gain[1]);
+        s->coul.push_back(ps->cfg.load.coulomb_Nm);
+    };
+    sim_result res;
+    ASSERT_EQ(sim_run(l.sc.get(), &o, &res), SIM_OK) << res.error;
+    ASSERT_EQ(seen.t.size(), 251u);
+    const double Rs0 = 0.288, Rr0 = 0.158, Lm0 = 0.0416;
+    for (size_t k = 0; k < seen.t.size(); ++k) {
+        double t = k * 200e-6 + 1e-9;
+        double rs = t < 0.01 ? 1.0 : (t < 0.02 ? 1.0 + 0.5 * (t - 0.01) / 0.01 : 1.5);
+        double rr = t < 0.03 ? 1.0 : (t < 0.04 ? 1.0 + (t - 0.03) / 0.01 : 2.0);
+        double tl = t < 0.01 ? 0.0 : (t < 0.03 ? 6.0 * (t - 0.01) / 0.02 : 6.0);
+        EXPECT_NEAR(seen.rs[k], Rs0 * rs, 1e-14) << "t = " << t;
+        EXPECT_NEAR(seen.rr[k], Rr0 * rr, 1e-14) << "t = " << t;
+        EXPECT_DOUBLE_EQ(seen.lm[k], t < 0.02 ? Lm0 : Lm0 * 0.8) << "t = " << t;
+        EXPECT_NEAR(seen.tl[k], tl, 1e-12) << "t = " << t;
+        EXPECT_DOUBLE_EQ(seen.vdc[k], t < 0.025 ? 311.0 : 250.0) << "t = " << t;
+        EXPECT_DOUBLE_EQ(seen.g2[k], t < 0.03 ? 1.0 : 1.1) << "t = " << t;
+        EXPECT_DOUBLE_EQ(seen.coul[k], 0.5);
+    }
+}

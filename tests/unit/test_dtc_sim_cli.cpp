@@ -95,6 +95,14 @@ TEST(DtcSimCli, BadScenarioFilesNameTheLineAndLeaveNothing)
         { "events_order", "[events]\nJ_scale = 2.5 1.4\nB_scale = 2.0 1.4\n", 3, "out of time order" },
         { "unknown_section", "[simulation]\nduration_s = 1\n", 2, "unknown section [simulation]" },
         { "syntax", "[sim]\nduration_s 1\n", 2, "syntax error" },
+        // keys of the load models, ramps, faults, inverter and saturation
+        { "coulomb", "[load]\ncoulomb_Nm = -2\n", 2, "[load] coulomb_Nm must be >= 0" },
+        { "load_ramp", "[load]\nstep = 1 5\nramp = 3 2 8\n", 3, "end time 2 s must be after the start 3 s" },
+        { "rs_ramp", "[events]\nRs_ramp = 2 8 1.5\nRs_scale = 4 1\n", 3, "starts inside the ramp on line 2" },
+        { "fault_channel", "[faults]\n\nlost = 0.5 phase_a\n", 3, "unknown channel 'phase_a'" },
+        { "fault_vdc", "[faults]\nvdc = 0.5 -311\n", 2, "out of range" },
+        { "dead_time", "[inverter]\ndead_time_s = -2e-6\n", 2, "[inverter] dead_time_s must be in [0, 5e-05] s" },
+        { "saturation", "[motor]\nLm_sat_psi_Wb = 0.7\nLm_sat_exponent = 1.5\n", 3, "Lm_sat_exponent must be in [2, 20]" },
     };
     TempDir d;
     for (const auto &c : cases) {

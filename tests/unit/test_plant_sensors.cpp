@@ -368,3 +368,66 @@ TEST(PlantMechanics, BadAdvanceInputIsHarmless)
 }
 
 } // namespace
+
+// Timed sensor faults: codes before and after, by hand (12 bit, 500 V and
+// +-150 A full scale: v code = round(v / 500 * 4095), i code =
+// round((i / 150 + 1) / 2 * 4095)).
+TEST(PlantSensors, GainOffsetStuckAndLostFaults)
+{
+    plant_config c = quiet_cfg();
+    plant_state s;
+    ASSERT_EQ(plant_init(&s, &c), 0);
+    set_currents(s, 10.0, -4.0, -6.0);
+    s.vc1 = 150.0;
+    s.vc2 = 160.0;
+    plant_adc a;
+    plant_sample(&s, &a);
+    auto vcode = [](double v) { return (uint16_t)std::floor(v / 500.0 * 4095.0 + 0.5); };
+    auto icode = [](double i) { return (uint16_t)std::floor((i / 150.0 + 1.0) * 0.5 * 4095.0 + 0.5); };
+    EXPECT_EQ(a.v_code[0], vcode(150.0));
+    EXPECT_EQ(a.i_code[0], icode(10.0));
+
+    plant_set_sensor_gain(&s, PLANT_CH_VC1, 1.2);
+    plant_set_sensor_offset(&s, PLANT_CH_IB, 2.5);
+    plant_set_sensor_fault(&s, PLANT_CH_VC2, PLANT_SENSOR_STUCK);
+    plant_set_sensor_fault(&s, PLANT_CH_IC, PLANT_SENSOR_LOST);
+    s.vc2 = 100.0; // the stuck channel must not see this
+    plant_sample(&s, &a);
+    EXPECT_EQ(a.v_code[0], vcode(180.0));
+    EXPECT_EQ(a.i_code[1], icode(-4.0 + 2.5));
+    EXPECT_EQ(a.v_code[1], vcode(160.0)); // the last conversion before the fault
+    EXPECT_EQ(a.i_code[2], icode(0.0));   // lost phase: 0 A
+    EXPECT_EQ(a.i_code[0], icode(10.0));  // the others untouched
+
+    plant_set_sensor_fault(&s, PLANT_CH_VC1, PLANT_SENSOR_LOST);
+    plant_set_sensor_fault(&s, PLANT_CH_VC2, PLANT_SENSOR_OK);
+    plant_set_sensor_fault(&s, PLANT_CH_IC, PLANT_SENSOR_OK);
+    plant_sample(&s, &a);
+    EXPECT_EQ(a.v_code[0], 0u);
+    EXPECT_EQ(a.v_code[1], vcode(100.0));
+    EXPECT_EQ(a.i_code[2], icode(-6.0));
+
+    // Nonsense is ignored (channel out of range, gain <= 0, NaN offset).
+    plant_set_sensor_gain(&s, 5, 2.0);
+    plant_set_sensor_gain(&s, PLANT_CH_IA, 0.0);
+    plant_set_sensor_offset(&s, PLANT_CH_IA, NAN);
+    plant_set_sensor_fault(&s, -1, PLANT_SENSOR_LOST);
+    plant_sample(&s, &a);
+    EXPECT_EQ(a.i_code[0], icode(10.0));
+}
+
+// A stuck channel from the first sample on holds that first conversion.
+TEST(PlantSensors, StuckFromTheStartHoldsTheFirstConversion)
+{
+    plant_config c = quiet_cfg();
+    plant_state s;
+    ASSERT_EQ(plant_init(&s, &c), 0);
+    plant_set_sensor_fault(&s, PLANT_CH_VC1, PLANT_SENSOR_STUCK);
+    plant_adc a;
+    plant_sample(&s, &a);
+    uint16_t first = a.v_code[0];
+    EXPECT_EQ(first, (uint16_t)std::floor(155.5 / 500.0 * 4095.0 + 0.5));
+    s.vc1 = 10.0;
+    plant_sample(&s, &a);
+    EXPECT_EQ(a.v_code[0], first);
+}

@@ -51,6 +51,15 @@ TEST(ScenarioParser, DefaultsAreTheTenHorsepowerDrive)
     EXPECT_DOUBLE_EQ(sc.plant.motor.B_Nms, 0.005);
     EXPECT_DOUBLE_EQ(sc.plant.dc.vdc_V, 311.0);
     EXPECT_EQ(sc.plant.supply, PLANT_SUPPLY_INVERTER);
+    // New scenarios get the real inverter (docs/scenarios.md [inverter]), no
+    // saturation and no load models.
+    EXPECT_DOUBLE_EQ(sc.plant.inverter.dead_time_s, 2e-6);
+    EXPECT_DOUBLE_EQ(sc.plant.inverter.v_on_V, 1.0);
+    EXPECT_DOUBLE_EQ(sc.plant.motor.Lm_sat_psi_Wb, 0.0);
+    EXPECT_DOUBLE_EQ(sc.plant.load.coulomb_Nm, 0.0);
+    EXPECT_DOUBLE_EQ(sc.plant.load.viscous_Nms, 0.0);
+    EXPECT_DOUBLE_EQ(sc.plant.load.fan_Nms2, 0.0);
+    EXPECT_EQ(sc.n_faults, 0);
     EXPECT_DOUBLE_EQ(sc.duration_s, 1.0);
     EXPECT_DOUBLE_EQ(sc.period_s, 200e-6);
     EXPECT_DOUBLE_EQ(sc.trace_interval_s, 1e-3);
@@ -102,6 +111,13 @@ TEST(ScenarioParser, EveryScalarKeyLands)
         { "motor", "pole_pairs", "3", [](const scenario &s) { return (double)s.plant.motor.pole_pairs; }, 3 },
         { "motor", "J_kgm2", "0.063", [](const scenario &s) { return s.plant.motor.J_kgm2; }, 0.063 },
         { "motor", "B_Nms", "0", [](const scenario &s) { return s.plant.motor.B_Nms; }, 0.0 },
+        { "motor", "Lm_sat_psi_Wb", "0.7", [](const scenario &s) { return s.plant.motor.Lm_sat_psi_Wb; }, 0.7 },
+        { "motor", "Lm_sat_exponent", "8", [](const scenario &s) { return s.plant.motor.Lm_sat_exponent; }, 8 },
+        { "load", "coulomb_Nm", "1.5", [](const scenario &s) { return s.plant.load.coulomb_Nm; }, 1.5 },
+        { "load", "viscous_Nms", "0.02", [](const scenario &s) { return s.plant.load.viscous_Nms; }, 0.02 },
+        { "load", "fan_Nms2", "0.0008", [](const scenario &s) { return s.plant.load.fan_Nms2; }, 0.0008 },
+        { "inverter", "dead_time_s", "3e-6", [](const scenario &s) { return s.plant.inverter.dead_time_s; }, 3e-6 },
+        { "inverter", "v_on_V", "0", [](const scenario &s) { return s.plant.inverter.v_on_V; }, 0.0 },
         { "drive", "vdc_V", "540", [](const scenario &s) { return s.plant.dc.vdc_V; }, 540 },
         { "drive", "r_src_ohm", "0.1", [](const scenario &s) { return s.plant.dc.r_src_ohm; }, 0.1 },
         { "drive", "c1_F", "0.001", [](const scenario &s) { return s.plant.dc.c1_F; }, 0.001 },
@@ -201,6 +217,156 @@ TEST(ScenarioParser, DerivedMetricTimes)
     ASSERT_TRUE(scenario_disturbance(m.sc.get(), &t));
     EXPECT_DOUBLE_EQ(t, 0.3);
     EXPECT_DOUBLE_EQ(scenario_startup_end(m.sc.get()), 0.25);
+}
+
+// Load and parameter ramps: the profile value at t is the linear interpolation
+// written out by hand; steps and ramps of one parameter chain; other
+// parameters are independent.
+TEST(ScenarioParser, LoadAndParameterRamps)
+{
+    auto l = parse_text("[load]\nstep = 1 5\nramp = 2 4 9   # 5 -> 9 N m\nstep = 5 -3\n"
+                        "[events]\nRs_scale = 0.5 1.1\nRr_ramp = 1 3 1.5\nRs_ramp = 2 8 1.5\n"
+                        "Lm_scale = 3 0.9\nJ_ramp = 3 3.5 2\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    const scenario *sc = l.sc.get();
+    ASSERT_EQ(sc->n_load, 3);
+    EXPECT_TRUE(sc->load[1].ramp);
+    EXPECT_DOUBLE_EQ(sc->load[1].t1_s, 4.0);
+    EXPECT_DOUBLE_EQ(scenario_load_nm(sc, 0.99), 0.0);
+    EXPECT_DOUBLE_EQ(scenario_load_nm(sc, 1.0), 5.0);
+    EXPECT_DOUBLE_EQ(scenario_load_nm(sc, 2.0), 5.0);
+    EXPECT_DOUBLE_EQ(scenario_load_nm(sc, 2.5), 6.0);   // 5 + (9 - 5) * 0.5 / 2
+    EXPECT_DOUBLE_EQ(scenario_load_nm(sc, 4.0), 9.0);
+    EXPECT_DOUBLE_EQ(scenario_load_nm(sc, 4.9), 9.0);
+    EXPECT_DOUBLE_EQ(scenario_load_nm(sc, 5.0), -3.0);
+
+    ASSERT_EQ(sc->n_events, 5);
+    // Rs: 1 until 0.5 s, 1.1 until 2 s, then linear to 1.5 at 8 s (gradual heating).
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_RS, 0.4), 1.0);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_RS, 0.5), 1.1);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_RS, 2.0), 1.1);
+    EXPECT_NEAR(scenario_param_factor(sc, SCENARIO_EV_RS, 5.0), 1.1 + 0.4 * 3.0 / 6.0, 1e-15);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_RS, 8.0), 1.5);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_RS, 100.0), 1.5);
+    // Rr: from 1 at 1 s to 1.5 at 3 s.
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_RR, 1.5), 1.125);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_RR, 3.0), 1.5);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_LM, 2.99), 1.0);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_LM, 3.0), 0.9);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_J, 3.25), 1.5);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(sc, SCENARIO_EV_B, 7.0), 1.0);
+
+    double t;
+    ASSERT_TRUE(scenario_disturbance(sc, &t));
+    EXPECT_DOUBLE_EQ(t, 0.5); // the first parameter event after 0
+
+    // --set replaces all steps and ramps of that parameter, and the whole load profile.
+    auto m = parse_text("[load]\nramp = 1 2 5\n[events]\nRs_ramp = 1 2 1.5\nRr_scale = 1 2\n",
+                        { "events.Rs_scale=3 1.2", "load.ramp=0.5 1.5 4" });
+    ASSERT_EQ(m.rc, 0) << m.error;
+    EXPECT_DOUBLE_EQ(scenario_param_factor(m.sc.get(), SCENARIO_EV_RS, 2.0), 1.0);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(m.sc.get(), SCENARIO_EV_RS, 3.0), 1.2);
+    EXPECT_DOUBLE_EQ(scenario_param_factor(m.sc.get(), SCENARIO_EV_RR, 3.0), 2.0);
+    ASSERT_EQ(m.sc->n_load, 1);
+    EXPECT_DOUBLE_EQ(scenario_load_nm(m.sc.get(), 1.0), 2.0);
+}
+
+TEST(ScenarioSet, FaultKeysReplaceOnlyTheirOwnEntries)
+{
+    auto l = parse_text("[faults]\nvdc = 1 250\nvdc = 1.5 311\nstale = 2\n",
+                        { "faults.vdc=0.5 420", "inverter.dead_time_s=0", "load.fan_Nms2=0.001" });
+    ASSERT_EQ(l.rc, 0) << l.error;
+    ASSERT_EQ(l.sc->n_faults, 2);
+    EXPECT_EQ(l.sc->faults[0].kind, SCENARIO_FAULT_STALE);
+    EXPECT_EQ(l.sc->faults[1].kind, SCENARIO_FAULT_VDC);
+    EXPECT_DOUBLE_EQ(l.sc->faults[1].value, 420.0);
+    EXPECT_EQ(l.sc->faults[1].line, SCENARIO_LINE_SET);
+    EXPECT_DOUBLE_EQ(l.sc->plant.inverter.dead_time_s, 0.0);
+    EXPECT_DOUBLE_EQ(l.sc->plant.load.fan_Nms2, 0.001);
+    auto e = parse_text("", { "faults.gain=1 x 2" });
+    EXPECT_EQ(e.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(e.error, "--set faults.gain: [faults] gain: unknown channel 'x' (expected a, b, c, vc1 or vc2)");
+    auto v = parse_text("", { "inverter.v_on_V=-1" });
+    EXPECT_EQ(v.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(v.error, "--set inverter.v_on_V: [inverter] v_on_V must be in [0, 50] V");
+}
+
+TEST(ScenarioParser, FaultEntries)
+{
+    auto l = parse_text("[faults]\ngain = 0.5 a 1.2\noffset = 0.5 vc2 -3\nstuck = 0.6 b\nlost = 0.7 c\n"
+                        "invalid = 0.8 vc1\nrestore = 0.9 b\nvdc = 1 250\nvdc = 1.2 311\nstale = 1.3\n"
+                        "hw = 1.4 on\nhw = 1.5 0\nopen_phase = 1.6 c\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    const scenario *sc = l.sc.get();
+    ASSERT_EQ(sc->n_faults, 12);
+    EXPECT_EQ(sc->faults[11].kind, SCENARIO_FAULT_OPEN_PHASE);
+    EXPECT_EQ(sc->faults[11].channel, 2);
+    EXPECT_EQ(sc->faults[0].kind, SCENARIO_FAULT_GAIN);
+    EXPECT_EQ(sc->faults[0].channel, 0);
+    EXPECT_DOUBLE_EQ(sc->faults[0].value, 1.2);
+    EXPECT_EQ(sc->faults[1].channel, 4);
+    EXPECT_DOUBLE_EQ(sc->faults[1].value, -3.0);
+    EXPECT_EQ(sc->faults[2].kind, SCENARIO_FAULT_STUCK);
+    EXPECT_EQ(sc->faults[3].kind, SCENARIO_FAULT_LOST);
+    EXPECT_EQ(sc->faults[3].channel, 2);
+    EXPECT_EQ(sc->faults[4].kind, SCENARIO_FAULT_INVALID);
+    EXPECT_EQ(sc->faults[4].channel, 3);
+    EXPECT_EQ(sc->faults[5].kind, SCENARIO_FAULT_RESTORE);
+    EXPECT_EQ(sc->faults[6].kind, SCENARIO_FAULT_VDC);
+    EXPECT_EQ(sc->faults[6].channel, -1);
+    EXPECT_DOUBLE_EQ(sc->faults[6].value, 250.0);
+    EXPECT_EQ(sc->faults[8].kind, SCENARIO_FAULT_STALE);
+    EXPECT_DOUBLE_EQ(sc->faults[8].t_s, 1.3);
+    EXPECT_DOUBLE_EQ(sc->faults[9].value, 1.0);
+    EXPECT_DOUBLE_EQ(sc->faults[10].value, 0.0);
+    EXPECT_EQ(sc->faults[10].line, 12);
+    double t;
+    EXPECT_FALSE(scenario_disturbance(sc, &t)); // faults are not load disturbances
+}
+
+// Hostile values for the new keys: exit status 2 (SCENARIO_EINPUT) and one
+// line naming the file and the line of the offending key.
+TEST(ScenarioParser, NewKeyErrors)
+{
+    expect_error("[load]\ncoulomb_Nm = -1\n", 2, "[load] coulomb_Nm must be >= 0");
+    expect_error("[load]\nviscous_Nms = 0\nfan_Nms2 = -0.1\n", 3, "[load] fan_Nms2 must be >= 0");
+    expect_error("[load]\nfan_Nms2 = 1000\n", 2, "out of range");
+    expect_error("[load]\nfan_Nms2 = nan\n", 2, "malformed number");
+    expect_error("[load]\nviscous_Nms = 1e999\n", 2, "malformed number");
+    expect_error("[load]\nramp = 2 1 5\n", 2, "end time 1 s must be after the start 2 s");
+    expect_error("[load]\nramp = 1 3 5\nstep = 2 1\n", 3, "out of time order (the ramp on line 2 ends at 3 s)");
+    expect_error("[load]\nramp = 1 3\n", 2, "expected 'ramp = T0_S T1_S NM', got 2 values");
+    expect_error("[load]\nramp = 1 3 20000\n", 2, "out of range");
+    expect_error("[events]\nRs_ramp = 2 8 1.5\nRs_scale = 5 1.2\n", 3, "starts inside the ramp on line 2");
+    expect_error("[events]\nRs_ramp = 2 8 1.5\nRr_scale = 1 1.2\n", 3, "out of time order");
+    expect_error("[events]\nLm_ramp = 2 2 1.5\n", 2, "end time");
+    expect_error("[events]\nLm_scale = 1 0\n", 2, "factor 0 is out of range");
+    expect_error("[events]\nJ_ramp = 1 2 -1\n", 2, "factor");
+    expect_error("[events]\nRr_ramp = 1 x 1.5\n", 2, "malformed number 'x'");
+    expect_error("[inverter]\ndead_time_s = -1e-6\n", 2, "[inverter] dead_time_s must be in [0, 5e-05] s");
+    expect_error("[inverter]\ndead_time_s = 1e-3\n", 2, "out of range");
+    expect_error("[inverter]\n\nv_on_V = -0.5\n", 3, "[inverter] v_on_V must be in [0, 50] V");
+    expect_error("[inverter]\nv_on_V = 1\nv_on_V = 2\n", 3, "set twice (first on line 2)");
+    expect_error("[inverter]\nswitch_s = 1\n", 2, "unknown key 'switch_s' in section [inverter]");
+    expect_error("[motor]\nLm_sat_psi_Wb = -0.7\n", 2, "[motor] Lm_sat_psi_Wb must be >= 0");
+    expect_error("[motor]\nLm_sat_exponent = 1\n", 2, "[motor] Lm_sat_exponent must be in [2, 20]");
+    expect_error("[motor]\nLm_sat_exponent = 21\n", 2, "out of range");
+    expect_error("[faults]\ngain = 1 d 2\n", 2, "unknown channel 'd' (expected a, b, c, vc1 or vc2)");
+    expect_error("[faults]\ngain = 1 a 0\n", 2, "factor 0 is out of range");
+    expect_error("[faults]\ngain = 1 a\n", 2, "expected 'gain = T_S CHANNEL FACTOR', got 2 values");
+    expect_error("[faults]\noffset = 1 vc1 2e4\n", 2, "out of range");
+    expect_error("[faults]\noffset = 1 vc1 inf\n", 2, "malformed number 'inf'");
+    expect_error("[faults]\nstuck = 1 a 5\n", 2, "expected 'stuck = T_S CHANNEL', got 3 values");
+    expect_error("[faults]\nlost = -1 a\n", 2, "time -1 s is out of range");
+    expect_error("[faults]\nvdc = 1 0\n", 2, "vdc: 0 V is out of range");
+    expect_error("[faults]\nvdc = 1\n", 2, "expected 'vdc = T_S VOLTS', got 1 value");
+    expect_error("[faults]\nstale = 1 2\n", 2, "expected 'stale = T_S', got 2 values");
+    expect_error("[faults]\nhw = 1 maybe\n", 2, "expected on or off, got 'maybe'");
+    expect_error("[faults]\nvdc = 2 250\nstale = 1\n", 3, "out of time order (line 2 is at 2 s)");
+    expect_error("[faults]\nopen_phase = 1 vc1\n", 2, "unknown phase 'vc1' (expected a, b or c)");
+    expect_error("[faults]\nopen_phase = 1\n", 2, "expected 'open_phase = T_S PHASE', got 1 value");
+    expect_error("[faults]\nbroken = 1 a\n", 2, "unknown key 'broken' in section [faults]");
+    expect_error("[fault]\nstale = 1\n", 1 + 1, "unknown section [fault]");
 }
 
 TEST(ScenarioParser, ErrorsNameFileAndLine)
@@ -431,6 +597,8 @@ TEST(ScenarioParser, GarbageNeverCrashes)
 {
     const std::vector<std::string> vocab = {
         "[sim]", "[motor]", "[reference]", "[events]", "[control]", "[metrics]", "[load]", "[", "]",
+        "[faults]", "[inverter]", "gain", "stuck", "vdc", "hw", "a", "vc2", "on", "Rs_ramp", "fan_Nms2",
+        "dead_time_s", "Lm_sat_exponent",
         "duration_s", "J_kgm2", "step", "ramp", "window", "J_scale", "ip_zeta", "mode", "=", " = ", ":",
         "1", "-1", "0.5", "1e-4", "nan", "inf", "1e999", "abc", "#", ";", "\n", "\n", "\n", "\r\n", " ", "\t",
         std::string(1, '\0'), "\xff\xfe", std::string(120, 'x'),

@@ -146,3 +146,56 @@ TEST(SimMetrics, ShortRunHasNoSteadyWindow)
     ASSERT_EQ(f.out.n_windows, 1);
     EXPECT_FALSE(f.out.windows[0].valid);
 }
+
+// Runaway: |true speed| > 1.5 x the largest |reference| of the run + 300 rpm
+// at any tick. 500 rpm reference -> limit 1050 rpm; a speed that passes it
+// for a single tick and comes back still flags the run.
+TEST(SimMetrics, RunawayFlaggedEvenWhenTheEndLooksFine)
+{
+    Feed f;
+    f.scen = simtest::parse_text("[sim]\nduration_s = 2\nperiod_s = 1e-3\n[reference]\nstep = 0 500\n");
+    feed(f, 2000, [](double t) {
+        metrics_sample s{};
+        s.ref_rpm = 500.0;
+        s.speed_rpm = std::fabs(t - 1.0) < 0.5e-3 ? -1051.0 : 500.0; // one tick beyond, negative
+        return s;
+    });
+    EXPECT_NEAR(f.out.runaway_limit_rpm, 1050.0, 1e-12);
+    EXPECT_TRUE(f.out.runaway);
+    EXPECT_DOUBLE_EQ(f.out.speed_true_max_abs_rpm, 1051.0);
+    EXPECT_DOUBLE_EQ(f.out.speed_true_end_rpm, 500.0);
+    EXPECT_NEAR(f.out.steady_error_rpm, 0.0, 1e-12); // the run would otherwise look perfect
+
+    Feed g; // exactly at the limit is not a runaway; the limit follows the largest |reference|
+    g.scen = simtest::parse_text("[sim]\nduration_s = 2\nperiod_s = 1e-3\n[reference]\nstep = 0 -200\nstep = 1 100\n");
+    feed(g, 2000, [](double t) {
+        metrics_sample s{};
+        s.ref_rpm = t < 1.0 ? -200.0 : 100.0;
+        s.speed_rpm = t < 1.0 ? -600.0 : 600.0; // 1.5 x 200 + 300 = 600
+        return s;
+    });
+    EXPECT_FALSE(g.out.runaway);
+    EXPECT_NEAR(g.out.runaway_limit_rpm, 600.0, 1e-12);
+    EXPECT_DOUBLE_EQ(g.out.speed_true_end_rpm, 600.0);
+
+    Feed h; // the limit comes from the largest |reference| of the whole run
+    h.scen = simtest::parse_text("[sim]\nduration_s = 1\nperiod_s = 1e-3\n[reference]\nstep = 0.5 2000\n");
+    feed(h, 1000, [](double t) {
+        metrics_sample s{};
+        s.ref_rpm = t < 0.5 ? 0.0 : 2000.0;
+        s.speed_rpm = t < 0.1 ? 0.0 : (t < 0.2 ? 3300.0 : 2000.0); // at the limit, not beyond
+        return s;
+    });
+    EXPECT_FALSE(h.out.runaway);
+    EXPECT_NEAR(h.out.runaway_limit_rpm, 3300.0, 1e-12);
+
+    Feed n; // no reference at all: 300 rpm; a NaN speed is a runaway
+    n.scen = simtest::parse_text("[sim]\nduration_s = 1\nperiod_s = 1e-3\n");
+    feed(n, 1000, [](double t) {
+        metrics_sample s{};
+        s.speed_rpm = std::fabs(t - 0.5) < 0.5e-3 ? std::nan("") : 100.0;
+        return s;
+    });
+    EXPECT_TRUE(n.out.runaway);
+    EXPECT_NEAR(n.out.runaway_limit_rpm, 300.0, 1e-12);
+}

@@ -50,10 +50,12 @@ typedef struct {
     int line;      /**< source line (SCENARIO_LINE_SET for --set) */
 } scenario_ref_entry;
 
-/** A load-torque step: T_L = nm from t_s on. */
+/** A load-torque entry: a step to nm at t_s, or a ramp from the value at t_s to nm at t1_s. */
 typedef struct {
-    double t_s;
-    double nm;
+    bool ramp;     /**< false: step at t_s; true: linear from the value at t_s to nm at t1_s */
+    double t_s;    /**< step time or ramp start, s */
+    double t1_s;   /**< ramp end, s (= t_s for a step) */
+    double nm;     /**< constant (active) load torque reached, N m */
     int line;
 } scenario_load_entry;
 
@@ -63,15 +65,45 @@ typedef enum {
     SCENARIO_EV_B = 1,  /**< B_scale */
     SCENARIO_EV_RS = 2, /**< Rs_scale */
     SCENARIO_EV_RR = 3, /**< Rr_scale */
-    SCENARIO_EV_KINDS = 4,
+    SCENARIO_EV_LM = 4, /**< Lm_scale */
+    SCENARIO_EV_KINDS = 5,
 } scenario_event_kind;
 
+/** A parameter change: a step (X_scale) or a ramp (X_ramp) of the factor on the ORIGINAL value. */
 typedef struct {
     scenario_event_kind kind;
-    double t_s;
+    bool ramp;     /**< false: step at t_s; true: linear from the factor at t_s to factor at t1_s */
+    double t_s;    /**< step time or ramp start, s */
+    double t1_s;   /**< ramp end, s (= t_s for a step) */
     double factor; /**< > 0 */
     int line;
 } scenario_event;
+
+/** Kinds of timed faults ([faults] section). */
+typedef enum {
+    SCENARIO_FAULT_GAIN = 0,    /**< sensor channel gain := value */
+    SCENARIO_FAULT_OFFSET = 1,  /**< sensor channel offset := value (A or V) */
+    SCENARIO_FAULT_STUCK = 2,   /**< sensor channel holds its last conversion */
+    SCENARIO_FAULT_LOST = 3,    /**< sensor channel reads 0 A / 0 V */
+    SCENARIO_FAULT_INVALID = 4, /**< the sample the firmware reads is NaN on this channel */
+    SCENARIO_FAULT_RESTORE = 5, /**< channel back to its [sensors] gain and offset, no fault */
+    SCENARIO_FAULT_VDC = 6,     /**< DC source voltage := value (sag, surge) */
+    SCENARIO_FAULT_STALE = 7,   /**< no fresh sample at that tick (the ADC did not convert) */
+    SCENARIO_FAULT_HW = 8,      /**< the board's hardware-fault input := value (1 on, 0 off) */
+    SCENARIO_FAULT_OPEN_PHASE = 9, /**< motor phase (channel a, b or c) disconnected from its leg */
+    SCENARIO_FAULT_KINDS = 10,
+} scenario_fault_kind;
+
+/** Sensor channels as the faults name them: a, b, c (currents), vc1, vc2. */
+#define SCENARIO_N_CHANNELS 5
+
+typedef struct {
+    scenario_fault_kind kind;
+    double t_s;
+    int channel;   /**< 0..4 = a, b, c, vc1, vc2; -1 when the kind takes none */
+    double value;  /**< gain, offset, volts or on/off; 0 when the kind takes none */
+    int line;
+} scenario_fault;
 
 /** A metrics window: mean true speed and stator rms current over [t0_s, t1_s). */
 typedef struct {
@@ -110,6 +142,8 @@ typedef struct {
     int n_load;
     scenario_event events[SCENARIO_MAX_ENTRIES];
     int n_events;
+    scenario_fault faults[SCENARIO_MAX_ENTRIES];
+    int n_faults;
 
     bool has_disturbance;         /**< [metrics] disturbance_t_s given (else derived) */
     double disturbance_t_s;
@@ -148,6 +182,12 @@ int scenario_finish(scenario *sc, char *err, size_t errlen);
 
 /** Reference at @p t_s, rpm: 0 before the first entry, then the profile. */
 double scenario_ref_rpm(const scenario *sc, double t_s);
+
+/** Constant (active) load torque of the [load] step/ramp profile at @p t_s, N m (0 before the first entry). */
+double scenario_load_nm(const scenario *sc, double t_s);
+
+/** Factor on the original value of parameter @p kind at @p t_s (1 before its first event). */
+double scenario_param_factor(const scenario *sc, scenario_event_kind kind, double t_s);
 
 /** Time of the first load or parameter event after t = 0 (or [metrics]
  *  disturbance_t_s); returns false when there is none. */

@@ -69,7 +69,11 @@ typedef struct {
      *  tick time t_s = k T and the drive (NULL in sine mode). It may inject
      *  CAN frames, read snapshots or call drive_* background functions. */
     void (*on_tick)(void *user, double t_s, struct drive *d);
-    void *user;                /**< passed to on_tick */
+    void *user;                /**< passed to on_tick and on_plant */
+    /** Optional hook called every tick after the events due (load,
+     *  parameters, faults) were applied, with the plant's state (read-only;
+     *  for tests and instrumentation). */
+    void (*on_plant)(void *user, double t_s, const plant_state *ps);
     /** Optional stop request (set from a signal handler). In realtime mode
      *  the run ends cleanly (outputs written, SIM_OK); in batch mode it is
      *  abandoned (SIM_ERUNTIME, no outputs). */
@@ -105,6 +109,10 @@ typedef struct {
     double speed_final_rpm;    /**< same, rpm */
     double te_final_nm;        /**< mean true torque over the last 0.1 s, N m */
     double is_rms_final_a;     /**< stator rms current (per phase) over the last 0.1 s, A */
+    double speed_true_end_rpm; /**< the plant's true speed at the last tick, rpm */
+    double speed_true_max_abs_rpm; /**< largest |true speed| over the run, rpm */
+    double runaway_limit_rpm;  /**< 1.5 x the largest |reference| of the run + 300 rpm */
+    bool runaway;              /**< |true speed| exceeded runaway_limit_rpm at some tick */
 
     bool has_disturbance;      /**< a disturbance time exists (see scenario_disturbance) */
     double disturbance_t_s;

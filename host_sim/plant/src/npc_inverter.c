@@ -5,7 +5,11 @@
  *        the diode behaviour of legs whose gates are off.
  *
  * A leg's output relative to the neutral point O is +vc1 at P, 0 at O and
- * -vc2 at N (ideal switches, no dead time or drops). The star point n of the
+ * -vc2 at N, less the on-state drop 2 v_on sgn(i) when configured (two
+ * devices conduct in every path of an NPC leg: T1 T2 or D1 D2 at P, a clamp
+ * diode and T2 or T3 at O, T3 T4 or D3 D4 at N). Dead time (dead_time.c)
+ * reaches this file as legs in codes 4 and 5, handled like gates off but
+ * between two adjacent levels. The star point n of the
  * motor is isolated, so with all legs connected the phase voltages are the leg
  * voltages less their mean (the common mode): v_a = v_aO - (v_aO+v_bO+v_cO)/3.
  * Currents are positive into the motor; a leg at P draws its phase current
@@ -40,23 +44,39 @@ static double phase_current(int k, const double i_s[2])
     return plant_u[k][0] * i_s[0] + plant_u[k][1] * i_s[1];
 }
 
-/* Phase voltages when some legs float; e_k are the phase emfs. */
+/* Phase voltages when some legs float; e_k are the phase emfs, vdrop the
+ * on-state drops of the connected legs. */
 static void float_voltages(const signed char conn[3], double vc1, double vc2,
-                           const double e_k[3], double v_k[3])
+                           const double e_k[3], const double vdrop[3], double v_k[3])
 {
     int k, n_c = 0;
     double v_nO = 0.0;
     for (k = 0; k < 3; ++k) {
         if (conn[k] != 2) {
-            v_nO += leg_voltage(conn[k], vc1, vc2) - e_k[k];
+            v_nO += leg_voltage(conn[k], vc1, vc2) - vdrop[k] - e_k[k];
             ++n_c;
         }
     }
     for (k = 0; k < 3; ++k) {
         if (n_c >= 2 && conn[k] != 2)
-            v_k[k] = leg_voltage(conn[k], vc1, vc2) - v_nO / n_c;
+            v_k[k] = leg_voltage(conn[k], vc1, vc2) - vdrop[k] - v_nO / n_c;
         else
             v_k[k] = e_k[k];
+    }
+}
+
+/* The two levels (conn codes) the diodes of a gates-off or dead-time leg reach. */
+static void diode_levels(uint8_t code, signed char *lo, signed char *hi)
+{
+    if (code == PLANT_LEG_DEAD_NO) {
+        *lo = -1;
+        *hi = 0;
+    } else if (code == PLANT_LEG_DEAD_OP) {
+        *lo = 0;
+        *hi = 1;
+    } else { /* gates off: the outer diodes, rail to rail */
+        *lo = -1;
+        *hi = 1;
     }
 }
 
@@ -72,13 +92,21 @@ void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x)
         g->diode[k] = 0;
         if (legs[k] <= PLANT_LEG_P) {
             g->conn[k] = (signed char)((int)legs[k] - 1);
+        } else if (legs[k] == PLANT_LEG_OPEN) {
+            g->diode[k] = 1; /* so the clamp keeps its current at zero */
+            g->dsign[k] = 0;
+            g->conn[k] = 2;
+            ++g->n_float;
         } else {
             double i_k = phase_current(k, i_s);
             g->diode[k] = 1;
+            diode_levels(legs[k], &g->lo[k], &g->hi[k]);
             if (i_k > NPC_I_ZERO_A) {
-                g->conn[k] = -1; /* into the motor: back through the lower diodes */
+                g->conn[k] = g->lo[k]; /* into the motor: through the diodes of the lower level */
+                g->dsign[k] = 1;
             } else if (i_k < -NPC_I_ZERO_A) {
-                g->conn[k] = 1;  /* out of the motor: through the upper diodes */
+                g->conn[k] = g->hi[k]; /* out of the motor: through those of the upper level */
+                g->dsign[k] = -1;
             } else {
                 g->conn[k] = 2;
                 ++g->n_float;
@@ -88,7 +116,7 @@ void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x)
 
     if (g->n_float > 0) {
         /* A floating phase starts conducting when its open-circuit voltage
-         * would pass a rail. */
+         * would pass one of the levels its diodes reach (for gates off: a rail). */
         double e[2], e_k[3];
         double vc1 = x[PX_VC1], vc2 = x[PX_VC2];
         int n_c = 3 - g->n_float;
@@ -96,14 +124,19 @@ void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x)
         for (k = 0; k < 3; ++k)
             e_k[k] = phase_current(k, e);
         if (n_c == 0) {
-            int kmax = 0, kmin = 0;
-            for (k = 1; k < 3; ++k) {
-                if (e_k[k] > e_k[kmax]) kmax = k;
-                if (e_k[k] < e_k[kmin]) kmin = k;
+            int kmax = -1, kmin = -1;
+            for (k = 0; k < 3; ++k) {
+                if (legs[k] == PLANT_LEG_OPEN)
+                    continue;
+                if (kmax < 0 || e_k[k] > e_k[kmax]) kmax = k;
+                if (kmin < 0 || e_k[k] < e_k[kmin]) kmin = k;
             }
-            if (e_k[kmax] - e_k[kmin] > vc1 + vc2) {
-                g->conn[kmax] = 1;
-                g->conn[kmin] = -1;
+            if (kmax >= 0 && kmax != kmin && e_k[kmax] - e_k[kmin] >
+                leg_voltage(g->hi[kmax], vc1, vc2) - leg_voltage(g->lo[kmin], vc1, vc2)) {
+                g->conn[kmax] = g->hi[kmax];
+                g->dsign[kmax] = -1;
+                g->conn[kmin] = g->lo[kmin];
+                g->dsign[kmin] = 1;
                 g->n_float -= 2;
             }
         } else {
@@ -113,16 +146,30 @@ void plant_npc_connect(plant_seg *g, const uint8_t legs[3], const double *x)
                     v_nO += leg_voltage(g->conn[k], vc1, vc2) - e_k[k];
             v_nO /= n_c;
             for (k = 0; k < 3; ++k) {
-                if (g->conn[k] != 2)
+                if (g->conn[k] != 2 || legs[k] == PLANT_LEG_OPEN)
                     continue;
-                if (v_nO + e_k[k] > vc1) {
-                    g->conn[k] = 1;
+                if (v_nO + e_k[k] > leg_voltage(g->hi[k], vc1, vc2)) {
+                    g->conn[k] = g->hi[k];
+                    g->dsign[k] = -1;
                     --g->n_float;
-                } else if (v_nO + e_k[k] < -vc2) {
-                    g->conn[k] = -1;
+                } else if (v_nO + e_k[k] < leg_voltage(g->lo[k], vc1, vc2)) {
+                    g->conn[k] = g->lo[k];
+                    g->dsign[k] = 1;
                     --g->n_float;
                 }
             }
+        }
+    }
+
+    /* On-state drops from the current directions now (constant over the step). */
+    g->dvs[0] = g->dvs[1] = 0.0;
+    for (k = 0; k < 3; ++k) {
+        double i_k = phase_current(k, i_s);
+        g->vdrop[k] = 0.0;
+        if (g->has_drop && g->conn[k] != 2 && (i_k > NPC_I_ZERO_A || i_k < -NPC_I_ZERO_A)) {
+            g->vdrop[k] = i_k > 0.0 ? g->v_on2 : -g->v_on2;
+            g->dvs[0] -= clarke_a[k] * g->vdrop[k];
+            g->dvs[1] -= clarke_b[k] * g->vdrop[k];
         }
     }
 
@@ -157,7 +204,7 @@ void plant_npc_drive(const plant_seg *g, const double *x, const double i_s[2],
     plant_im_emf(g, x, i_r, e);
     for (k = 0; k < 3; ++k)
         e_k[k] = phase_current(k, e);
-    float_voltages(g->conn, vc1, vc2, e_k, v_k);
+    float_voltages(g->conn, vc1, vc2, e_k, g->vdrop, v_k);
     v_s[0] = (2.0 * v_k[0] - v_k[1] - v_k[2]) / 3.0;
     v_s[1] = (v_k[1] - v_k[2]) * PLANT_INV_SQRT3;
     /* floating legs are in neither gP nor gN: they carry no current */
@@ -187,9 +234,7 @@ void plant_npc_clamp(const plant_seg *g, double *x)
     plant_im_currents(g, x, i_s, i_r);
     for (k = 0; k < 3; ++k) {
         double i_k = phase_current(k, i_s);
-        int fl = g->conn[k] == 2 ||
-                 (g->diode[k] && ((g->conn[k] == -1 && i_k <= 0.0) ||
-                                  (g->conn[k] == 1 && i_k >= 0.0)));
+        int fl = g->conn[k] == 2 || (g->diode[k] && (double)g->dsign[k] * i_k <= 0.0);
         if (fl) {
             ++n_f;
             k_f = k;
@@ -227,7 +272,7 @@ void plant_inverter_output(const uint8_t legs[3], double vc1, double vc2,
     }
     /* Floating legs are reported at the star point (0 V): their true voltage
      * needs the machine emf, which only the integration knows. */
-    float_voltages(conn, vc1, vc2, zero_e, v_k);
+    float_voltages(conn, vc1, vc2, zero_e, zero_e, v_k);
     if (i_np != NULL)
         *i_np = 0.0;
     for (k = 0; k < 3; ++k) {

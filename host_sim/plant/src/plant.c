@@ -15,9 +15,6 @@
 
 #include "plant_internal.h"
 
-/* Segments shorter than this (s) are not applied: no step, no commutation. */
-#define PLANT_MIN_SEGMENT_S 1e-12
-
 int plant_init(plant_state *s, const plant_config *cfg)
 {
     const char *what;
@@ -68,12 +65,17 @@ static void store_x(plant_state *s, const double *x)
 static void setup(const plant_state *s, plant_seg *g)
 {
     plant_im_coeffs(&s->cfg.motor, s->t_load_Nm, g);
+    plant_load_coeffs(&s->cfg.load, g);
+    g->coul_dir = 0;
     plant_dc_coeffs(&s->cfg.dc, g);
     g->sine = s->cfg.supply == PLANT_SUPPLY_SINE;
     g->v_pk = sqrt(2.0 / 3.0) * s->cfg.sine.v_ll_rms_V;
     g->w_e = PLANT_TWO_PI * s->cfg.sine.f_Hz;
     g->phase = s->cfg.sine.phase_rad;
     g->n_float = 0;
+    g->v_on2 = 2.0 * s->cfg.inverter.v_on_V;
+    g->has_drop = g->v_on2 > 0.0;
+    g->dvs[0] = g->dvs[1] = 0.0;
 }
 
 static void sine_voltage(const plant_seg *g, double t, double v_s[2])
@@ -135,19 +137,26 @@ static void integrate_segment(plant_seg *g, const uint8_t *legs, double *x,
         h_max = tau_dc;
     n = (long)ceil(len / h_max - 1e-9);
     double h;
-    int diodes = 0;
+    int diodes = 0, reconnect = 0;
     long i;
     if (n < 1)
         n = 1;
     h = len / (double)n;
     if (legs != NULL) {
-        diodes = legs[0] == PLANT_LEG_OFF || legs[1] == PLANT_LEG_OFF || legs[2] == PLANT_LEG_OFF;
+        /* gates off (3) and dead time (4, 5) conduct through diodes */
+        diodes = legs[0] >= PLANT_LEG_OFF || legs[1] >= PLANT_LEG_OFF || legs[2] >= PLANT_LEG_OFF;
+        /* diode states and on-state drops follow the currents: decide per step */
+        reconnect = diodes || g->has_drop;
         plant_npc_connect(g, legs, x);
     }
     for (i = 0; i < n; ++i) {
-        if (diodes && i > 0)
+        if (reconnect && i > 0)
             plant_npc_connect(g, legs, x);
+        if (g->load_ext)
+            plant_load_decide(g, x);
         rk4_step(g, t0 + (double)i * h, h, x);
+        if (g->load_ext)
+            plant_load_stop(g, x);
         if (diodes)
             plant_npc_clamp(g, x);
     }
@@ -159,6 +168,15 @@ static void normalise(const uint8_t *in, uint8_t out[3])
     int k;
     for (k = 0; k < 3; ++k)
         out[k] = in == NULL || in[k] > PLANT_LEG_OFF ? (uint8_t)PLANT_LEG_OFF : in[k];
+}
+
+/* A disconnected phase overrides whatever its leg does. */
+static void open_phases(const plant_state *s, uint8_t legs[3])
+{
+    int k;
+    for (k = 0; k < 3; ++k)
+        if (s->phase_open[k])
+            legs[k] = (uint8_t)PLANT_LEG_OPEN;
 }
 
 static void count_switches(plant_state *s, const uint8_t legs[3])
@@ -206,19 +224,38 @@ void plant_advance(plant_state *s, const uint8_t vec0[3], const uint8_t vec1[3],
         uint8_t v[2][3];
         double len[2];
         int j;
+        const int any_open = s->phase_open[0] || s->phase_open[1] || s->phase_open[2];
         normalise(vec0, v[0]);
         normalise(vec1, v[1]);
         len[0] = duty0 * period_s;
         len[1] = period_s - len[0];
         for (j = 0; j < 2; ++j) {
+            double ts = j == 0 ? t0 : t0 + len[0];
             if (len[j] < PLANT_MIN_SEGMENT_S)
                 continue;
+            if (s->cfg.inverter.dead_time_s > 0.0)
+                plant_dead_edge(s, v[j], ts);
             count_switches(s, v[j]);
-            integrate_segment(&g, v[j], x, j == 0 ? t0 : t0 + len[0], len[j], s->cfg.h_max_s);
+            if (s->cfg.inverter.dead_time_s > 0.0 || any_open) {
+                /* Sub-segments between the ends of the legs' blanking intervals. */
+                double t = ts, te = ts + len[j];
+                while (te - t >= PLANT_MIN_SEGMENT_S) {
+                    uint8_t eff[3];
+                    double tn = plant_dead_legs(s, v[j], t, te, eff);
+                    open_phases(s, eff);
+                    integrate_segment(&g, eff, x, t, tn - t, s->cfg.h_max_s);
+                    t = tn;
+                }
+            } else {
+                integrate_segment(&g, v[j], x, ts, len[j], s->cfg.h_max_s);
+            }
         }
         /* Voltages and NP current at the end, in the last vector's connection. */
         if (s->legs_valid) {
-            plant_npc_connect(&g, s->legs_last, x);
+            uint8_t last[3];
+            memcpy(last, s->legs_last, sizeof last);
+            open_phases(s, last);
+            plant_npc_connect(&g, last, x);
             plant_im_currents(&g, x, i_s, i_r);
             plant_npc_phase(&g, x, i_s, i_r, s->v_last_V, &s->i_np_last_A);
         }
@@ -289,4 +326,22 @@ void plant_set_rr(plant_state *s, double Rr_ohm)
 {
     if (s != NULL && isfinite(Rr_ohm) && Rr_ohm > 0.0)
         s->cfg.motor.Rr_ohm = Rr_ohm;
+}
+
+void plant_set_lm(plant_state *s, double Lm_H)
+{
+    if (s != NULL && isfinite(Lm_H) && Lm_H > 0.0)
+        s->cfg.motor.Lm_H = Lm_H;
+}
+
+void plant_set_phase_open(plant_state *s, int k, int open)
+{
+    if (s != NULL && k >= 0 && k < 3)
+        s->phase_open[k] = (uint8_t)(open != 0);
+}
+
+void plant_set_vdc(plant_state *s, double vdc_V)
+{
+    if (s != NULL && isfinite(vdc_V) && vdc_V > 0.0)
+        s->cfg.dc.vdc_V = vdc_V;
 }

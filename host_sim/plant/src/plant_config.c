@@ -22,11 +22,22 @@ void plant_default_config(plant_config *cfg)
     cfg->motor.pole_pairs = 2;
     cfg->motor.J_kgm2 = 0.045;
     cfg->motor.B_Nms = 0.005;
+    cfg->motor.Lm_sat_psi_Wb = 0.0; /* linear magnetics */
+    cfg->motor.Lm_sat_exponent = 6.0;
+
+    cfg->load.coulomb_Nm = 0.0;
+    cfg->load.viscous_Nms = 0.0;
+    cfg->load.fan_Nms2 = 0.0;
 
     cfg->dc.vdc_V = 311.0;
     cfg->dc.r_src_ohm = 0.05;
     cfg->dc.c1_F = 0.0022;
     cfg->dc.c2_F = 0.0022;
+
+    /* The ideal inverter: the plant's validation (T-equivalent circuit,
+     * power balance, inverter table) is stated for it. */
+    cfg->inverter.dead_time_s = 0.0;
+    cfg->inverter.v_on_V = 0.0;
 
     cfg->sensor.adc_bits = 12;
     cfg->sensor.i_fs_A = 150.0;
@@ -87,10 +98,24 @@ int plant_check_config(const plant_config *cfg, const char **what)
     POS(cfg->motor.J_kgm2, "motor.J_kgm2 must be > 0");
     NONNEG(cfg->motor.B_Nms, "motor.B_Nms must be >= 0");
 
+    NONNEG(cfg->motor.Lm_sat_psi_Wb, "motor.Lm_sat_psi_Wb must be >= 0");
+    REQ(isfinite(cfg->motor.Lm_sat_exponent) && cfg->motor.Lm_sat_exponent >= 2.0 &&
+            cfg->motor.Lm_sat_exponent <= 20.0,
+        "motor.Lm_sat_exponent must be in [2, 20]");
+    NONNEG(cfg->load.coulomb_Nm, "load.coulomb_Nm must be >= 0");
+    NONNEG(cfg->load.viscous_Nms, "load.viscous_Nms must be >= 0");
+    NONNEG(cfg->load.fan_Nms2, "load.fan_Nms2 must be >= 0");
+
     POS(cfg->dc.vdc_V, "dc.vdc_V must be > 0");
     POS(cfg->dc.r_src_ohm, "dc.r_src_ohm must be > 0");
     POS(cfg->dc.c1_F, "dc.c1_F must be > 0");
     POS(cfg->dc.c2_F, "dc.c2_F must be > 0");
+
+    REQ(isfinite(cfg->inverter.dead_time_s) && cfg->inverter.dead_time_s >= 0.0 &&
+            cfg->inverter.dead_time_s <= 50e-6,
+        "inverter.dead_time_s must be in [0, 5e-05] s");
+    REQ(isfinite(cfg->inverter.v_on_V) && cfg->inverter.v_on_V >= 0.0 && cfg->inverter.v_on_V <= 50.0,
+        "inverter.v_on_V must be in [0, 50] V");
 
     sp = &cfg->sensor;
     REQ(sp->adc_bits >= 1 && sp->adc_bits <= 16, "sensor.adc_bits must be in 1..16");

@@ -83,13 +83,55 @@ void plant_sample(plant_state *s, plant_adc *out)
     }
     for (k = 0; k < 3; ++k) {
         double i_m = sp->i_gain[k] * i_abc[k] + sp->i_offset_A[k] + sp->i_noise_A * n[k];
+        if (s->sensor_fault[PLANT_CH_IA + k] == PLANT_SENSOR_LOST)
+            i_m = 0.0;
         out->i_code[k] = quantise((i_m / sp->i_fs_A + 1.0) * 0.5 * max_code, max_code);
     }
     for (k = 0; k < 2; ++k) {
         double v_m = sp->v_gain[k] * v[k] + sp->v_offset_V[k] + sp->v_noise_V * n[3 + k];
+        if (s->sensor_fault[PLANT_CH_VC1 + k] == PLANT_SENSOR_LOST)
+            v_m = 0.0;
         out->v_code[k] = quantise(v_m / sp->v_fs_V * max_code, max_code);
     }
+    /* A stuck channel repeats its last conversion (the first one if it was
+     * stuck from the start); the noise generator advances as usual, so a
+     * fault does not shift the noise of the other channels. */
+    for (k = 0; k < PLANT_N_CH; ++k) {
+        uint16_t *code = k < 3 ? &out->i_code[k] : &out->v_code[k - 3];
+        if (s->sensor_fault[k] == PLANT_SENSOR_STUCK && s->code_valid)
+            *code = s->code_last[k];
+        s->code_last[k] = *code;
+    }
+    s->code_valid = 1;
     out->omega_m_rad_s = t.omega_m_rad_s;
+}
+
+void plant_set_sensor_gain(plant_state *s, int ch, double gain)
+{
+    if (s == NULL || ch < 0 || ch >= PLANT_N_CH || !isfinite(gain) || !(gain > 0.0))
+        return;
+    if (ch < 3)
+        s->cfg.sensor.i_gain[ch] = gain;
+    else
+        s->cfg.sensor.v_gain[ch - 3] = gain;
+}
+
+void plant_set_sensor_offset(plant_state *s, int ch, double offset)
+{
+    if (s == NULL || ch < 0 || ch >= PLANT_N_CH || !isfinite(offset))
+        return;
+    if (ch < 3)
+        s->cfg.sensor.i_offset_A[ch] = offset;
+    else
+        s->cfg.sensor.v_offset_V[ch - 3] = offset;
+}
+
+void plant_set_sensor_fault(plant_state *s, int ch, plant_sensor_fault f)
+{
+    if (s == NULL || ch < 0 || ch >= PLANT_N_CH)
+        return;
+    if (f == PLANT_SENSOR_OK || f == PLANT_SENSOR_STUCK || f == PLANT_SENSOR_LOST)
+        s->sensor_fault[ch] = (uint8_t)f;
 }
 
 void plant_adc_to_units(const plant_config *cfg, const plant_adc *adc, double i_A[3], double v_V[2])

@@ -50,6 +50,14 @@ typedef struct {
     int pole_pairs;          /**< p (>= 1) */
     double J_kgm2;           /**< inertia (> 0) */
     double B_Nms;            /**< viscous friction, N m s/rad (>= 0) */
+    /**
+     * Main-flux saturation (off when Lm_sat_psi_Wb = 0, the default). The
+     * magnetising curve is i_m = (psi_m / Lm_H) (1 + (|psi_m| / Lm_sat_psi_Wb)^n),
+     * n = Lm_sat_exponent, i.e. Lm(psi_m) = Lm_H / (1 + (|psi_m|/Lm_sat_psi_Wb)^n):
+     * Lm_H for small flux, half of it at the knee flux. See induction_machine.c.
+     */
+    double Lm_sat_psi_Wb;    /**< knee flux where Lm has halved, Wb (0 = no saturation) */
+    double Lm_sat_exponent;  /**< n, sharpness of the knee (2..20; default 6) */
 } plant_motor_params;
 
 /** DC source and split DC link. */
@@ -58,6 +66,30 @@ typedef struct {
     double r_src_ohm;        /**< series resistance source -> link (> 0) */
     double c1_F, c2_F;       /**< upper and lower capacitor (> 0) */
 } plant_dc_params;
+
+/**
+ * Inverter non-idealities (both 0 = the ideal inverter, the plant default).
+ * Dead time: at every commutation of a leg between two levels the outgoing
+ * device turns off at once and the incoming one dead_time_s later; in
+ * between the leg's current flows through the freewheeling/clamp diodes, so
+ * the leg sits at the level the current direction picks (see dead_time.c).
+ * On-state voltage: every conducting path of an NPC leg is two devices in
+ * series, so the leg voltage drops by 2 v_on_V in the direction of the current.
+ */
+typedef struct {
+    double dead_time_s;      /**< blanking time per commutation, s (0 .. 50e-6) */
+    double v_on_V;           /**< on-state voltage of one device (switch or diode), V (0 .. 50) */
+} plant_inverter_params;
+
+/** Sensor channels (plant_set_sensor_* and plant_adc order). */
+enum { PLANT_CH_IA = 0, PLANT_CH_IB = 1, PLANT_CH_IC = 2, PLANT_CH_VC1 = 3, PLANT_CH_VC2 = 4, PLANT_N_CH = 5 };
+
+/** Sensor channel faults (plant_set_sensor_fault). */
+typedef enum {
+    PLANT_SENSOR_OK = 0,     /**< normal conversion */
+    PLANT_SENSOR_STUCK = 1,  /**< the channel repeats the code of its last conversion */
+    PLANT_SENSOR_LOST = 2,   /**< the signal is gone: the channel reads exactly 0 A / 0 V */
+} plant_sensor_fault;
 
 /** Sensor chain: ideal value -> gain/offset error -> noise -> ADC quantisation. */
 typedef struct {
@@ -73,6 +105,21 @@ typedef struct {
     uint32_t seed;           /**< noise seed: equal seeds give equal runs */
 } plant_sensor_params;
 
+/**
+ * Load models besides the constant torque (plant_state.t_load_Nm); all 0 by
+ * default. The shaft sees, opposing positive speed w (rad/s):
+ *   T_load = t_load_Nm + coulomb_Nm sgn(w) + viscous_Nms w + fan_Nms2 w |w|
+ * so the friction-like and fan parts follow the sign of the speed (they only
+ * brake) while t_load_Nm is active (it keeps its sign, e.g. a hoist). At
+ * w = 0 the Coulomb part holds the rotor while the other torques stay within
+ * +-coulomb_Nm (static friction = Coulomb level, no Stribeck dip).
+ */
+typedef struct {
+    double coulomb_Nm;       /**< Coulomb (dry) friction level, N m (>= 0) */
+    double viscous_Nms;      /**< viscous load on top of motor.B_Nms, N m s/rad (>= 0) */
+    double fan_Nms2;         /**< fan/pump coefficient k of T = k w^2, N m s^2/rad^2 (>= 0) */
+} plant_load_params;
+
 typedef enum {
     PLANT_SUPPLY_INVERTER = 0, /**< three-level NPC inverter on the DC link */
     PLANT_SUPPLY_SINE = 1,     /**< ideal balanced three-phase source, no inverter */
@@ -87,7 +134,9 @@ typedef struct {
 
 typedef struct {
     plant_motor_params motor;
+    plant_load_params load;
     plant_dc_params dc;
+    plant_inverter_params inverter;
     plant_sensor_params sensor;
     plant_supply_mode supply;
     plant_sine_params sine;
@@ -109,9 +158,10 @@ typedef struct {
     double theta_m;          /**< mechanical angle, rad (wrapped to -pi..pi) */
     double vc1, vc2;         /**< capacitor voltages, V */
     /**
-     * Load torque, N m. Enters the mechanics as a plain constant:
-     * J domega/dt = Te - B omega - T_L (it opposes positive speed; at
-     * negative speed it keeps its sign, it is not sign(omega) * T_L).
+     * Constant (active) load torque, N m. Enters the mechanics as a plain
+     * constant: J domega/dt = Te - B omega - T_L - (the load models of
+     * cfg.load) (it opposes positive speed; at negative speed it keeps its
+     * sign, it is not sign(omega) * T_L).
      */
     double t_load_Nm;
     uint64_t rng;            /**< noise generator state */
@@ -134,6 +184,14 @@ typedef struct {
     uint8_t legs_valid;      /**< 1 once a vector has been applied */
     double v_last_V[3];      /**< phase-to-star voltages at the end of the last advance */
     double i_np_last_A;      /**< neutral-point current at the end of the last advance */
+    /* sensor faults (plant_set_sensor_fault) */
+    uint8_t sensor_fault[PLANT_N_CH]; /**< plant_sensor_fault per channel */
+    uint16_t code_last[PLANT_N_CH];   /**< codes of the last plant_sample (for a stuck channel) */
+    uint8_t code_valid;               /**< 1 once plant_sample has run */
+    /* dead time (dead_time.c): per leg, end of the blanking interval (absolute s) and its code */
+    double dead_until_s[3];
+    uint8_t dead_code[3];
+    uint8_t phase_open[3];   /**< 1: motor phase disconnected (plant_set_phase_open) */
 } plant_state;
 
 /** A snapshot of true values, for metrics and tests (not seen by the firmware). */
@@ -151,7 +209,10 @@ typedef struct {
     double w_mag_J;            /**< magnetic energy stored in the inductances */
 } plant_truth;
 
-/** Raw converter codes, as the board's ADC delivers them at the start of a period. */
+/**
+ * Raw converter codes, as the board's ADC delivers them at the start of a period.
+ * A channel with a sensor fault reads as plant_sensor_fault says.
+ */
 typedef struct {
     uint16_t i_code[3];        /**< currents: code = (i / i_fs + 1) / 2 * (2^bits - 1), rounded, clamped */
     uint16_t v_code[2];        /**< vc1, vc2: code = v / v_fs * (2^bits - 1), rounded, clamped */
@@ -174,7 +235,9 @@ int plant_init(plant_state *s, const plant_config *cfg);
 /**
  * Integrate over one control period with the inverter applying @p vec0 for
  * duty0 * period_s and then @p vec1 for the rest (each leg: 0 = N, 1 = O, 2 = P).
- * Every switching instant is honoured exactly (one segment per vector).
+ * Every switching instant is honoured exactly (one segment per vector); with
+ * cfg.inverter.dead_time_s > 0 each commutation edge of a leg is followed by
+ * its blanking interval (plant_inverter_params), also across periods.
  * In PLANT_SUPPLY_SINE mode the vectors are ignored.
  * Bad input changes nothing or is made safe: a period that is not finite and
  * > 0 does nothing; duty0 is clamped to 0..1 (NaN -> 0); a NULL vector or a
@@ -208,11 +271,36 @@ void plant_set_friction(plant_state *s, double B_Nms);
 void plant_set_rs(plant_state *s, double Rs_ohm);
 void plant_set_rr(plant_state *s, double Rr_ohm);
 
+void plant_set_lm(plant_state *s, double Lm_H);
+/** DC source voltage (a sag or a surge of the supply); must be > 0. */
+void plant_set_vdc(plant_state *s, double vdc_V);
+/** Gain (> 0) of sensor channel @p ch (PLANT_CH_...). */
+void plant_set_sensor_gain(plant_state *s, int ch, double gain);
+/** Offset of sensor channel @p ch, A or V (finite). */
+void plant_set_sensor_offset(plant_state *s, int ch, double offset);
+/** Fault of sensor channel @p ch from the next plant_sample on (PLANT_SENSOR_OK clears it). */
+void plant_set_sensor_fault(plant_state *s, int ch, plant_sensor_fault f);
+
+/**
+ * Disconnect (@p open = 1) or reconnect motor phase @p k (0..2) from its
+ * inverter leg: a broken cable or a blown fuse. The phase carries no current
+ * (its voltage is the machine's emf); the leg keeps switching (switch_count).
+ * Inverter supply only (the sine source ignores it).
+ */
+void plant_set_phase_open(plant_state *s, int k, int open);
+
+/**
+ * Total load torque (constant + Coulomb + viscous + fan, not motor.B_Nms) at
+ * speed @p omega_m_rad_s, N m, opposing positive speed. At zero speed the
+ * Coulomb part is reported as 0 (its holding value depends on the drive torque).
+ */
+double plant_load_torque(const plant_state *s, double omega_m_rad_s);
+
 /* Building blocks exposed for unit tests. */
 
 /**
  * Motor phase voltages (isolated star) and neutral-point current for one
- * switching state.
+ * switching state of the IDEAL inverter (no dead time, no on-state drop).
  * @param legs  leg states a, b, c (0 = N, 1 = O, 2 = P, 3 = gates off: the
  *              sign of its current picks N or P; with zero current the leg
  *              floats, is left out of the star-point average and reported as

@@ -1,0 +1,57 @@
+// A duty that uses the new plant features together (host_sim/scenarios/
+// pump_duty.ini: real inverter, Coulomb + fan load, heating ramps of Rs and
+// Rr, a supply sag, a load step): it must run to the end without a fault or
+// a runaway, and the speed-controlled runs must end near the reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim_test_util.hpp"
+
+TEST(Duty, PumpDutyRunsWithoutFaultOrRunaway)
+{
+    auto l = simtest::load_scenario(simtest::source_path("host_sim/scenarios/pump_duty.ini"));
+    ASSERT_EQ(l.rc, 0) << l.error;
+    // The file relies on the [inverter] defaults: the real inverter.
+    EXPECT_DOUBLE_EQ(l.sc->plant.inverter.dead_time_s, 2e-6);
+    EXPECT_DOUBLE_EQ(l.sc->plant.inverter.v_on_V, 1.0);
+    for (int ctl : { SCENARIO_CTL_IP, SCENARIO_CTL_NOMINAL, SCENARIO_CTL_RBFN }) {
+        sim_options o;
+        sim_options_default(&o);
+        o.controller = ctl;
+        sim_result res;
+        ASSERT_EQ(sim_run(l.sc.get(), &o, &res), SIM_OK) << res.error;
+        const sim_metrics &m = res.metrics;
+        EXPECT_EQ(m.faults, 0u) << ctl;
+        EXPECT_FALSE(m.runaway) << ctl;
+        EXPECT_LT(m.speed_true_max_abs_rpm, 1100.0) << ctl;
+        if (ctl != SCENARIO_CTL_NOMINAL) {
+            EXPECT_NEAR(m.speed_true_end_rpm, 1000.0, 20.0) << ctl;
+            EXPECT_LT(m.steady_error_rpm, 20.0) << ctl;
+        }
+        // The fan load is there: the final torque is well above the 4 N m step alone.
+        EXPECT_GT(m.te_final_nm, 10.0) << ctl;
+    }
+}
+
+// An overhauling load beyond the torque limit drives the motor away while
+// the firmware reports no fault: the metrics must say so.
+TEST(Duty, OverhaulingLoadIsFlaggedAsRunaway)
+{
+    auto l = simtest::parse_text("[sim]\nduration_s = 2\n[reference]\nramp = 0.2 0.4 300\n"
+                                 "[load]\nstep = 0.5 -30\n[control]\nte_max_Nm = 20\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    sim_result res;
+    ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;
+    EXPECT_NEAR(res.metrics.runaway_limit_rpm, 750.0, 1e-9);
+    EXPECT_TRUE(res.metrics.runaway);
+    EXPECT_GT(res.metrics.speed_true_end_rpm, 750.0);
+    EXPECT_EQ(res.metrics.faults, 0u); // what makes the flag necessary
+
+    auto ok = simtest::parse_text("[sim]\nduration_s = 2\n[reference]\nramp = 0.2 0.4 300\n"
+                                  "[load]\nstep = 0.5 -10\n[control]\nte_max_Nm = 20\n");
+    ASSERT_EQ(ok.rc, 0) << ok.error;
+    ASSERT_EQ(sim_run(ok.sc.get(), nullptr, &res), SIM_OK) << res.error;
+    EXPECT_FALSE(res.metrics.runaway); // held within the torque limit
+    EXPECT_NEAR(res.metrics.speed_true_end_rpm, 300.0, 15.0);
+}
