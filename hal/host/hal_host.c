@@ -135,9 +135,14 @@ void hal_tick_stop(void)
 bool hal_tick_missed(void)
 {
     /* The SIL runs each tick to completion between two plant periods: simulated
-     * time does not advance inside the handler, so no deadline can be missed.
-     * (Host wall-clock timing of the handler is reported, not judged.) */
-    return false;
+     * time does not advance inside the handler, so no deadline is missed unless
+     * a scenario injects one ([faults] overrun). (Host wall-clock timing of the
+     * handler is reported, not judged.) */
+    hal_host_board *b = g_board;
+    if (b == NULL || !b->tick_missed)
+        return false;
+    b->tick_missed = false;
+    return true;
 }
 
 /* ----------------------------------------------------- sample and actuation */

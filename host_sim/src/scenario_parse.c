@@ -149,6 +149,7 @@ static const list_def lists[] = {
     { "faults", "restore", L_FAULT, SCENARIO_FAULT_RESTORE, "T_S CHANNEL" },
     { "faults", "vdc", L_FAULT, SCENARIO_FAULT_VDC, "T_S VOLTS" },
     { "faults", "stale", L_FAULT, SCENARIO_FAULT_STALE, "T_S" },
+    { "faults", "overrun", L_FAULT, SCENARIO_FAULT_OVERRUN, "T_S" },
     { "faults", "hw", L_FAULT, SCENARIO_FAULT_HW, "T_S ON" },
     { "faults", "open_phase", L_FAULT, SCENARIO_FAULT_OPEN_PHASE, "T_S PHASE" },
     { "metrics", "window", L_WINDOW, 0, "NAME T0_S T1_S" },

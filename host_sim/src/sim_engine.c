@@ -178,6 +178,9 @@ static void apply_fault(engine *e, const scenario *sc, const scenario_fault *f)
     case SCENARIO_FAULT_OPEN_PHASE:
         plant_set_phase_open(&e->ps, ch, 1);
         break;
+    case SCENARIO_FAULT_OVERRUN: /* this tick ends late: the firmware latches OVERRUN next tick */
+        e->board.tick_missed = true;
+        break;
     case SCENARIO_FAULT_STALE: /* handled at the sample (one tick only) */
     case SCENARIO_FAULT_KINDS:
         break;

@@ -314,9 +314,8 @@ TEST(SimEngine, BadOptionsAreInputErrors)
     EXPECT_NE(std::string(res.error).find("cannot create"), std::string::npos) << res.error;
 }
 
-// docs/faults.md: every fault the firmware knows (except OVERRUN, which the
-// host board cannot produce) can be injected from a scenario, and it latches
-// exactly its own bit. The base run (300 rpm, no fault) ends with no fault.
+// docs/faults.md: every fault the firmware knows can be injected from a
+// scenario, and it latches exactly its own bit. The base run (300 rpm, no fault) ends with no fault.
 TEST(SimEngine, EveryCatalogueFaultCanBeInjectedFromAScenario)
 {
     const std::string base = "[sim]\nduration_s = 0.8\n[reference]\nramp = 0.2 0.4 300\n";
@@ -334,6 +333,7 @@ TEST(SimEngine, EveryCatalogueFaultCanBeInjectedFromAScenario)
         { "[faults]\nstale = 0.6\n", CTL_FAULT_STALE_SAMPLE },
         { "[faults]\nhw = 0.6 on\n", CTL_FAULT_HW },
         { "[faults]\ninvalid = 0.6 b\n", CTL_FAULT_SAMPLE_INVALID },
+        { "[faults]\noverrun = 0.6\n", CTL_FAULT_OVERRUN },
     };
     for (const Case &c : cases) {
         auto l = simtest::parse_text(base + c.extra);

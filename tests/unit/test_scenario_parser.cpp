@@ -361,6 +361,8 @@ TEST(ScenarioParser, NewKeyErrors)
     expect_error("[faults]\nvdc = 1 0\n", 2, "vdc: 0 V is out of range");
     expect_error("[faults]\nvdc = 1\n", 2, "expected 'vdc = T_S VOLTS', got 1 value");
     expect_error("[faults]\nstale = 1 2\n", 2, "expected 'stale = T_S', got 2 values");
+    expect_error("[faults]\noverrun = 1 2\n", 2, "expected 'overrun = T_S', got 2 values");
+    expect_error("[faults]\noverrun = -1\n", 2, "time -1 s is out of range");
     expect_error("[faults]\nhw = 1 maybe\n", 2, "expected on or off, got 'maybe'");
     expect_error("[faults]\nvdc = 2 250\nstale = 1\n", 3, "out of time order (line 2 is at 2 s)");
     expect_error("[faults]\nopen_phase = 1 vc1\n", 2, "unknown phase 'vc1' (expected a, b or c)");

@@ -91,7 +91,8 @@ typedef enum {
     SCENARIO_FAULT_STALE = 7,   /**< no fresh sample at that tick (the ADC did not convert) */
     SCENARIO_FAULT_HW = 8,      /**< the board's hardware-fault input := value (1 on, 0 off) */
     SCENARIO_FAULT_OPEN_PHASE = 9, /**< motor phase (channel a, b or c) disconnected from its leg */
-    SCENARIO_FAULT_KINDS = 10,
+    SCENARIO_FAULT_OVERRUN = 10,   /**< the tick at that time misses its deadline (hal_tick_missed) */
+    SCENARIO_FAULT_KINDS = 11,
 } scenario_fault_kind;
 
 /** Sensor channels as the faults name them: a, b, c (currents), vc1, vc2. */

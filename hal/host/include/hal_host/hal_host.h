@@ -68,6 +68,7 @@ typedef struct {
     /* gates and faults */
     bool gates_enabled;
     bool fault_input;
+    bool tick_missed;             /**< set by the engine to inject a missed deadline; hal_tick_missed reads and clears it */
 
     /* time: simulated seconds (advanced by the engine) */
     double t_s;
