@@ -16,6 +16,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "sim/file_safety.h"
 #include "sim/sim.h"
 
 #ifndef DTC_SOURCE_DIR
@@ -188,6 +189,14 @@ static int cmd_run(int argc, char **argv)
         return bad_usage("--can %s requires --realtime", o.can_iface);
     if (o.csv_path != NULL && o.metrics_path != NULL && strcmp(o.csv_path, o.metrics_path) == 0)
         return bad_usage("--csv and --metrics name the same file '%s'", o.csv_path);
+    /* Outputs: new paths or regular files, never the scenario, never each other. */
+    char why[1200];
+    if ((o.csv_path != NULL && !sim_output_allowed("--csv", o.csv_path, file, o.metrics_path, why, sizeof why)) ||
+        (o.metrics_path != NULL &&
+         !sim_output_allowed("--metrics", o.metrics_path, file, o.csv_path, why, sizeof why)) ||
+        (o.nvm_path != NULL && !sim_output_allowed("--nvm", o.nvm_path, file, o.csv_path, why, sizeof why)) ||
+        (o.nvm_path != NULL && !sim_output_allowed("--nvm", o.nvm_path, file, o.metrics_path, why, sizeof why)))
+        return bad_usage("%s", why);
 
     char dur_set[64];
     if (duration != NULL) {

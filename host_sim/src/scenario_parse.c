@@ -8,6 +8,7 @@
  * key being handled. The reader also refuses over-long lines instead of
  * letting inih split them silently.
  */
+#define _POSIX_C_SOURCE 200809L
 #include "sim/scenario.h"
 
 #include <ctype.h>
@@ -17,10 +18,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <ini.h>
 
 #include "sim/control_keys.h"
+#include "sim/file_safety.h"
 
 /* ------------------------------------------------------------ key table */
 
@@ -192,8 +197,7 @@ typedef struct {
     const char *set_name;  /**< "section.key" of the --set being applied */
     bool from_set;
     /* reader state */
-    FILE *file;
-    const char *text;
+    const char *text;     /**< the whole input (a file is read first, see read_scenario_file) */
 } parse_ctx;
 
 static void vfail_at(char *err, size_t errlen, const scenario *sc, int line, const char *set_name,
@@ -655,38 +659,27 @@ static char *reader(char *str, int num, void *stream)
     parse_ctx *c = stream;
     if (num < 2)
         return NULL;
-    if (c->file != NULL) {
-        if (fgets(str, num, c->file) == NULL)
-            return NULL;
-    } else {
-        if (*c->text == '\0')
-            return NULL;
-        int n = 0;
-        while (n < num - 1 && c->text[n] != '\0') {
-            str[n] = c->text[n];
-            if (c->text[n++] == '\n')
-                break;
-        }
-        str[n] = '\0';
-        c->text += n;
+    if (*c->text == '\0')
+        return NULL;
+    int n = 0;
+    while (n < num - 1 && c->text[n] != '\0') {
+        str[n] = c->text[n];
+        if (c->text[n++] == '\n')
+            break;
     }
+    str[n] = '\0';
+    c->text += n;
     c->line++;
     size_t len = strlen(str);
     if (len == (size_t)num - 1 && str[len - 1] != '\n') {
         /* Over-long: swallow the rest so line numbers stay right. */
         bool more = false;
-        if (c->file != NULL) {
-            int ch;
-            while ((ch = fgetc(c->file)) != EOF && ch != '\n')
-                more = true;
-        } else {
-            while (*c->text != '\0' && *c->text != '\n') {
-                c->text++;
-                more = true;
-            }
-            if (*c->text == '\n')
-                c->text++;
+        while (*c->text != '\0' && *c->text != '\n') {
+            c->text++;
+            more = true;
         }
+        if (*c->text == '\n')
+            c->text++;
         if (more && !c->failed)
             fail(c, "line too long (at most %d characters)", num - 2);
     }
@@ -696,10 +689,6 @@ static char *reader(char *str, int num, void *stream)
 static int run_parser(parse_ctx *c)
 {
     int rc = ini_parse_stream(reader, c, handler, c);
-    if (c->file != NULL && ferror(c->file) && !c->failed) {
-        c->line = 0;
-        fail(c, "read error: %s", strerror(errno));
-    }
     if (rc > 0 && (!c->failed || rc < c->err_line)) {
         /* inih's own syntax error came first. */
         c->failed = false;
@@ -717,6 +706,58 @@ static void set_source(scenario *sc, const char *name)
     snprintf(sc->source, sizeof sc->source, "%s", name);
 }
 
+/* The whole scenario file in memory, refused unless it is a regular file of
+ * at most SIM_SCENARIO_MAX_BYTES without a NUL byte: a FIFO, /dev/zero or a
+ * directory gives a clear error instead of a hang or a partial read.
+ * O_NONBLOCK: opening a FIFO without a writer must not block. */
+static int read_scenario_file(scenario *sc, const char *path, char **out, char *err, size_t errlen)
+{
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
+        return fail_line(err, errlen, sc, 0, NULL, "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
+        return fail_line(err, errlen, sc, 0, NULL, "not a regular file");
+    }
+    if (st.st_size > SIM_SCENARIO_MAX_BYTES) {
+        close(fd);
+        return fail_line(err, errlen, sc, 0, NULL, "larger than %ld bytes (%lld)", SIM_SCENARIO_MAX_BYTES,
+                         (long long)st.st_size);
+    }
+    char *text = malloc((size_t)st.st_size + 1u);
+    if (text == NULL) {
+        close(fd);
+        return fail_line(err, errlen, sc, 0, NULL, "out of memory");
+    }
+    size_t n = 0;
+    for (;;) {
+        ssize_t r = read(fd, text + n, (size_t)st.st_size - n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r < 0) {
+            int e = errno;
+            free(text);
+            close(fd);
+            return fail_line(err, errlen, sc, 0, NULL, "read error: %s", strerror(e));
+        }
+        if (r == 0 || (n += (size_t)r) == (size_t)st.st_size)
+            break;
+    }
+    close(fd);
+    text[n] = '\0';
+    const char *nul = memchr(text, '\0', n);
+    if (nul != NULL) {
+        int line = 1;
+        for (const char *p = text; p < nul; p++)
+            line += *p == '\n';
+        free(text);
+        return fail_line(err, errlen, sc, line, NULL, "NUL byte in the file (a scenario is text)");
+    }
+    *out = text;
+    return 0;
+}
+
 int scenario_parse_file(scenario *sc, const char *path, char *err, size_t errlen)
 {
     set_source(sc, path);
@@ -725,11 +766,13 @@ int scenario_parse_file(scenario *sc, const char *path, char *err, size_t errlen
     c.sc = sc;
     c.err = err;
     c.errlen = errlen;
-    c.file = fopen(path, "r");
-    if (c.file == NULL)
-        return fail_line(err, errlen, sc, 0, NULL, "cannot open: %s", strerror(errno));
-    int rc = run_parser(&c);
-    fclose(c.file);
+    char *text = NULL;
+    int rc = read_scenario_file(sc, path, &text, err, errlen);
+    if (rc != 0)
+        return rc;
+    c.text = text;
+    rc = run_parser(&c);
+    free(text);
     return rc;
 }
 

@@ -70,7 +70,27 @@ static double now_s(void)
 
 /* Push the scenario's motor, DC link, period, controller and [control] keys
  * into the firmware configuration, the way the background would. */
-static void configure_firmware(engine *e, const scenario *sc, int controller)
+/* What ctl_cfg_check's codes mean (firmware/control/include/dtc/ctl.h). */
+static const char *cfg_check_text(int rc)
+{
+    switch (rc) {
+    case CTL_CFG_E_MOTOR: return "a motor parameter not > 0, or Ls, Lr not > Lm";
+    case CTL_CFG_E_PERIOD: return "period_s outside 20e-6..2e-3 or vdc_nom_V not > 0";
+    case CTL_CFG_E_DTC: return "DTC settings inconsistent (psi_ref, bands, levels or duty_min)";
+    case CTL_CFG_E_OBSERVER: return "observer settings inconsistent (k_gain < 1, a gain < 0 or speed_lpf_hz < 0)";
+    case CTL_CFG_E_PROTECTION: return "protection inconsistent (a trip level not > 0, or vdc_min_V >= vdc_max_V)";
+    case CTL_CFG_E_SPEED: return "speed-controller settings inconsistent";
+    default: return "inconsistent";
+    }
+}
+
+/*
+ * The scenario's configuration for the firmware, refused as a CAN write would
+ * be (0x06040043, parameter incompatibility): the [control] key that makes
+ * the configuration inconsistent (ctl_cfg_check) is named with its line.
+ * @return SIM_OK or SIM_EINPUT with res->error set.
+ */
+static int configure_firmware(engine *e, const scenario *sc, int controller, sim_result *res)
 {
     drive *d = &e->drv;
     drive_init(d);
@@ -87,11 +107,28 @@ static void configure_firmware(engine *e, const scenario *sc, int controller)
     cfg->period_s = (real_t)sc->period_s;
     cfg->vdc_nom_V = (real_t)sc->plant.dc.vdc_V;
     cfg->speed.mode = (speed_mode)controller;
-    for (int i = 0; i < sc->n_control; i++)
-        sim_control_key_apply(sc->control[i].key, cfg, sc->control[i].value);
+    int rc = ctl_cfg_check(cfg);
+    if (rc != CTL_CFG_OK)
+        return set_error(res, SIM_EINPUT, "%s: the firmware refuses the motor and drive values: %s", sc->source,
+                         cfg_check_text(rc));
+    for (int i = 0; i < sc->n_control; i++) {
+        const scenario_control *k = &sc->control[i];
+        sim_control_key_apply(k->key, cfg, k->value);
+        rc = ctl_cfg_check(cfg);
+        if (rc != CTL_CFG_OK) {
+            size_t n_keys;
+            const char *name = sim_control_keys(&n_keys)[k->key].name;
+            if (k->line == SCENARIO_LINE_SET)
+                return set_error(res, SIM_EINPUT, "--set control.%s: refused by the firmware (as a CAN write: "
+                                 "0x06040043): %s", name, cfg_check_text(rc));
+            return set_error(res, SIM_EINPUT, "%s:%d: [control] %s = %g refused by the firmware (as a CAN write: "
+                             "0x06040043): %s", sc->source, k->line, name, k->value, cfg_check_text(rc));
+        }
+    }
     drive_cfg_commit(d);
     /* Re-initialise the control state from the final configuration (no tick has run yet). */
     ctl_init(&d->ctl, drive_cfg(d));
+    return SIM_OK;
 }
 
 static void sort_faults(engine *e, const scenario *sc)
@@ -503,7 +540,8 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
     hal_host_bind(&e->board);
 
     if (firmware) {
-        configure_firmware(e, sc, controller);
+        if ((rc = configure_firmware(e, sc, controller, res)) != SIM_OK)
+            goto out;
         uint32_t period_us = (uint32_t)llround(sc->period_s * 1e6);
         if (hal_tick_start(drive_isr, &e->drv, period_us) != HAL_OK) {
             rc = set_error(res, SIM_EINPUT, "hal_tick_start refused a %u us period", (unsigned)period_us);

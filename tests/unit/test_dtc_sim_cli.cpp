@@ -5,6 +5,7 @@
 
 #include <signal.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -270,4 +271,86 @@ TEST(DtcSimCli, RealtimeEndsCleanlyOnSigint)
     cJSON_Delete(o);
     EXPECT_TRUE(simtest::file_exists(csv));
     EXPECT_FALSE(simtest::file_exists(csv + ".partial"));
+}
+
+// Hostile inputs: a scenario that is not a regular file, too large or with a
+// NUL byte is refused at once (no hang, exit 2, one line); an output that is
+// a device, a FIFO or the scenario itself is refused and left untouched.
+TEST(DtcSimCli, ScenarioMustBeARegularTextFileOfBoundedSize)
+{
+    TempDir dir;
+    const std::string fifo = dir.file("fifo.ini");
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    for (const std::string &path : { fifo, std::string("/dev/zero"), dir.path() }) {
+        auto r = simtest::run_command("timeout 10 " + kSim + " run " + q(path));
+        EXPECT_EQ(r.status, 2) << path << ": " << r.output;
+        EXPECT_NE(r.output.find(path + ": not a regular file"), std::string::npos) << r.output;
+        EXPECT_EQ(lines(r.output), 1) << r.output;
+    }
+    const std::string big = dir.file("big.ini");
+    simtest::write_file(big, "[sim]\nduration_s = 0.01\n" + std::string(1100000, '#') + "\n");
+    auto r = sim("run " + q(big));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("larger than 1048576 bytes"), std::string::npos) << r.output;
+    const std::string nul = dir.file("nul.ini");
+    simtest::write_file(nul, std::string("[sim]\nduration_s = 1\0junk\n", 26));
+    r = sim("run " + q(nul));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(nul + ":2: NUL byte"), std::string::npos) << r.output;
+}
+
+TEST(DtcSimCli, OutputsAreNewOrRegularFilesNeverTheInputOrADevice)
+{
+    TempDir dir;
+    const std::string sc = dir.file("s.ini");
+    const std::string text = "[sim]\nduration_s = 0.01\n";
+    simtest::write_file(sc, text);
+    const std::string fifo = dir.file("out.fifo");
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    struct Case {
+        std::string args, what;
+    };
+    const Case cases[] = {
+        { "--csv " + q(sc), "--csv " + sc + ": is the scenario file itself" },
+        { "--metrics " + q(sc), "--metrics " + sc + ": is the scenario file itself" },
+        { "--csv /dev/null", "--csv /dev/null: not a regular file" },
+        { "--metrics " + q(fifo), "--metrics " + fifo + ": not a regular file" },
+        { "--csv " + q(dir.path()), "not a regular file" },
+        { "--nvm " + q(sc), "--nvm " + sc + ": is the scenario file itself" },
+    };
+    for (const Case &c : cases) {
+        auto r = simtest::run_command("timeout 10 " + kSim + " run " + q(sc) + " " + c.args);
+        EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+        EXPECT_NE(r.output.find(c.what), std::string::npos) << r.output;
+    }
+    EXPECT_EQ(simtest::read_file(sc), text) << "the scenario is untouched";
+    struct stat st;
+    ASSERT_EQ(stat(fifo.c_str(), &st), 0);
+    EXPECT_TRUE(S_ISFIFO(st.st_mode)) << "the FIFO is still a FIFO";
+    // A new path and an existing regular file are fine.
+    const std::string old = dir.file("old.json");
+    simtest::write_file(old, "old");
+    auto r = sim("run " + q(sc) + " --csv " + q(dir.file("new.csv")) + " --metrics " + q(old) + " --quiet");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(simtest::read_file(old), "old");
+}
+
+// A scenario's [control] values go through the firmware's ctl_cfg_check, with
+// the refusal a CAN write gets (0x06040043): the key that makes the
+// configuration inconsistent is named with its line, nothing runs.
+TEST(DtcSimCli, InconsistentControlValuesAreRefusedLikeACanWrite)
+{
+    TempDir dir;
+    const std::string sc = dir.file("v.ini");
+    simtest::write_file(sc, "[sim]\nduration_s = 0.05\n[control]\nvdc_max_V = 400\nvdc_min_V = 500\n");
+    const std::string m = dir.file("m.json");
+    auto r = sim("run " + q(sc) + " --metrics " + q(m));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(sc + ":5: [control] vdc_min_V = 500 refused by the firmware"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("0x06040043"), std::string::npos) << r.output;
+    EXPECT_EQ(lines(r.output), 1) << r.output;
+    EXPECT_FALSE(simtest::file_exists(m));
+    r = sim("run " + q(sc) + " --set control.vdc_min_V=300 --quiet");
+    EXPECT_EQ(r.status, 0) << "the --set value replaces the file's: " << r.output;
 }
