@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Compare two folders of dtc-sim metrics JSON files field by field, exactly.
 
-Used to prove a refactor changes no behaviour: every field must be equal
-(bit for bit, as JSON numbers), except the host's wall-clock statistics,
-which depend on the machine's load and not on the firmware:
-wall_seconds, isr_max_us, isr_overruns.
+Used to prove a refactor changes no behaviour: every field of BEFORE must be
+equal in AFTER (bit for bit, as JSON numbers), except the host's wall-clock
+statistics, which depend on the machine's load and not on the firmware:
+wall_seconds, isr_max_us, isr_overruns. Fields only AFTER has (new metrics)
+are listed, not judged.
 
   tools/compare_metrics.py BEFORE_DIR AFTER_DIR   # exit 0 when all identical
 """
@@ -32,9 +33,11 @@ def main(argv: list[str]) -> int:
             differ += 1
             continue
         a, b = json.loads(f.read_text()), json.loads(other.read_text())
-        keys = (set(a) | set(b)) - WALL_CLOCK
+        keys = set(a) - WALL_CLOCK
         diff = sorted(k for k in keys if a.get(k) != b.get(k))
-        print(f"{f.name}: " + (f"identical ({len(keys)} fields)" if not diff else f"DIFFERENT in {diff}"))
+        new = sorted(set(b) - set(a))
+        print(f"{f.name}: " + (f"identical ({len(keys)} fields)" if not diff else f"DIFFERENT in {diff}") +
+              (f"; new fields {new}" if new else ""))
         differ += bool(diff)
     return 1 if differ else 0
 

@@ -334,6 +334,9 @@ TEST(SimEngine, EveryCatalogueFaultCanBeInjectedFromAScenario)
         { "[faults]\nhw = 0.6 on\n", CTL_FAULT_HW },
         { "[faults]\ninvalid = 0.6 b\n", CTL_FAULT_SAMPLE_INVALID },
         { "[faults]\noverrun = 0.6\n", CTL_FAULT_OVERRUN },
+        { "[faults]\noffset = 0.6 a 10\n", CTL_FAULT_CURRENT_SENSOR },
+        { "[faults]\nopen_phase = 0.6 a\n", CTL_FAULT_PHASE_LOSS },
+        { "[faults]\ngain = 0 vc1 1.1\n", CTL_FAULT_DC_DIVIDER },
     };
     for (const Case &c : cases) {
         auto l = simtest::parse_text(base + c.extra);

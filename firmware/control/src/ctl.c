@@ -147,7 +147,7 @@ uint32_t ctl_clear_faults(ctl_state *s)
 }
 
 /* Conditions of this tick (enum ctl_fault bits). */
-static uint32_t detect_faults(const ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
+static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 {
     const hal_sample *x = &in->sample;
     uint32_t f = 0u;
@@ -174,6 +174,8 @@ static uint32_t detect_faults(const ctl_state *s, const ctl_cfg *cfg, const ctl_
     /* Written as "not within" so that a diverged (NaN) estimate trips too. */
     if (active && !(num_abs(s->obs.omega_m_filt_rad_s) <= cfg->overspeed_rad_s))
         f |= CTL_FAULT_OVERSPEED;
+    real_t omega_e = num_mul(cfg->motor.pole_pairs, s->obs.omega_m_filt_rad_s);
+    f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s);
     return f;
 }
 

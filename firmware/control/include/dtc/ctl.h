@@ -15,6 +15,7 @@
 
 #include "dtc/num.h"
 #include "dtc/observer.h"
+#include "dtc/plausibility.h"
 #include "dtc/speed_ctl.h"
 #include "dtc/dtc3l.h"
 #include "hal/hal_types.h"
@@ -34,13 +35,17 @@ enum ctl_fault {
     CTL_FAULT_HW = 1u << 6,           /**< hardware fault input active */
     CTL_FAULT_OVERRUN = 1u << 7,      /**< the previous tick missed its deadline */
     CTL_FAULT_SAMPLE_INVALID = 1u << 8, /**< a sampled value is not a finite number */
+    CTL_FAULT_CURRENT_SENSOR = 1u << 9, /**< current sum of the three sensors implausible, or a reading stuck */
+    CTL_FAULT_PHASE_LOSS = 1u << 10,    /**< one motor phase carries no current while the others do */
+    CTL_FAULT_DC_DIVIDER = 1u << 11,    /**< capacitor voltages unequal while stopped: divider or sensor error */
 };
 
 /** Fault bits that ctl_step latches (OVERRUN from ctl_in.overrun). */
 #define CTL_FAULTS_DETECTED                                                                 \
     (CTL_FAULT_OVERCURRENT | CTL_FAULT_DC_OVERVOLT | CTL_FAULT_DC_UNDERVOLT |               \
      CTL_FAULT_NP_IMBALANCE | CTL_FAULT_OVERSPEED | CTL_FAULT_STALE_SAMPLE | CTL_FAULT_HW | \
-     CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID)
+     CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID | CTL_FAULT_CURRENT_SENSOR | CTL_FAULT_PHASE_LOSS |    \
+     CTL_FAULT_DC_DIVIDER)
 
 /** Error codes of ctl_cfg_check() (negative, first violated rule). */
 enum ctl_cfg_error {
@@ -127,6 +132,7 @@ typedef enum {
 /** Mutable state of the control core, owned by the interrupt. */
 typedef struct {
     observer obs;
+    plaus_state plaus;        /**< sensor plausibility history */
     speed_ctl speed;
     dtc3l dtc;
     ctl_run_state run_state;

@@ -1,0 +1,58 @@
+/**
+ * @file plausibility.c
+ * @brief Sensor plausibility checks (see dtc/plausibility.h).
+ */
+#include "dtc/plausibility.h"
+
+#include <string.h>
+
+#include "dtc/ctl.h"
+
+void plaus_reset(plaus_state *p) { memset(p, 0, sizeof *p); }
+
+/* Count ticks in a row while @p cond holds (saturating). */
+static uint16_t count(uint16_t n, bool cond) { return cond ? (uint16_t)(n < 0xFFFFu ? n + 1u : n) : 0u; }
+
+uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stopped, real_t omega_e_rad_s,
+                     real_t period_s)
+{
+    uint32_t f = 0u;
+    const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
+    real_t sq = num_mul(i[0], i[0]) + num_mul(i[1], i[1]) + num_mul(i[2], i[2]);
+    real_t mag_A = num_sqrt(num_mul(R(0.6666667), sq)); /* space-vector magnitude */
+
+    if (stopped) {
+        real_t vdc = x->vc1_V + x->vc2_V;
+        if (num_abs(x->vc1_V - x->vc2_V) > num_mul(PLAUS_DIVIDER_REL, vdc))
+            f |= CTL_FAULT_DC_DIVIDER;
+    }
+    if (!active) {
+        plaus_reset(p);
+        return f;
+    }
+
+    real_t sum = i[0] + i[1] + i[2];
+    p->sum_ticks = count(p->sum_ticks, num_abs(sum) > PLAUS_SUM_ABS_A + num_mul(PLAUS_SUM_REL, mag_A));
+    if (p->sum_ticks >= PLAUS_SUM_TICKS)
+        f |= CTL_FAULT_CURRENT_SENSOR;
+
+    /* Half an electrical period in ticks; no phase-loss judgement at low frequency. */
+    real_t w = num_abs(omega_e_rad_s);
+    bool judge_open = w > R(2.0) * NUM_PI * PLAUS_PHASE_MIN_HZ;
+    uint32_t half_period_ticks = judge_open ? (uint32_t)(NUM_PI / num_mul(w, period_s)) : 0u;
+    if (half_period_ticks < PLAUS_OPEN_MIN_TICKS)
+        half_period_ticks = PLAUS_OPEN_MIN_TICKS;
+
+    bool flowing = mag_A > PLAUS_CURRENT_A;
+    for (int k = 0; k < 3; k++) {
+        /* A reading stuck at ~0 A is judged as phase loss or by the current sum. */
+        p->stuck_ticks[k] = count(p->stuck_ticks[k], flowing && i[k] == p->last_A[k] && num_abs(i[k]) >= PLAUS_OPEN_A);
+        if (p->stuck_ticks[k] >= PLAUS_STUCK_TICKS)
+            f |= CTL_FAULT_CURRENT_SENSOR;
+        p->last_A[k] = i[k];
+        p->open_ticks[k] = count(p->open_ticks[k], judge_open && flowing && num_abs(i[k]) < PLAUS_OPEN_A);
+        if (p->open_ticks[k] > half_period_ticks)
+            f |= CTL_FAULT_PHASE_LOSS;
+    }
+    return f;
+}
