@@ -8,7 +8,7 @@ command), observed uncertainty.
   plot_traces.py --run "nominal=nom.csv" --rbfn rbfn.csv --out fig.png  # any runs, any labels
 
 Columns used (dtc-sim trace, see docs/scenarios.md): t_s, speed_rpm, speed_ref_rpm (or
-ref_cmd_rpm), speed_est_rpm, speed_err_rpm, ia_a, te_ref_nm, eps_hat, eps_true, t_load_nm.
+ref_cmd_rpm), speed_est_rpm, speed_err_true_rpm, ia_a, te_ref_nm, eps_hat, eps_true, t_load_nm.
 A vertical dotted line marks the disturbance (first change of t_load_nm) unless --event is given.
 Errors: exit status 2 and one line.
 """
@@ -25,7 +25,7 @@ PANELS = {
     # key: (title, y label, [(column, style, label)], required columns)
     "speed": ("speed", "rpm", [("speed_ref_rpm", "k--", "reference"), ("speed_rpm", "C0-", "true"),
                                ("speed_est_rpm", "C1:", "estimated")], ["speed_rpm"]),
-    "error": ("speed error", "rpm", [("speed_err_rpm", "C0-", "reference - true")], ["speed_err_rpm"]),
+    "error": ("speed error", "rpm", [("speed_err_true_rpm", "C0-", "reference - true")], ["speed_err_true_rpm"]),
     "current": ("phase current", "A", [("ia_a", "C0-", "i_a")], ["ia_a"]),
     "torque": ("control input (torque command)", "N m", [("te_ref_nm", "C0-", "T_e*")], ["te_ref_nm"]),
     "eps": ("observed uncertainty", "rad/s$^2$", [("eps_true", "--", "true (eq. 5)"),

@@ -14,7 +14,7 @@
 
 static const char header[] =
     "t_s,omega_m_rad_s,speed_rpm,te_nm,ia_a,ib_a,ic_a,vc1_v,vc2_v,t_load_nm,ref_cmd_rpm,"
-    "speed_ref_rpm,speed_est_rpm,speed_err_rpm,te_ref_nm,te_est_nm,psi_s_wb,psi_ref_wb,"
+    "speed_ref_rpm,speed_est_rpm,speed_err_true_rpm,te_ref_nm,te_est_nm,psi_s_wb,psi_ref_wb,"
     "eps_hat,eps_true,w_norm,zeta_bar,rs_est_ohm,vector,duty0,state,faults\n";
 
 static char *concat(const char *a, const char *b)

@@ -153,7 +153,7 @@ TEST(DtcSimCli, RunWritesTraceAndMetrics)
     std::string text = simtest::read_file(csv);
     std::string header = text.substr(0, text.find('\n'));
     for (const char *col : { "t_s", "omega_m_rad_s", "speed_rpm", "te_nm", "ia_a", "ib_a", "ic_a", "vc1_v", "vc2_v",
-                             "speed_ref_rpm", "speed_est_rpm", "speed_err_rpm", "te_ref_nm", "te_est_nm", "psi_s_wb",
+                             "speed_ref_rpm", "speed_est_rpm", "speed_err_true_rpm", "te_ref_nm", "te_est_nm", "psi_s_wb",
                              "psi_ref_wb", "eps_hat", "eps_true", "w_norm", "zeta_bar", "rs_est_ohm", "vector",
                              "duty0", "faults" })
         EXPECT_NE(("," + header + ",").find("," + std::string(col) + ","), std::string::npos) << col;

@@ -11,7 +11,7 @@ plot_traces = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(plot_traces)
 
 HEADER = ("t_s,omega_m_rad_s,speed_rpm,te_nm,ia_a,ib_a,ic_a,vc1_v,vc2_v,t_load_nm,ref_cmd_rpm,"
-          "speed_ref_rpm,speed_est_rpm,speed_err_rpm,te_ref_nm,te_est_nm,psi_s_wb,psi_ref_wb,"
+          "speed_ref_rpm,speed_est_rpm,speed_err_true_rpm,te_ref_nm,te_est_nm,psi_s_wb,psi_ref_wb,"
           "eps_hat,eps_true,w_norm,zeta_bar,rs_est_ohm,vector,duty0,state,faults")
 
 
@@ -59,7 +59,7 @@ def test_missing_column_is_one_error_line(tmp_path, capsys):
     bad.write_text("t_s,speed_rpm\n0,1\n")
     assert plot_traces.main(["--ip", str(bad), "--out", str(tmp_path / "x.png")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "needs column speed_err_rpm" in err[0]
+    assert len(err) == 1 and "needs column speed_err_true_rpm" in err[0]
     assert not (tmp_path / "x.png").exists()
 
 
