@@ -123,7 +123,7 @@ Toml read_toml()
 const std::map<std::string, int> kTypeCode = {
     {"BOOLEAN", 1},    {"INTEGER8", 2},   {"INTEGER16", 3},      {"INTEGER32", 4}, {"UNSIGNED8", 5},
     {"UNSIGNED16", 6}, {"UNSIGNED32", 7}, {"REAL32", 8},         {"VISIBLE_STRING", 9}, {"DOMAIN", 15}};
-const std::map<std::string, int> kTypeBits = {{"INTEGER16", 16}, {"INTEGER32", 32}, {"UNSIGNED8", 8},
+const std::map<std::string, int> kTypeBits = {{"INTEGER8", 8}, {"INTEGER16", 16}, {"INTEGER32", 32}, {"UNSIGNED8", 8},
                                               {"UNSIGNED16", 16}, {"UNSIGNED32", 32}, {"REAL32", 32}};
 
 // Compare a raw table value with the TOML number (a Python repr).
