@@ -66,14 +66,19 @@ void drive_set_run(drive *d, bool run)
     d->run = run;
 }
 
-/* A quick stop ends when the ramp is at 0 and the estimate below this (20 rpm). */
+/* A quick stop ends when the ramp is at 0 and the estimate has stayed below
+ * 20 rpm for QS_HOLD_S: the speed loop holds the motor near standstill first,
+ * so it does not coast on (a later start from a turning rotor is a flying
+ * start, which the magnetising does not handle yet). */
 #define QS_STOPPED_RAD_S 2.0943951f
+#define QS_HOLD_S 0.2f
 
 /*
  * Quick stop (ISR side): the speed reference ramps from the present estimate
  * to 0 at the configured deceleration; at 0 with the estimate below
- * QS_STOPPED_RAD_S (or when the control core is no longer running) the gates
- * go off and the snapshot says so, so the background ends the run.
+ * QS_STOPPED_RAD_S for QS_HOLD_S (or when the control core is no longer
+ * running) the gates go off and the snapshot says so, so the background ends
+ * the run.
  * @return true when the quick stop is done.
  */
 static bool quick_stop_step(drive *d, const ctl_cfg *cfg, ctl_in *in)
@@ -87,6 +92,7 @@ static bool quick_stop_step(drive *d, const ctl_cfg *cfg, ctl_in *in)
     if (!q->active) {
         q->active = true;
         q->ref_rad_s = w;
+        q->held_s = R(0.0);
     }
     real_t step = q->decel_rad_s2 * cfg->period_s;
     if (q->ref_rad_s > step)
@@ -97,8 +103,9 @@ static bool quick_stop_step(drive *d, const ctl_cfg *cfg, ctl_in *in)
         q->ref_rad_s = R(0.0);
     in->speed_ref_rad_s = q->ref_rad_s;
     ctl_run_state st = d->ctl.run_state;
-    bool done = (q->ref_rad_s == R(0.0) && num_abs(w) < QS_STOPPED_RAD_S) ||
-                st == CTL_STOPPED || st == CTL_FAULTED;
+    bool still = q->ref_rad_s == R(0.0) && num_abs(w) < QS_STOPPED_RAD_S;
+    q->held_s = still ? q->held_s + cfg->period_s : R(0.0);
+    bool done = q->held_s >= QS_HOLD_S || st == CTL_STOPPED || st == CTL_FAULTED;
     if (done)
         in->run = false;
     return done;

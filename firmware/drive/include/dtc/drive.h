@@ -46,6 +46,7 @@ typedef struct {
     float decel_rad_s2;        /**< ramp rate, rad/s^2 (derived from 0x6049 in the background) */
     bool active;               /**< ISR: the ramp is running */
     float ref_rad_s;           /**< ISR: the ramped speed reference, rad/s */
+    float held_s;              /**< ISR: time held at zero speed at the end of the ramp, s */
 } drive_quick_stop;
 
 /** Telemetry snapshot guarded by a sequence counter (odd while the ISR writes). */
