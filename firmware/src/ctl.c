@@ -66,6 +66,10 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->vdc_min_V = R(200.0);
     cfg->np_trip_V = R(30.0);
     cfg->overspeed_rad_s = R(250.0);
+    cfg->guard.wc_rad_s = R(6.0);          /* 1 Hz */
+    cfg->guard.flux_err_frac = R(0.15);
+    cfg->guard.time_s = R(0.01);
+    cfg->guard.rs_tol_frac = R(0.3);       /* a winding 30 % warmer than modelled */
 
     ctl_cfg_derive(cfg);
 }
@@ -84,6 +88,7 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->psi_ramp_Wb_s = a_per_wb_s > R(0.0) ? num_div(num_mul(R(0.2), cfg->i_trip_A), a_per_wb_s) : R(1.0);
     cfg->np_V_per_A = cfg->c_dc_F > R(0.0) ? num_div(cfg->period_s, cfg->c_dc_F) : R(0.0);
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
+    ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
 }
 
 int ctl_cfg_check(const ctl_cfg *cfg)
@@ -105,7 +110,9 @@ int ctl_cfg_check(const ctl_cfg *cfg)
           o->speed_lpf_hz >= R(0.0)))
         return CTL_CFG_E_OBSERVER;
     if (!(cfg->i_trip_A > R(0.0) && cfg->vdc_max_V > R(0.0) && cfg->vdc_min_V >= R(0.0) &&
-          cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0)))
+          cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0) &&
+          cfg->guard.wc_rad_s > R(0.0) && cfg->guard.flux_err_frac >= R(0.0) && cfg->guard.time_s >= R(0.0) &&
+          cfg->guard.rs_tol_frac >= R(0.0)))
         return CTL_CFG_E_PROTECTION;
     if (speed_cfg_check(&cfg->speed, m) != SPEED_CFG_OK)
         return CTL_CFG_E_SPEED;
@@ -174,6 +181,8 @@ static uint32_t detect_faults(const ctl_state *s, const ctl_cfg *cfg, const ctl_
     /* Written as "not within" so that a diverged (NaN) estimate trips too. */
     if (active && !(num_abs(s->obs.omega_m_filt_rad_s) <= cfg->overspeed_rad_s))
         f |= CTL_FAULT_OVERSPEED;
+    if (active && s->guard_trip)
+        f |= CTL_FAULT_LOSS_OF_CONTROL;
     return f;
 }
 
@@ -187,6 +196,8 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->psi_ref_ramped_Wb = R(0.0);
     s->speed_ref_ramped_rad_s = R(0.0);
     s->te_ref_Nm = R(0.0);
+    ctl_guard_reset(&s->guard);
+    s->guard_trip = false;
     gates_off(s); /* the first period after enabling applies OOO */
 }
 
@@ -232,10 +243,11 @@ static bool protect(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 }
 
 /* Observe: the voltage applied from t_k to t_{k+1} is last_act with this
- * tick's vc1, vc2; the observer advances to t_{k+1} with it. */
-static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
+ * tick's vc1, vc2; the observer advances to t_{k+1} with it. Returns that
+ * voltage and the sampled current (alpha-beta). */
+static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t v[2], real_t is[2])
 {
-    real_t v0[2], v1[2], v[2];
+    real_t v0[2], v1[2];
     uint8_t st0 = dtc3l_state_of(&s->last_act.vector[0]);
     uint8_t st1 = dtc3l_state_of(&s->last_act.vector[1]);
     dtc3l_state_voltage(st0, x->vc1_V, x->vc2_V, v0);
@@ -243,7 +255,6 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
     real_t d0 = s->last_act.duty0;
     v[0] = num_mac(d0, v0[0] - v1[0], v1[0]);
     v[1] = num_mac(d0, v0[1] - v1[1], v1[1]);
-    real_t is[2];
     is[0] = num_mul(R(0.333333333), R(2.0) * x->ia_A - x->ib_A - x->ic_A);
     is[1] = num_mul(NUM_INV_SQRT3, x->ib_A - x->ic_A);
     observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
@@ -357,7 +368,10 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     if (s->run_state == CTL_STOPPED)
         start(s, cfg);
 
-    observe(s, cfg, &in->sample);
+    real_t v_V[2], is_A[2];
+    observe(s, cfg, &in->sample, v_V, is_A);
+    s->guard_trip = ctl_guard_step(&s->guard, &cfg->guard, cfg->period_s, v_V, is_A, s->obs.rs_ohm,
+                                   s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
     ramp_flux_reference(s, cfg);
 

@@ -101,3 +101,103 @@ TEST(RatedStep500, AnyLoadUpToTheTorqueLimitIsLearnable)
         EXPECT_LT(m.w_norm_max, 0.95 * m.m_w) << "the weights sit on the projection bound";
     }
 }
+
+// ------------------------------------------------------- loss-of-control trip
+
+namespace {
+
+// Forces a divergence at @p t_s: the observer's speed adaptation is switched
+// off (kp = ki = 0 through the background configuration path) and its speed
+// estimate is scaled by @p factor and frozen there. Records the first tick
+// at which CTL_FAULT_LOSS_OF_CONTROL is latched.
+struct Diverger {
+    double t_s;
+    float factor;
+    bool done = false;
+    double t_trip = -1.0;
+    void operator()(double t, struct drive *d)
+    {
+        if (!done && t >= t_s) {
+            ctl_cfg *c = drive_cfg_edit(d);
+            c->obs.kp_speed = 0.0f;
+            c->obs.ki_speed = 0.0f;
+            drive_cfg_commit(d);
+            d->ctl.obs.omega_int_rad_s *= factor;
+            d->ctl.obs.omega_e_rad_s = d->ctl.obs.omega_int_rad_s;
+            done = true;
+        }
+        if (t_trip < 0.0 && (d->ctl.faults & CTL_FAULT_LOSS_OF_CONTROL) != 0u)
+            t_trip = t;
+    }
+};
+
+} // namespace
+
+// A speed estimate that is frozen at a wrong value (the observer has lost
+// the machine) is caught by the voltage-model flux check within 50 ms, the
+// overspeed trip being blind to it (the estimate stays in range).
+TEST(LossOfControl, ForcedDivergenceTripsWithinFiftyMilliseconds)
+{
+    for (float factor : {0.5f, 0.0f, -1.0f}) {
+        SCOPED_TRACE(factor);
+        Diverger dv{3.0, factor};
+        SimRun r = run_sim("rated_step_500.ini", SCENARIO_CTL_RBFN, {},
+                           [&dv](double t, struct drive *d) { dv(t, d); });
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        std::printf("[envelope] forced divergence x%.1f: trip %.4f s after\n", factor, dv.t_trip - dv.t_s);
+        EXPECT_NE(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
+        ASSERT_GE(dv.t_trip, dv.t_s);
+        EXPECT_LE(dv.t_trip - dv.t_s, 0.05);
+    }
+}
+
+// The same forcing with the estimate frozen at the right value is not a
+// loss of control: no trip, and the drive still holds the speed.
+TEST(LossOfControl, FrozenButRightEstimateDoesNotTrip)
+{
+    Diverger dv{3.0, 1.0f};
+    SimRun r = run_sim("rated_step_500.ini", SCENARIO_CTL_RBFN, {}, [&dv](double t, struct drive *d) { dv(t, d); });
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u);
+    EXPECT_NEAR(r.m.speed_final_rpm, 500.0, 10.0);
+}
+
+// The runaway (30 rpm, 40 N m, IP) now ends in a loss-of-control
+// trip instead of an unfaulted run to -24,000 rpm.
+TEST(LossOfControl, SensorlessRunawayTrips)
+{
+    double t_trip = -1.0;
+    SimRun r = run_sim("runaway_trip.ini", SCENARIO_CTL_IP, {}, [&t_trip](double t, struct drive *d) {
+        if (t_trip < 0.0 && (d->ctl.faults & CTL_FAULT_LOSS_OF_CONTROL) != 0u)
+            t_trip = t;
+    });
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    std::printf("[envelope] runaway: loss-of-control trip at %.4f s (load at 2.0 s)\n", t_trip);
+    EXPECT_NE(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
+    EXPECT_GE(t_trip, 2.0);
+    EXPECT_LE(t_trip, 2.5);
+}
+
+// No false trip on healthy runs: rated load at 500 rpm (both controllers),
+// torque steps motoring and generating at 500 and 1000 rpm, 1700 rpm.
+TEST(LossOfControl, NoFalseTripOnHealthyRuns)
+{
+    struct Case {
+        const char *file;
+        int controller;
+        std::vector<std::string> sets;
+    };
+    const std::vector<Case> cases = {
+        {"rated_step_500.ini", SCENARIO_CTL_RBFN, {}},
+        {"rated_step_500.ini", SCENARIO_CTL_IP, {}},
+        {"torque_step.ini", SCENARIO_CTL_RBFN, {}},
+        {"torque_step.ini", SCENARIO_CTL_IP, {"reference.ramp=0.3 1.3 1000"}},
+        {"case1.ini", SCENARIO_CTL_RBFN, {"reference.ramp=0.3 2.3 1700"}},
+    };
+    for (const Case &c : cases) {
+        SCOPED_TRACE(std::string(c.file) + (c.sets.empty() ? "" : " " + c.sets[0]));
+        SimRun r = run_sim(c.file, c.controller, c.sets);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        EXPECT_EQ(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
+    }
+}

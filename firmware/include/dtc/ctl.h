@@ -17,6 +17,7 @@
 #include "dtc/observer.h"
 #include "dtc/speed_ctl.h"
 #include "dtc/dtc3l.h"
+#include "dtc/ctl_guard.h"
 #include "hal/hal_types.h"
 
 #ifdef __cplusplus
@@ -34,13 +35,14 @@ enum ctl_fault {
     CTL_FAULT_HW = 1u << 6,           /**< hardware fault input active */
     CTL_FAULT_OVERRUN = 1u << 7,      /**< the previous tick missed its deadline */
     CTL_FAULT_SAMPLE_INVALID = 1u << 8, /**< a sampled value is not a finite number */
+    CTL_FAULT_LOSS_OF_CONTROL = 1u << 9, /**< the observer's flux is not the machine's (ctl_guard.h) */
 };
 
 /** Fault bits that ctl_step latches (OVERRUN from ctl_in.overrun). */
 #define CTL_FAULTS_DETECTED                                                                 \
     (CTL_FAULT_OVERCURRENT | CTL_FAULT_DC_OVERVOLT | CTL_FAULT_DC_UNDERVOLT |               \
      CTL_FAULT_NP_IMBALANCE | CTL_FAULT_OVERSPEED | CTL_FAULT_STALE_SAMPLE | CTL_FAULT_HW | \
-     CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID)
+     CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID | CTL_FAULT_LOSS_OF_CONTROL)
 
 /** Error codes of ctl_cfg_check() (negative, first violated rule). */
 enum ctl_cfg_error {
@@ -72,6 +74,7 @@ typedef struct {
     real_t vdc_min_V;         /**< DC-link under-voltage trip while running, V */
     real_t np_trip_V;         /**< |vc1 - vc2| trip, V */
     real_t overspeed_rad_s;   /**< estimated-speed trip, rad/s */
+    ctl_guard_cfg guard;      /**< loss-of-control monitor (voltage-model flux check) */
 
     /* derived by ctl_cfg_derive() */
     real_t psi_ramp_Wb_s;     /**< flux-reference slew rate, Wb/s: keeps the magnetising
@@ -141,6 +144,8 @@ typedef struct {
     real_t te_ref_Nm;         /**< torque command of the last step */
     observer_out obs_out;     /**< observer outputs of the last step */
     dtc3l_out dtc_out;        /**< DTC outputs of the last step */
+    ctl_guard guard;          /**< loss-of-control monitor */
+    bool guard_trip;          /**< the monitor's verdict of the last step */
 } ctl_state;
 
 /** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */
