@@ -65,7 +65,9 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->vdc_max_V = R(400.0);
     cfg->vdc_min_V = R(200.0);
     cfg->np_trip_V = R(30.0);
-    cfg->overspeed_rad_s = R(250.0);
+    cfg->overspeed_rad_s = R(310.0);       /* 2960 rpm: the reference limit 310 / 1.1 = 2691 rpm is above 1.5 x base (2610 rpm) */
+    cfg->fw_voltage_frac = R(0.9);
+    cfg->te_pullout_frac = R(0.9);
     cfg->guard.wc_rad_s = R(6.0);          /* 1 Hz */
     cfg->guard.flux_err_frac = R(0.15);
     cfg->guard.time_s = R(0.01);
@@ -89,6 +91,10 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->np_V_per_A = cfg->c_dc_F > R(0.0) ? num_div(cfg->period_s, cfg->c_dc_F) : R(0.0);
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
     ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
+    /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */
+    real_t den = num_mul(R(2.0) * sigma, m->Ls_H);
+    cfg->te_pullout_Nm_Wb2 = den > R(0.0) ? num_div(num_mul(R(1.5) * m->pole_pairs, R(1.0) - sigma), den) : R(0.0);
+    cfg->speed_max_rad_s = num_div(cfg->overspeed_rad_s, R(1.1));
 }
 
 int ctl_cfg_check(const ctl_cfg *cfg)
@@ -112,7 +118,8 @@ int ctl_cfg_check(const ctl_cfg *cfg)
     if (!(cfg->i_trip_A > R(0.0) && cfg->vdc_max_V > R(0.0) && cfg->vdc_min_V >= R(0.0) &&
           cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0) &&
           cfg->guard.wc_rad_s > R(0.0) && cfg->guard.flux_err_frac >= R(0.0) && cfg->guard.time_s >= R(0.0) &&
-          cfg->guard.rs_tol_frac >= R(0.0)))
+          cfg->guard.rs_tol_frac >= R(0.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
+          cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0)))
         return CTL_CFG_E_PROTECTION;
     if (speed_cfg_check(&cfg->speed, m) != SPEED_CFG_OK)
         return CTL_CFG_E_SPEED;
@@ -272,11 +279,21 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
     return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
 }
 
-/* Flux reference: slew-limited so that magnetising does not trip. */
-static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg)
+/* Flux reference: rated, or what the measured DC link allows at the present
+ * speed (field weakening), whichever is lower; slew-limited so that
+ * magnetising does not trip. Then the torque limit at that flux. */
+static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
 {
+    real_t target = cfg->dtc.psi_ref_Wb;
+    real_t v_max = num_mul(num_mul(cfg->fw_voltage_frac, NUM_INV_SQRT3), x->vc1_V + x->vc2_V);
+    real_t w = num_abs(s->obs.omega_e_rad_s);
+    if (num_mul(target, w) > v_max)
+        target = num_div(v_max, w);
     real_t dpsi = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
-    s->psi_ref_ramped_Wb = num_sat(cfg->dtc.psi_ref_Wb, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
+    s->psi_ref_ramped_Wb = num_sat(target, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
+    real_t psi = s->psi_ref_ramped_Wb;
+    real_t te_po = num_mul(num_mul(cfg->te_pullout_frac, cfg->te_pullout_Nm_Wb2), num_mul(psi, psi));
+    s->te_limit_Nm = te_po < cfg->speed.te_max_Nm ? te_po : cfg->speed.te_max_Nm;
 }
 
 /* Magnetising: zero torque until premag_s, then RUNNING from the estimated speed. */
@@ -298,12 +315,14 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
 {
     real_t T = cfg->period_s;
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
+    target = num_limit(target, cfg->speed_max_rad_s);
     real_t prev = s->speed_ref_ramped_rad_s;
     s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, num_mul(cfg->speed.ramp_rad_s2, T));
     speed_in si;
     si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
     si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_period_per_s);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
+    si.te_limit_Nm = s->te_limit_Nm;
     speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
     s->te_ref_Nm = so->te_ref_Nm;
 }
@@ -373,7 +392,7 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     s->guard_trip = ctl_guard_step(&s->guard, &cfg->guard, cfg->period_s, v_V, is_A, s->obs.rs_ohm,
                                    s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
-    ramp_flux_reference(s, cfg);
+    ramp_flux_reference(s, cfg, &in->sample);
 
     speed_out so;
     memset(&so, 0, sizeof so);

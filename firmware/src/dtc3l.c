@@ -142,11 +142,44 @@ static void decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *i
         s->flux_state = -1;
 }
 
+/* Neutral point with the large and medium vectors: a medium vector draws the
+ * current of its O-leg phase from the neutral point; when that current would
+ * drive an unbalanced link (|np_dev| > np_band) further away, the large
+ * vector at 90 deg from the flux on the same side takes its place (no NP
+ * current; the most torque of all; its radial part, +-Vdc/6 over the 30 deg
+ * sector, averages out, and the flux comparator still chooses the next
+ * medium vectors). The medium vectors are the table's choice only in the odd
+ * sectors, where 90 deg is a large-vector direction. */
+static uint8_t np_checked_vector(uint8_t sv, const dtc3l_in *in, const dtc3l_cfg *cfg, const tick_geometry *g,
+                                 int8_t torque)
+{
+    if (dtc3l_sv_class(sv) != DTC3L_CLASS_MEDIUM || torque == 0)
+        return sv;
+    /* a strong demand gets the most tangential voltage there is: the large
+     * vector at 90 deg (>= 0.97 x 2 Vdc / 3) rather than the medium one at
+     * 45..75 deg (0.71..0.97 x Vdc / sqrt 3), which near the voltage limit
+     * no longer beats the back-emf */
+    bool strong = torque == 2 || torque == -2;
+    if (!strong) {
+        if (!(num_abs(in->np_dev_V) > cfg->np_band_V))
+            return sv;
+        uint8_t st[3];
+        (void)dtc3l_sv_states(sv, st);
+        real_t inp = dtc3l_np_current(st[0], g->i_abc_A);
+        if (!(num_mul(inp, in->np_dev_V) > R(0.0)))
+            return sv; /* it balances, or draws nothing */
+    }
+    uint8_t dir = (uint8_t)((g->sector + (torque > 0 ? 3u : 9u)) % 12u);
+    if ((dir & 1u) != 0u)
+        return sv;
+    return (uint8_t)(13u + dir / 2u);
+}
+
 /* The state realising the table's vector for torque demand @p torque. */
 static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g,
                                 int8_t torque, uint8_t prev_state, uint8_t *sv)
 {
-    uint8_t v = pick(g->sector, g->sector6, torque, s->flux_state, s->level);
+    uint8_t v = np_checked_vector(pick(g->sector, g->sector6, torque, s->flux_state, s->level), in, cfg, g, torque);
     if (sv)
         *sv = v;
     return dtc3l_choose_state(v, prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);

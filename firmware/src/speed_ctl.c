@@ -208,6 +208,8 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
         switch_mode(s, cfg, m, cfg->mode == SPEED_MODE_IP ? in : &min);
 
     real_t te_max = cfg->te_max_Nm > R(0.0) ? cfg->te_max_Nm : R(0.0);
+    if (in->te_limit_Nm > R(0.0) && in->te_limit_Nm < te_max)
+        te_max = in->te_limit_Nm;
     switch (cfg->mode) {
     case SPEED_MODE_IP:
         speed_ip_step(&s->ip, &cfg->ip, m, te_max, dt_s, in, out);

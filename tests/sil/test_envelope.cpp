@@ -201,3 +201,70 @@ TEST(LossOfControl, NoFalseTripOnHealthyRuns)
         EXPECT_EQ(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
     }
 }
+
+// ------------------------------------- nameplate and field weakening
+
+namespace {
+
+double window_speed(const sim_metrics &m, const char *name)
+{
+    for (int i = 0; i < m.n_windows; ++i)
+        if (std::string(m.windows[i].name) == name && m.windows[i].valid)
+            return m.windows[i].speed_rpm;
+    ADD_FAILURE() << "no window " << name;
+    return 0.0;
+}
+
+} // namespace
+
+// 1740 rpm with the rated 41 N m, both controllers with integral action.
+TEST(Nameplate, ReachesAndHolds1740RpmWithRatedTorque)
+{
+    for (int c : {SCENARIO_CTL_RBFN, SCENARIO_CTL_IP}) {
+        SCOPED_TRACE(c);
+        SimRun r = run_sim("nameplate.ini", c);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        const sim_metrics &m = r.m;
+        EXPECT_EQ(m.faults, 0u);
+        EXPECT_NEAR(window_speed(m, "loaded"), 1740.0, 2.0);
+        EXPECT_GE(m.te_final_nm, 41.0);
+        if (c == SCENARIO_CTL_RBFN) {
+            EXPECT_LE(m.steady_error_rpm, 2.0);
+        }
+    }
+}
+
+// 2610 rpm (1.5 x base) with 27 N m: constant power in field weakening.
+TEST(FieldWeakening, HoldsRatedPowerAtOnePointFiveTimesBaseSpeed)
+{
+    for (int c : {SCENARIO_CTL_RBFN, SCENARIO_CTL_IP}) {
+        SCOPED_TRACE(c);
+        SimRun r = run_sim("field_weakening.ini", c);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        const sim_metrics &m = r.m;
+        EXPECT_EQ(m.faults, 0u);
+        EXPECT_NEAR(window_speed(m, "loaded"), 2610.0, 2.0);
+        EXPECT_GE(m.te_final_nm, 27.0);
+        if (c == SCENARIO_CTL_RBFN) {
+            EXPECT_LE(m.steady_error_rpm, 2.0);
+        }
+    }
+}
+
+// The overspeed trip follows the speed range: it sits above the reference
+// limit, which covers 1.5 x base speed; a reference beyond the range is
+// limited instead of tripping.
+TEST(FieldWeakening, OverspeedLevelFollowsTheSpeedRange)
+{
+    ctl_cfg cfg;
+    ctl_cfg_default(&cfg);
+    const double rpm_per_rad_s = 60.0 / (2.0 * M_PI);
+    EXPECT_GE(cfg.speed_max_rad_s * rpm_per_rad_s, 2610.0);
+    EXPECT_GT(cfg.overspeed_rad_s, 1.05 * cfg.speed_max_rad_s);
+
+    SimRun r = run_sim("field_weakening.ini", SCENARIO_CTL_RBFN,
+                       {"reference.ramp=0.3 4.5 3500", "load.step=5.0 10"});
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u);
+    EXPECT_NEAR(r.m.speed_final_rpm, cfg.speed_max_rad_s * rpm_per_rad_s, 10.0);
+}

@@ -73,7 +73,11 @@ typedef struct {
     real_t vdc_max_V;         /**< DC-link over-voltage trip, V */
     real_t vdc_min_V;         /**< DC-link under-voltage trip while running, V */
     real_t np_trip_V;         /**< |vc1 - vc2| trip, V */
-    real_t overspeed_rad_s;   /**< estimated-speed trip, rad/s */
+    real_t overspeed_rad_s;   /**< estimated-speed trip, rad/s; the speed reference is limited
+                                   to overspeed_rad_s / 1.1 (speed_max_rad_s) */
+    /* field weakening (docs/envelope.md section 3) */
+    real_t fw_voltage_frac;   /**< flux reference <= this x (measured Vdc / sqrt 3) / |omega_e|, 0..1.2 */
+    real_t te_pullout_frac;   /**< torque limit <= this x the pull-out torque at the flux reference, 0..1 */
     ctl_guard_cfg guard;      /**< loss-of-control monitor (voltage-model flux check) */
 
     /* derived by ctl_cfg_derive() */
@@ -82,6 +86,8 @@ typedef struct {
                                    by sigma Tr) below a fifth of i_trip_A */
     real_t np_V_per_A;        /**< period_s / c_dc_F: change of vc1 - vc2 per ampere of NP current over one period */
     real_t inv_period_per_s;  /**< 1 / period_s */
+    real_t te_pullout_Nm_Wb2; /**< pull-out torque per Wb^2 of stator flux: 1.5 p (1 - sigma) / (2 sigma Ls) */
+    real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
 } ctl_cfg;
 
 /** Inputs of one control step. */
@@ -144,6 +150,7 @@ typedef struct {
     real_t te_ref_Nm;         /**< torque command of the last step */
     observer_out obs_out;     /**< observer outputs of the last step */
     dtc3l_out dtc_out;        /**< DTC outputs of the last step */
+    real_t te_limit_Nm;       /**< torque limit of the last step (te_max, field weakening), N m */
     ctl_guard guard;          /**< loss-of-control monitor */
     bool guard_trip;          /**< the monitor's verdict of the last step */
 } ctl_state;
