@@ -68,6 +68,8 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->overspeed_rad_s = R(310.0);       /* 2960 rpm: the reference limit 310 / 1.1 = 2691 rpm is above 1.5 x base (2610 rpm) */
     cfg->fw_voltage_frac = R(0.9);
     cfg->te_pullout_frac = R(0.9);
+    cfg->fsw_max_hz = R(850.0);            /* 0.5..1 kHz at 500 rpm, <= 1.5 kHz everywhere */
+    cfg->band_scale_max = R(4.0);
     cfg->guard.wc_rad_s = R(6.0);          /* 1 Hz */
     cfg->guard.flux_err_frac = R(0.15);
     cfg->guard.time_s = R(0.01);
@@ -95,6 +97,9 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     real_t den = num_mul(R(2.0) * sigma, m->Ls_H);
     cfg->te_pullout_Nm_Wb2 = den > R(0.0) ? num_div(num_mul(R(1.5) * m->pole_pairs, R(1.0) - sigma), den) : R(0.0);
     cfg->speed_max_rad_s = num_div(cfg->overspeed_rad_s, R(1.1));
+    cfg->fsw_per_change_hz = cfg->period_s > R(0.0) ? num_div(R(1.0), R(6.0) * cfg->period_s) : R(0.0);
+    cfg->fsw_lpf_a = num_sat(R(1.0) - num_exp(-num_div(cfg->period_s, R(0.02))), R(0.0), R(1.0));
+    cfg->band_rate_per_s = R(5.0);
 }
 
 int ctl_cfg_check(const ctl_cfg *cfg)
@@ -119,7 +124,8 @@ int ctl_cfg_check(const ctl_cfg *cfg)
           cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0) &&
           cfg->guard.wc_rad_s > R(0.0) && cfg->guard.flux_err_frac >= R(0.0) && cfg->guard.time_s >= R(0.0) &&
           cfg->guard.rs_tol_frac >= R(0.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
-          cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0)))
+          cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0) && cfg->fsw_max_hz >= R(0.0) &&
+          cfg->band_scale_max >= R(1.0)))
         return CTL_CFG_E_PROTECTION;
     if (speed_cfg_check(&cfg->speed, m) != SPEED_CFG_OK)
         return CTL_CFG_E_SPEED;
@@ -205,6 +211,8 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->te_ref_Nm = R(0.0);
     ctl_guard_reset(&s->guard);
     s->guard_trip = false;
+    s->fsw_hz = R(0.0);
+    s->band_scale = R(1.0);
     gates_off(s); /* the first period after enabling applies OOO */
 }
 
@@ -351,13 +359,37 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
     di.vc2_V = x->vc2_V;
     di.np_dev_V = np_dev_pred_V;
     di.prev_state = st1 < DTC3L_N_STATES ? st1 : (uint8_t)DTC3L_STATE_OOO;
+    di.band_scale = s->band_scale;
     dtc3l_step(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->dtc_out);
     return di.prev_state;
 }
 
+/* Switching frequency: the leg changes of the actuation just latched,
+ * low-passed as a device switching frequency; above fsw_max_hz the torque
+ * bands widen (integral action on the band scale, clamped to
+ * 1..band_scale_max), below it they return to the configured ones. The
+ * bands thereby follow speed and load: the torque slopes, and with them the
+ * switching rate for a given band, grow with the back-emf and the current. */
+static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, uint8_t a0,
+                                         uint8_t a1)
+{
+    uint8_t n = dtc3l_leg_changes(prev_state, a0);
+    if (a1 != a0)
+        n = (uint8_t)(n + dtc3l_leg_changes(a0, a1));
+    real_t f = num_mul((real_t)n, cfg->fsw_per_change_hz);
+    s->fsw_hz = num_mac(cfg->fsw_lpf_a, f - s->fsw_hz, s->fsw_hz);
+    if (!(cfg->fsw_max_hz > R(0.0))) {
+        s->band_scale = R(1.0);
+        return;
+    }
+    real_t rel = num_div(s->fsw_hz, cfg->fsw_max_hz) - R(1.0);
+    real_t k = num_mul(num_mul(cfg->band_rate_per_s, cfg->period_s), s->band_scale);
+    s->band_scale = num_sat(num_mac(k, rel, s->band_scale), R(1.0), cfg->band_scale_max);
+}
+
 /* Actuate: the last guard against a P<->N step (the DTC never asks for one),
  * then latch for the next period. */
-static void actuate(ctl_state *s, uint8_t prev_state, ctl_out *out)
+static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_out *out)
 {
     hal_actuation act = s->dtc_out.act;
     uint8_t a0 = dtc3l_pn_safe(prev_state, dtc3l_state_of(&act.vector[0]));
@@ -365,6 +397,7 @@ static void actuate(ctl_state *s, uint8_t prev_state, ctl_out *out)
     dtc3l_legs(a0, &act.vector[0]);
     dtc3l_legs(a1, &act.vector[1]);
     act.duty0 = num_sat(act.duty0, R(0.0), R(1.0));
+    regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
     s->prev_act = s->last_act;
     s->last_act = act;
@@ -402,6 +435,6 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
         control_speed(s, cfg, in, &so);
 
     uint8_t prev_state = control_torque_flux(s, cfg, &in->sample, np_dev_pred_V);
-    actuate(s, prev_state, out);
+    actuate(s, cfg, prev_state, out);
     fill_telemetry(s, &so, out);
 }

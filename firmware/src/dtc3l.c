@@ -98,6 +98,7 @@ typedef struct {
     uint8_t sector;           /* 0..11 */
     uint8_t sector6;          /* 0..5 */
     real_t i_abc_A[3];        /* predicted phase currents */
+    real_t b_Nm, b2_Nm;       /* torque bands of this tick (cfg x in->band_scale) */
 } tick_geometry;
 
 /* The decision being built: two states, the duty of the first, and the
@@ -111,8 +112,11 @@ typedef struct {
     bool split;
 } tick_plan;
 
-static void tick_geometry_of(const dtc3l_in *in, tick_geometry *g)
+static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_in *in, tick_geometry *g)
 {
+    real_t k = in->band_scale > R(1.0) ? in->band_scale : R(1.0);
+    g->b_Nm = num_mul(cfg->torque_band_Nm, k);
+    g->b2_Nm = num_mul(cfg->torque_band2_Nm, k);
     g->psi_Wb = num_sqrt(num_mul(in->psi_s_Wb[0], in->psi_s_Wb[0]) + num_mul(in->psi_s_Wb[1], in->psi_s_Wb[1]));
     g->sector = dtc3l_sector(in->psi_s_Wb[0], in->psi_s_Wb[1]);
     g->i_abc_A[0] = in->is_A[0];
@@ -192,8 +196,7 @@ static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
 static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g,
                               tick_plan *p)
 {
-    p->cur = torque_comparator(s->torque_state, in->te_Nm, in->te_ref_Nm, cfg->torque_band_Nm,
-                               cfg->torque_band2_Nm, in->dte0_Nm_s);
+    p->cur = torque_comparator(s->torque_state, in->te_Nm, in->te_ref_Nm, g->b_Nm, g->b2_Nm, in->dte0_Nm_s);
     p->after = p->cur;
     p->st0 = state_for_demand(s, cfg, in, g, p->cur, in->prev_state, &p->sv0);
     p->st1 = p->st0;
@@ -207,7 +210,7 @@ static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_
 static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
                                      const tick_geometry *g, tick_plan *p)
 {
-    real_t b = cfg->torque_band_Nm;
+    real_t b = g->b_Nm;
     real_t dmin = cfg->duty_min;
     real_t s_cur = R(0.0), edge = R(0.0), f = R(2.0);
     int8_t next = p->cur;
@@ -251,7 +254,7 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
 static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
                                 const tick_geometry *g, tick_plan *p)
 {
-    real_t b = cfg->torque_band_Nm;
+    real_t b = g->b_Nm;
     real_t dmin = cfg->duty_min;
     real_t psi = g->psi_Wb;
     if (!(!p->split && p->sv0 == 0u && s->level == (uint8_t)DTC3L_LEVEL_LOW && psi < in->psi_ref_Wb - cfg->flux_band_Wb))
@@ -327,7 +330,7 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
 {
     tick_geometry g;
     tick_plan p;
-    tick_geometry_of(in, &g);
+    tick_geometry_of(cfg, in, &g);
     decide_voltage_level(s, cfg, in);
     decide_flux_demand(s, cfg, in, g.psi_Wb);
     plan_table_vector(s, cfg, in, &g, &p);

@@ -63,6 +63,8 @@ static const sim_control_key keys[] = {
     REAL("overspeed_rad_s", overspeed_rad_s, 0.0, 2000.0, "rad/s"),
     REAL("fw_voltage_frac", fw_voltage_frac, 0.01, 1.2, "1"),
     REAL("te_pullout_frac", te_pullout_frac, 0.01, 1.0, "1"),
+    REAL("fsw_max_hz", fsw_max_hz, 0.0, 20000.0, "Hz"),
+    REAL("band_scale_max", band_scale_max, 1.0, 100.0, "1"),
     REAL("guard_wc_rad_s", guard.wc_rad_s, 0.01, 1000.0, "rad/s"),
     REAL("guard_flux_err_frac", guard.flux_err_frac, 0.0, 10.0, "1"),
     REAL("guard_time_s", guard.time_s, 0.0, 10.0, "s"),

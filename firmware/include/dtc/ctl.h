@@ -78,6 +78,9 @@ typedef struct {
     /* field weakening (docs/envelope.md section 3) */
     real_t fw_voltage_frac;   /**< flux reference <= this x (measured Vdc / sqrt 3) / |omega_e|, 0..1.2 */
     real_t te_pullout_frac;   /**< torque limit <= this x the pull-out torque at the flux reference, 0..1 */
+    /* switching-frequency regulation (docs/envelope.md section 4) */
+    real_t fsw_max_hz;        /**< device switching frequency above which the torque bands widen, Hz (0 = off) */
+    real_t band_scale_max;    /**< largest widening of the torque bands, x (>= 1) */
     ctl_guard_cfg guard;      /**< loss-of-control monitor (voltage-model flux check) */
 
     /* derived by ctl_cfg_derive() */
@@ -88,6 +91,9 @@ typedef struct {
     real_t inv_period_per_s;  /**< 1 / period_s */
     real_t te_pullout_Nm_Wb2; /**< pull-out torque per Wb^2 of stator flux: 1.5 p (1 - sigma) / (2 sigma Ls) */
     real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
+    real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */
+    real_t fsw_lpf_a;         /**< low-pass coefficient of the measured switching frequency (20 ms), 0..1 */
+    real_t band_rate_per_s;   /**< adaptation rate of the band scale, 1/s */
 } ctl_cfg;
 
 /** Inputs of one control step. */
@@ -151,6 +157,8 @@ typedef struct {
     observer_out obs_out;     /**< observer outputs of the last step */
     dtc3l_out dtc_out;        /**< DTC outputs of the last step */
     real_t te_limit_Nm;       /**< torque limit of the last step (te_max, field weakening), N m */
+    real_t fsw_hz;            /**< low-passed device switching frequency of the actuation, Hz */
+    real_t band_scale;        /**< present widening of the torque bands (1..band_scale_max) */
     ctl_guard guard;          /**< loss-of-control monitor */
     bool guard_trip;          /**< the monitor's verdict of the last step */
 } ctl_state;

@@ -130,6 +130,8 @@ typedef struct {
     real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
     real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
     uint8_t prev_state;       /**< state in force when the chosen period starts (0..26) */
+    real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
+                                   switching-frequency regulation of ctl.c widens them */
 } dtc3l_in;
 
 typedef struct {
