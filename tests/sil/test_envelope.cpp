@@ -304,3 +304,43 @@ TEST(SwitchingFrequency, HalfToOneKilohertzAtFiveHundredRpm)
         EXPECT_LE(f, 1000.0) << load << " N m";
     }
 }
+
+// ------------------------------------------------------- torque response
+
+// 0 -> 41 N m command at 500 rpm (no load), answered 10-90 % within 5 ms.
+// The command step: the torque limit set to the rated 41 N m and, at
+// t_step, the IP's integrator put far above it, so the next command is the
+// limit (the controller then stays there). The response is the observer's
+// torque estimate (telemetry; the plant's torque is not visible to the
+// hook), sampled every tick.
+TEST(TorqueResponse, RatedTorqueStepAnsweredWithinFiveMilliseconds)
+{
+    const double t_step = 2.5;
+    std::vector<std::pair<double, double>> te; // (t, te_est) after the step
+    double t10 = -1.0, t90 = -1.0, te_before = 0.0;
+    bool set = false;
+    SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_IP, {"load.step=2.5 0", "control.te_max_Nm=41"},
+                       [&](double t, struct drive *d) {
+                           if (!set && t >= t_step) {
+                               te_before = d->ctl.te_ref_Nm;
+                               d->ctl.speed.ip.integ_Nm = 1000.0f;
+                               set = true;
+                               return;
+                           }
+                           if (set && t < t_step + 0.05) {
+                               const double x = d->ctl.obs_out.te_Nm;
+                               te.emplace_back(t, x);
+                               if (t10 < 0.0 && x >= 0.1 * 41.0)
+                                   t10 = t;
+                               if (t90 < 0.0 && x >= 0.9 * 41.0)
+                                   t90 = t;
+                           }
+                       });
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    std::printf("[envelope] torque step %.1f -> 41 N m at 500 rpm: 10 %% at +%.2f ms, 90 %% at +%.2f ms\n", te_before,
+                (t10 - t_step) * 1e3, (t90 - t_step) * 1e3);
+    EXPECT_LT(std::abs(te_before), 5.0);
+    ASSERT_GT(t10, 0.0);
+    ASSERT_GT(t90, 0.0);
+    EXPECT_LE(t90 - t10, 0.005);
+}
