@@ -91,6 +91,7 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     real_t a_per_wb_s = num_div(num_mul(R(1.0) - sigma, tr), m->Ls_H);
     cfg->psi_ramp_Wb_s = a_per_wb_s > R(0.0) ? num_div(num_mul(R(0.2), cfg->i_trip_A), a_per_wb_s) : R(1.0);
     cfg->np_V_per_A = cfg->c_dc_F > R(0.0) ? num_div(cfg->period_s, cfg->c_dc_F) : R(0.0);
+    cfg->dtc.np_V_per_A = cfg->np_V_per_A;
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
     ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
     /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */

@@ -148,7 +148,8 @@ static void decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *i
 
 /* Neutral point with the large and medium vectors: a medium vector draws the
  * current of its O-leg phase from the neutral point; when that current would
- * drive an unbalanced link (|np_dev| > np_band) further away, the large
+ * leave the link outside 2 np_band and further off than now (predicted over
+ * the period with np_V_per_A = T / C), the large
  * vector at 90 deg from the flux on the same side takes its place (no NP
  * current; the most torque of all; its radial part, +-Vdc/6 over the 30 deg
  * sector, averages out, and the flux comparator still chooses the next
@@ -165,13 +166,17 @@ static uint8_t np_checked_vector(uint8_t sv, const dtc3l_in *in, const dtc3l_cfg
      * no longer beats the back-emf */
     bool strong = torque == 2 || torque == -2;
     if (!strong) {
-        if (!(num_abs(in->np_dev_V) > cfg->np_band_V))
-            return sv;
+        /* NP prediction over the period: keep the medium vector unless it
+         * leaves the link outside twice the band AND further off than now
+         * (at the band itself the 90-deg vector is taken so often that the
+         * flux, and with it the speed, ripples more near the voltage limit:
+         * docs/envelope.md section 5) */
         uint8_t st[3];
         (void)dtc3l_sv_states(sv, st);
         real_t inp = dtc3l_np_current(st[0], g->i_abc_A);
-        if (!(num_mul(inp, in->np_dev_V) > R(0.0)))
-            return sv; /* it balances, or draws nothing */
+        real_t np_next = num_mac(cfg->np_V_per_A, inp, in->np_dev_V);
+        if (!(num_abs(np_next) > R(2.0) * cfg->np_band_V && num_abs(np_next) > num_abs(in->np_dev_V)))
+            return sv;
     }
     uint8_t dir = (uint8_t)((g->sector + (torque > 0 ? 3u : 9u)) % 12u);
     if ((dir & 1u) != 0u)

@@ -344,3 +344,39 @@ TEST(TorqueResponse, RatedTorqueStepAnsweredWithinFiveMilliseconds)
     ASSERT_GT(t90, 0.0);
     EXPECT_LE(t90 - t10, 0.005);
 }
+
+// --------------------------------------------------------- neutral point
+
+namespace {
+
+double np_at(double rpm, double load_Nm)
+{
+    SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN,
+                       {"reference.ramp=0.3 2.3 " + std::to_string(rpm), "load.step=2.5 " + std::to_string(load_Nm)});
+    EXPECT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u) << rpm << " rpm, " << load_Nm << " N m";
+    return r.m.np_dev_max_v;
+}
+
+} // namespace
+
+// The part of the NP bullet that is met: within 2 % of Vdc (6.22 V) at no
+// load from 100 to 1740 rpm, and at the paper's 500 rpm from -20 N m
+// (generating) to the rated +41 N m (docs/envelope.md section 5).
+TEST(NeutralPoint, WithinTwoPercentAtNoLoadAndAtFiveHundredRpm)
+{
+    for (double rpm : {100.0, 500.0, 1000.0, 1740.0})
+        EXPECT_LE(np_at(rpm, 0.0), 6.22) << rpm << " rpm, no load";
+    for (double load : {-20.0, 20.0, 41.0})
+        EXPECT_LE(np_at(500.0, load), 6.22) << "500 rpm, " << load << " N m";
+}
+
+// NOT the threshold: with load above 500 rpm the deviation is still
+// 6.5-9.4 V (before this branch: 16-24 V, and a 30 V trip at 1740 rpm with
+// 41 N m). This guards the improvement until the bullet is finished.
+TEST(NeutralPoint, RatedTorqueStaysFarFromTheTrip)
+{
+    for (double rpm : {500.0, 1000.0, 1740.0})
+        for (double load : {-41.0, 41.0})
+            EXPECT_LE(np_at(rpm, load), 10.0) << rpm << " rpm, " << load << " N m";
+}

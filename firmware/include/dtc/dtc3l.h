@@ -106,6 +106,8 @@ typedef struct {
     real_t level_up;          /**< back-emf |omega_e| psi_ref over Vdc/3 above which the HIGH level is used */
     real_t level_down;        /**< ... below which the LOW level returns (< level_up) */
     real_t duty_min;          /**< shortest vector segment, fraction of the period (0..0.5) */
+    real_t np_V_per_A;        /**< derived (ctl_cfg_derive): change of vc1 - vc2 per ampere of NP
+                                   current over one period, V/A (0: no NP prediction) */
 } dtc3l_cfg;
 
 /** Comparator and level memory (caller owned). */
