@@ -100,7 +100,10 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->speed_max_rad_s = num_div(cfg->overspeed_rad_s, R(1.1));
     cfg->fsw_per_change_hz = cfg->period_s > R(0.0) ? num_div(R(1.0), R(6.0) * cfg->period_s) : R(0.0);
     cfg->fsw_lpf_a = num_sat(R(1.0) - num_exp(-num_div(cfg->period_s, R(0.02))), R(0.0), R(1.0));
-    cfg->band_rate_per_s = R(5.0);
+    cfg->band_rate_T = num_mul(R(5.0), cfg->period_s);
+    cfg->inv_fsw_max_s = cfg->fsw_max_hz > R(0.0) ? num_div(R(1.0), cfg->fsw_max_hz) : R(0.0);
+    cfg->fw_v_per_vdc = num_mul(cfg->fw_voltage_frac, NUM_INV_SQRT3);
+    cfg->te_limit_Nm_Wb2 = num_mul(cfg->te_pullout_frac, cfg->te_pullout_Nm_Wb2);
 }
 
 int ctl_cfg_check(const ctl_cfg *cfg)
@@ -214,6 +217,8 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->guard_trip = false;
     s->fsw_hz = R(0.0);
     s->band_scale = R(1.0);
+    s->te_short_Nm = R(0.0);
+    s->fw_trim = R(1.0);
     gates_off(s); /* the first period after enabling applies OOO */
 }
 
@@ -293,15 +298,23 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
  * magnetising does not trip. Then the torque limit at that flux. */
 static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
 {
+    /* Voltage margin: a DTC that keeps falling short of the torque command
+     * by more than the band has no voltage left to raise the torque; the
+     * weakening flux is then trimmed down (and recovers when it is not) */
+    real_t short_Nm = num_abs(s->te_ref_Nm) - num_abs(s->obs_out.te_Nm);
+    s->te_short_Nm = num_mac(cfg->fsw_lpf_a, short_Nm - s->te_short_Nm, s->te_short_Nm);
+    real_t over = num_div(s->te_short_Nm - cfg->dtc.torque_band2_Nm, cfg->speed.te_max_Nm);
+    s->fw_trim = num_sat(s->fw_trim - num_mul(cfg->band_rate_T, over), R(0.85), R(1.0));
+
     real_t target = cfg->dtc.psi_ref_Wb;
-    real_t v_max = num_mul(num_mul(cfg->fw_voltage_frac, NUM_INV_SQRT3), x->vc1_V + x->vc2_V);
+    real_t v_max = num_mul(num_mul(cfg->fw_v_per_vdc, s->fw_trim), x->vc1_V + x->vc2_V);
     real_t w = num_abs(s->obs.omega_e_rad_s);
     if (num_mul(target, w) > v_max)
         target = num_div(v_max, w);
     real_t dpsi = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
     s->psi_ref_ramped_Wb = num_sat(target, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
     real_t psi = s->psi_ref_ramped_Wb;
-    real_t te_po = num_mul(num_mul(cfg->te_pullout_frac, cfg->te_pullout_Nm_Wb2), num_mul(psi, psi));
+    real_t te_po = num_mul(cfg->te_limit_Nm_Wb2, num_mul(psi, psi));
     s->te_limit_Nm = te_po < cfg->speed.te_max_Nm ? te_po : cfg->speed.te_max_Nm;
 }
 
@@ -383,8 +396,8 @@ static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8
         s->band_scale = R(1.0);
         return;
     }
-    real_t rel = num_div(s->fsw_hz, cfg->fsw_max_hz) - R(1.0);
-    real_t k = num_mul(num_mul(cfg->band_rate_per_s, cfg->period_s), s->band_scale);
+    real_t rel = num_mul(s->fsw_hz, cfg->inv_fsw_max_s) - R(1.0);
+    real_t k = num_mul(cfg->band_rate_T, s->band_scale);
     s->band_scale = num_sat(num_mac(k, rel, s->band_scale), R(1.0), cfg->band_scale_max);
 }
 

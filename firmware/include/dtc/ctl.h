@@ -93,7 +93,10 @@ typedef struct {
     real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
     real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */
     real_t fsw_lpf_a;         /**< low-pass coefficient of the measured switching frequency (20 ms), 0..1 */
-    real_t band_rate_per_s;   /**< adaptation rate of the band scale, 1/s */
+    real_t band_rate_T;       /**< adaptation step of the band scale per period (5 1/s x T) */
+    real_t inv_fsw_max_s;     /**< 1 / fsw_max_hz, s (0 when the regulation is off) */
+    real_t fw_v_per_vdc;      /**< fw_voltage_frac / sqrt 3: usable phase voltage per volt of DC link */
+    real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
 } ctl_cfg;
 
 /** Inputs of one control step. */
@@ -159,6 +162,8 @@ typedef struct {
     real_t te_limit_Nm;       /**< torque limit of the last step (te_max, field weakening), N m */
     real_t fsw_hz;            /**< low-passed device switching frequency of the actuation, Hz */
     real_t band_scale;        /**< present widening of the torque bands (1..band_scale_max) */
+    real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
+    real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
     ctl_guard guard;          /**< loss-of-control monitor */
     bool guard_trip;          /**< the monitor's verdict of the last step */
 } ctl_state;
