@@ -38,7 +38,9 @@ bool ctl_guard_step(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, con
         real_t emf = v_V[i] - num_mul(rs_ohm, is_A[i]);
         g->psi_vm_Wb[i] = num_mac(period_s, emf, g->psi_vm_Wb[i] - num_mul(a, g->psi_vm_Wb[i]));
     }
-    g->err_Wb = num_sqrt(num_mul(d[0], d[0]) + num_mul(d[1], d[1]));
+    real_t e2 = num_mul(d[0], d[0]) + num_mul(d[1], d[1]);
+    /* num_sqrt maps NaN to 0: keep a NaN (a broken voltage or current) as NaN */
+    g->err_Wb = e2 >= R(0.0) ? num_sqrt(e2) : e2;
 
     /* stator frequency of the machine's flux: rotation of psi_vm per period,
      * low-passed (the PWM ripple of one period is ~10 % of the flux) */
