@@ -61,6 +61,16 @@ static const sim_control_key keys[] = {
     REAL("vdc_min_V", vdc_min_V, 0.0, 2000.0, "V"),
     REAL("np_trip_V", np_trip_V, 0.0, 1000.0, "V"),
     REAL("overspeed_rad_s", overspeed_rad_s, 0.0, 2000.0, "rad/s"),
+    REAL("fw_voltage_frac", fw_voltage_frac, 0.01, 1.2, "1"),
+    REAL("te_pullout_frac", te_pullout_frac, 0.01, 1.0, "1"),
+    REAL("fsw_max_hz", fsw_max_hz, 0.0, 20000.0, "Hz"),
+    REAL("band_scale_max", band_scale_max, 1.0, 100.0, "1"),
+    REAL("guard_wc_rad_s", guard.wc_rad_s, 0.01, 1000.0, "rad/s"),
+    REAL("guard_flux_err_frac", guard.flux_err_frac, 0.0, 10.0, "1"),
+    REAL("guard_time_s", guard.time_s, 0.0, 10.0, "s"),
+    REAL("guard_rs_tol_frac", guard.rs_tol_frac, 0.0, 10.0, "1"),
+    REAL("guard_v_tol_V", guard.v_tol_V, 0.0, 100.0, "V"),
+    REAL("v_drop_V", v_drop_V, 0.0, 20.0, "V"),
 };
 
 const sim_control_key *sim_control_keys(size_t *count)

@@ -59,7 +59,7 @@ TEST(CtlDefaults, ProtectionLevelsOfThe10hpDrive)
     EXPECT_FLOAT_EQ(c.vdc_max_V, 400.0f);
     EXPECT_FLOAT_EQ(c.vdc_min_V, 200.0f);
     EXPECT_FLOAT_EQ(c.np_trip_V, 30.0f);
-    EXPECT_FLOAT_EQ(c.overspeed_rad_s, 250.0f);
+    EXPECT_FLOAT_EQ(c.overspeed_rad_s, 310.0f);
     EXPECT_FLOAT_EQ(c.motor.Ls_H, 0.00142f + 0.0416f);
     EXPECT_FLOAT_EQ(c.dtc.psi_ref_Wb, 0.45f);
     EXPECT_FLOAT_EQ(c.period_s, 200e-6f);
@@ -162,7 +162,7 @@ const FaultCase kFaults[] = {
          in.sample.vc1_V = 171.0f;
          in.sample.vc2_V = 140.0f;
      }},
-    {"overspeed", CTL_FAULT_OVERSPEED, [](ctl_in &, ctl_state &s) { s.obs.omega_m_filt_rad_s = -251.0f; }},
+    {"overspeed", CTL_FAULT_OVERSPEED, [](ctl_in &, ctl_state &s) { s.obs.omega_m_filt_rad_s = -311.0f; }},
     // a diverged observer (NaN speed) must not slip past the overspeed check
     {"NaN speed estimate", CTL_FAULT_OVERSPEED,
      [](ctl_in &, ctl_state &s) { s.obs.omega_m_filt_rad_s = std::numeric_limits<float>::quiet_NaN(); }},

@@ -280,7 +280,7 @@ TEST(SpeedRbfn, BoundDoesNotGrowOnNoiseInsideTheDeadZone)
     std::uniform_real_distribution<double> noise(-0.99 * dz, 0.99 * dz);
     speed_out out{};
     for (int k = 0; k < 1000000; ++k) { // 200 s
-        speed_in in{50.0f, 0.0f, (float)(50.0 + noise(gen))};
+        speed_in in{50.0f, 0.0f, (float)(50.0 + noise(gen)), 0.0f};
         speed_rbfn_step(&st, &cfg.rbfn, &m, cfg.te_max_Nm, (float)kT, &in, &out);
         ASSERT_EQ(st.zeta_bar, 0.0f) << k;
     }
@@ -302,7 +302,7 @@ TEST(SpeedRbfn, BoundStaysBoundedOnLargeNoise)
         std::mt19937 gen(8);
         speed_out out{};
         for (int k = 0; k < 1000000; ++k) {
-            speed_in in{50.0f, 0.0f, (float)(50.0 + noise(gen))};
+            speed_in in{50.0f, 0.0f, (float)(50.0 + noise(gen)), 0.0f};
             speed_rbfn_step(&st, &cfg.rbfn, &m, cfg.te_max_Nm, (float)kT, &in, &out);
             ASSERT_LE(st.zeta_bar, cfg.rbfn.zeta_max);
             ASSERT_GE(st.zeta_bar, 0.0f);
@@ -321,7 +321,7 @@ TEST(SpeedRbfn, BoundStaysBoundedOnLargeNoise)
         double mean = 0.0;
         int n = 0;
         for (int k = 0; k < 1000000; ++k) {
-            speed_in in{50.0f, 0.0f, (float)(50.0 + noise(gen))};
+            speed_in in{50.0f, 0.0f, (float)(50.0 + noise(gen)), 0.0f};
             speed_rbfn_step(&st, &cfg.rbfn, &m, cfg.te_max_Nm, (float)kT, &in, &out);
             if (k > 100000) {
                 mean += st.zeta_bar;
@@ -343,14 +343,14 @@ TEST(SpeedRbfn, AdaptationFreezesOnlyInTheWindUpDirection)
     // e > 0 and the command at +limit: both laws would raise U: frozen.
     rbfn_state st{};
     speed_out out{};
-    speed_in in{60.0f, 0.0f, 40.0f};
+    speed_in in{60.0f, 0.0f, 40.0f, 0.0f};
     speed_rbfn_step(&st, &cfg.rbfn, &m, cfg.te_max_Nm, (float)kT, &in, &out);
     EXPECT_EQ(out.te_ref_Nm, 1.0f);
     for (uint32_t q = 0; q < cfg.rbfn.n_nodes; ++q)
         EXPECT_EQ(st.w[q], 0.0f);
     EXPECT_EQ(st.zeta_bar, 0.0f);
     // e < 0 while at +limit (a large feedforward): adaptation lowers U: runs.
-    speed_in in2{40.0f, 5000.0f, 45.0f};
+    speed_in in2{40.0f, 5000.0f, 45.0f, 0.0f};
     speed_rbfn_step(&st, &cfg.rbfn, &m, cfg.te_max_Nm, (float)kT, &in2, &out);
     EXPECT_EQ(out.te_ref_Nm, 1.0f);
     double sum = 0.0;
@@ -393,7 +393,7 @@ TEST(SpeedCtl, NonFiniteInputGivesZeroTorqueAndKeepsState)
     const float bad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()};
     for (float b : bad) {
         for (int which = 0; which < 3; ++which) {
-            speed_in in{50.0f, 0.0f, 50.0f};
+            speed_in in{50.0f, 0.0f, 50.0f, 0.0f};
             (which == 0 ? in.omega_ref_rad_s : which == 1 ? in.domega_ref_rad_s2 : in.omega_est_rad_s) = b;
             speed_out out{};
             speed_ctl_step(&L.s, &L.cfg, &L.m, (float)kT, &in, &out);

@@ -65,7 +65,17 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->vdc_max_V = R(400.0);
     cfg->vdc_min_V = R(200.0);
     cfg->np_trip_V = R(30.0);
-    cfg->overspeed_rad_s = R(250.0);
+    cfg->overspeed_rad_s = R(310.0);       /* 2960 rpm: the reference limit 310 / 1.1 = 2691 rpm is above 1.5 x base (2610 rpm) */
+    cfg->fw_voltage_frac = R(0.9);
+    cfg->te_pullout_frac = R(0.9);
+    cfg->fsw_max_hz = R(850.0);            /* 0.5..1 kHz at 500 rpm, <= 1.5 kHz everywhere */
+    cfg->band_scale_max = R(4.0);
+    cfg->guard.wc_rad_s = R(6.0);          /* 1 Hz */
+    cfg->guard.flux_err_frac = R(0.15);
+    cfg->guard.time_s = R(0.01);
+    cfg->guard.rs_tol_frac = R(0.3);       /* a winding 30 % warmer than modelled */
+    cfg->v_drop_V = R(1.0);                /* on-state drop per device, board-dependent (0: none) */
+    cfg->guard.v_tol_V = R(6.0);           /* two device drops of ~1 V (2.7 V as a vector) plus dead time, x2 margin */
 
     ctl_cfg_derive(cfg);
 }
@@ -83,7 +93,19 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     real_t a_per_wb_s = num_div(num_mul(R(1.0) - sigma, tr), m->Ls_H);
     cfg->psi_ramp_Wb_s = a_per_wb_s > R(0.0) ? num_div(num_mul(R(0.2), cfg->i_trip_A), a_per_wb_s) : R(1.0);
     cfg->np_V_per_A = cfg->c_dc_F > R(0.0) ? num_div(cfg->period_s, cfg->c_dc_F) : R(0.0);
+    cfg->dtc.np_V_per_A = cfg->np_V_per_A;
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
+    ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
+    /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */
+    real_t den = num_mul(R(2.0) * sigma, m->Ls_H);
+    cfg->te_pullout_Nm_Wb2 = den > R(0.0) ? num_div(num_mul(R(1.5) * m->pole_pairs, R(1.0) - sigma), den) : R(0.0);
+    cfg->speed_max_rad_s = num_div(cfg->overspeed_rad_s, R(1.1));
+    cfg->fsw_per_change_hz = cfg->period_s > R(0.0) ? num_div(R(1.0), R(6.0) * cfg->period_s) : R(0.0);
+    cfg->fsw_lpf_a = num_sat(R(1.0) - num_exp(-num_div(cfg->period_s, R(0.02))), R(0.0), R(1.0));
+    cfg->band_rate_T = num_mul(R(5.0), cfg->period_s);
+    cfg->inv_fsw_max_s = cfg->fsw_max_hz > R(0.0) ? num_div(R(1.0), cfg->fsw_max_hz) : R(0.0);
+    cfg->fw_v_per_vdc = num_mul(cfg->fw_voltage_frac, NUM_INV_SQRT3);
+    cfg->te_limit_Nm_Wb2 = num_mul(cfg->te_pullout_frac, cfg->te_pullout_Nm_Wb2);
 }
 
 int ctl_cfg_check(const ctl_cfg *cfg)
@@ -105,7 +127,11 @@ int ctl_cfg_check(const ctl_cfg *cfg)
           o->speed_lpf_hz >= R(0.0)))
         return CTL_CFG_E_OBSERVER;
     if (!(cfg->i_trip_A > R(0.0) && cfg->vdc_max_V > R(0.0) && cfg->vdc_min_V >= R(0.0) &&
-          cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0)))
+          cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0) &&
+          cfg->guard.wc_rad_s > R(0.0) && cfg->guard.flux_err_frac >= R(0.0) && cfg->guard.time_s >= R(0.0) &&
+          cfg->guard.rs_tol_frac >= R(0.0) && cfg->guard.v_tol_V >= R(0.0) && cfg->v_drop_V >= R(0.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
+          cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0) && cfg->fsw_max_hz >= R(0.0) &&
+          cfg->band_scale_max >= R(1.0)))
         return CTL_CFG_E_PROTECTION;
     if (speed_cfg_check(&cfg->speed, m) != SPEED_CFG_OK)
         return CTL_CFG_E_SPEED;
@@ -174,6 +200,8 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
     /* Written as "not within" so that a diverged (NaN) estimate trips too. */
     if (active && !(num_abs(s->obs.omega_m_filt_rad_s) <= cfg->overspeed_rad_s))
         f |= CTL_FAULT_OVERSPEED;
+    if (active && s->guard_trip)
+        f |= CTL_FAULT_LOSS_OF_CONTROL;
     real_t omega_e = num_mul(cfg->motor.pole_pairs, s->obs.omega_m_filt_rad_s);
     f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s);
     return f;
@@ -189,6 +217,12 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->psi_ref_ramped_Wb = R(0.0);
     s->speed_ref_ramped_rad_s = R(0.0);
     s->te_ref_Nm = R(0.0);
+    ctl_guard_reset(&s->guard);
+    s->guard_trip = false;
+    s->fsw_hz = R(0.0);
+    s->band_scale = R(1.0);
+    s->te_short_Nm = R(0.0);
+    s->fw_trim = R(1.0);
     gates_off(s); /* the first period after enabling applies OOO */
 }
 
@@ -234,10 +268,27 @@ static bool protect(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 }
 
 /* Observe: the voltage applied from t_k to t_{k+1} is last_act with this
- * tick's vc1, vc2; the observer advances to t_{k+1} with it. */
-static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
+ * tick's vc1, vc2; the observer advances to t_{k+1} with it. Returns that
+ * voltage and the sampled current (alpha-beta). */
+/* The leg voltage is lower than the state says by the on-state drop of the two
+ * conducting devices, against the phase current: v_drop_V per device, with a
+ * sign softened over +-DROP_BAND_A so a current at zero does not toggle it. */
+#define DROP_BAND_A R(1.0)
+static void subtract_device_drops(const ctl_cfg *cfg, const hal_sample *x, real_t v[2])
 {
-    real_t v0[2], v1[2], v[2];
+    if (!(cfg->v_drop_V > R(0.0)))
+        return;
+    const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
+    real_t d[3];
+    for (int k = 0; k < 3; k++)
+        d[k] = num_mul(R(2.0) * cfg->v_drop_V, num_sat(i[k] / DROP_BAND_A, R(-1.0), R(1.0)));
+    v[0] -= num_mul(R(0.333333333), R(2.0) * d[0] - d[1] - d[2]);
+    v[1] -= num_mul(NUM_INV_SQRT3, d[1] - d[2]);
+}
+
+static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t v[2], real_t is[2])
+{
+    real_t v0[2], v1[2];
     uint8_t st0 = dtc3l_state_of(&s->last_act.vector[0]);
     uint8_t st1 = dtc3l_state_of(&s->last_act.vector[1]);
     dtc3l_state_voltage(st0, x->vc1_V, x->vc2_V, v0);
@@ -245,7 +296,7 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
     real_t d0 = s->last_act.duty0;
     v[0] = num_mac(d0, v0[0] - v1[0], v1[0]);
     v[1] = num_mac(d0, v0[1] - v1[1], v1[1]);
-    real_t is[2];
+    subtract_device_drops(cfg, x, v);
     is[0] = num_mul(R(0.333333333), R(2.0) * x->ia_A - x->ib_A - x->ic_A);
     is[1] = num_mul(NUM_INV_SQRT3, x->ib_A - x->ic_A);
     observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
@@ -263,11 +314,29 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
     return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
 }
 
-/* Flux reference: slew-limited so that magnetising does not trip. */
-static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg)
+/* Flux reference: rated, or what the measured DC link allows at the present
+ * speed (field weakening), whichever is lower; slew-limited so that
+ * magnetising does not trip. Then the torque limit at that flux. */
+static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
 {
+    /* Voltage margin: a DTC that keeps falling short of the torque command
+     * by more than the band has no voltage left to raise the torque; the
+     * weakening flux is then trimmed down (and recovers when it is not) */
+    real_t short_Nm = num_abs(s->te_ref_Nm) - num_abs(s->obs_out.te_Nm);
+    s->te_short_Nm = num_mac(cfg->fsw_lpf_a, short_Nm - s->te_short_Nm, s->te_short_Nm);
+    real_t over = num_div(s->te_short_Nm - cfg->dtc.torque_band2_Nm, cfg->speed.te_max_Nm);
+    s->fw_trim = num_sat(s->fw_trim - num_mul(cfg->band_rate_T, over), R(0.85), R(1.0));
+
+    real_t target = cfg->dtc.psi_ref_Wb;
+    real_t v_max = num_mul(num_mul(cfg->fw_v_per_vdc, s->fw_trim), x->vc1_V + x->vc2_V);
+    real_t w = num_abs(s->obs.omega_e_rad_s);
+    if (num_mul(target, w) > v_max)
+        target = num_div(v_max, w);
     real_t dpsi = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
-    s->psi_ref_ramped_Wb = num_sat(cfg->dtc.psi_ref_Wb, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
+    s->psi_ref_ramped_Wb = num_sat(target, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
+    real_t psi = s->psi_ref_ramped_Wb;
+    real_t te_po = num_mul(cfg->te_limit_Nm_Wb2, num_mul(psi, psi));
+    s->te_limit_Nm = te_po < cfg->speed.te_max_Nm ? te_po : cfg->speed.te_max_Nm;
 }
 
 /* Magnetising: zero torque until premag_s, then RUNNING from the estimated speed. */
@@ -289,12 +358,14 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
 {
     real_t T = cfg->period_s;
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
+    target = num_limit(target, cfg->speed_max_rad_s);
     real_t prev = s->speed_ref_ramped_rad_s;
     s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, num_mul(cfg->speed.ramp_rad_s2, T));
     speed_in si;
     si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
     si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_period_per_s);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
+    si.te_limit_Nm = s->te_limit_Nm;
     speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
     s->te_ref_Nm = so->te_ref_Nm;
 }
@@ -323,13 +394,37 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
     di.vc2_V = x->vc2_V;
     di.np_dev_V = np_dev_pred_V;
     di.prev_state = st1 < DTC3L_N_STATES ? st1 : (uint8_t)DTC3L_STATE_OOO;
+    di.band_scale = s->band_scale;
     dtc3l_step(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->dtc_out);
     return di.prev_state;
 }
 
+/* Switching frequency: the leg changes of the actuation just latched,
+ * low-passed as a device switching frequency; above fsw_max_hz the torque
+ * bands widen (integral action on the band scale, clamped to
+ * 1..band_scale_max), below it they return to the configured ones. The
+ * bands thereby follow speed and load: the torque slopes, and with them the
+ * switching rate for a given band, grow with the back-emf and the current. */
+static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, uint8_t a0,
+                                         uint8_t a1)
+{
+    uint8_t n = dtc3l_leg_changes(prev_state, a0);
+    if (a1 != a0)
+        n = (uint8_t)(n + dtc3l_leg_changes(a0, a1));
+    real_t f = num_mul((real_t)n, cfg->fsw_per_change_hz);
+    s->fsw_hz = num_mac(cfg->fsw_lpf_a, f - s->fsw_hz, s->fsw_hz);
+    if (!(cfg->fsw_max_hz > R(0.0))) {
+        s->band_scale = R(1.0);
+        return;
+    }
+    real_t rel = num_mul(s->fsw_hz, cfg->inv_fsw_max_s) - R(1.0);
+    real_t k = num_mul(cfg->band_rate_T, s->band_scale);
+    s->band_scale = num_sat(num_mac(k, rel, s->band_scale), R(1.0), cfg->band_scale_max);
+}
+
 /* Actuate: the last guard against a P<->N step (the DTC never asks for one),
  * then latch for the next period. */
-static void actuate(ctl_state *s, uint8_t prev_state, ctl_out *out)
+static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_out *out)
 {
     hal_actuation act = s->dtc_out.act;
     uint8_t a0 = dtc3l_pn_safe(prev_state, dtc3l_state_of(&act.vector[0]));
@@ -337,6 +432,7 @@ static void actuate(ctl_state *s, uint8_t prev_state, ctl_out *out)
     dtc3l_legs(a0, &act.vector[0]);
     dtc3l_legs(a1, &act.vector[1]);
     act.duty0 = num_sat(act.duty0, R(0.0), R(1.0));
+    regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
     s->prev_act = s->last_act;
     s->last_act = act;
@@ -359,9 +455,12 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     if (s->run_state == CTL_STOPPED)
         start(s, cfg);
 
-    observe(s, cfg, &in->sample);
+    real_t v_V[2], is_A[2];
+    observe(s, cfg, &in->sample, v_V, is_A);
+    s->guard_trip = ctl_guard_step(&s->guard, &cfg->guard, cfg->period_s, v_V, is_A, s->obs.rs_ohm,
+                                   s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
-    ramp_flux_reference(s, cfg);
+    ramp_flux_reference(s, cfg, &in->sample);
 
     speed_out so;
     memset(&so, 0, sizeof so);
@@ -371,6 +470,6 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
         control_speed(s, cfg, in, &so);
 
     uint8_t prev_state = control_torque_flux(s, cfg, &in->sample, np_dev_pred_V);
-    actuate(s, prev_state, out);
+    actuate(s, cfg, prev_state, out);
     fill_telemetry(s, &so, out);
 }

@@ -98,6 +98,7 @@ typedef struct {
     uint8_t sector;           /* 0..11 */
     uint8_t sector6;          /* 0..5 */
     real_t i_abc_A[3];        /* predicted phase currents */
+    real_t b_Nm, b2_Nm;       /* torque bands of this tick (cfg x in->band_scale) */
 } tick_geometry;
 
 /* The decision being built: two states, the duty of the first, and the
@@ -111,8 +112,11 @@ typedef struct {
     bool split;
 } tick_plan;
 
-static void tick_geometry_of(const dtc3l_in *in, tick_geometry *g)
+static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_in *in, tick_geometry *g)
 {
+    real_t k = in->band_scale > R(1.0) ? in->band_scale : R(1.0);
+    g->b_Nm = num_mul(cfg->torque_band_Nm, k);
+    g->b2_Nm = num_mul(cfg->torque_band2_Nm, k);
     g->psi_Wb = num_sqrt(num_mul(in->psi_s_Wb[0], in->psi_s_Wb[0]) + num_mul(in->psi_s_Wb[1], in->psi_s_Wb[1]));
     g->sector = dtc3l_sector(in->psi_s_Wb[0], in->psi_s_Wb[1]);
     g->i_abc_A[0] = in->is_A[0];
@@ -142,11 +146,49 @@ static void decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *i
         s->flux_state = -1;
 }
 
+/* Neutral point with the large and medium vectors: a medium vector draws the
+ * current of its O-leg phase from the neutral point; when that current would
+ * leave the link outside 2 np_band and further off than now (predicted over
+ * the period with np_V_per_A = T / C), the large
+ * vector at 90 deg from the flux on the same side takes its place (no NP
+ * current; the most torque of all; its radial part, +-Vdc/6 over the 30 deg
+ * sector, averages out, and the flux comparator still chooses the next
+ * medium vectors). The medium vectors are the table's choice only in the odd
+ * sectors, where 90 deg is a large-vector direction. */
+static uint8_t np_checked_vector(uint8_t sv, const dtc3l_in *in, const dtc3l_cfg *cfg, const tick_geometry *g,
+                                 int8_t torque)
+{
+    if (dtc3l_sv_class(sv) != DTC3L_CLASS_MEDIUM || torque == 0)
+        return sv;
+    /* a strong demand gets the most tangential voltage there is: the large
+     * vector at 90 deg (>= 0.97 x 2 Vdc / 3) rather than the medium one at
+     * 45..75 deg (0.71..0.97 x Vdc / sqrt 3), which near the voltage limit
+     * no longer beats the back-emf */
+    bool strong = torque == 2 || torque == -2;
+    if (!strong) {
+        /* NP prediction over the period: keep the medium vector unless it
+         * leaves the link outside twice the band AND further off than now
+         * (at the band itself the 90-deg vector is taken so often that the
+         * flux, and with it the speed, ripples more near the voltage limit:
+         * docs/envelope.md section 5) */
+        uint8_t st[3];
+        (void)dtc3l_sv_states(sv, st);
+        real_t inp = dtc3l_np_current(st[0], g->i_abc_A);
+        real_t np_next = num_mac(cfg->np_V_per_A, inp, in->np_dev_V);
+        if (!(num_abs(np_next) > R(2.0) * cfg->np_band_V && num_abs(np_next) > num_abs(in->np_dev_V)))
+            return sv;
+    }
+    uint8_t dir = (uint8_t)((g->sector + (torque > 0 ? 3u : 9u)) % 12u);
+    if ((dir & 1u) != 0u)
+        return sv;
+    return (uint8_t)(13u + dir / 2u);
+}
+
 /* The state realising the table's vector for torque demand @p torque. */
 static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g,
                                 int8_t torque, uint8_t prev_state, uint8_t *sv)
 {
-    uint8_t v = pick(g->sector, g->sector6, torque, s->flux_state, s->level);
+    uint8_t v = np_checked_vector(pick(g->sector, g->sector6, torque, s->flux_state, s->level), in, cfg, g, torque);
     if (sv)
         *sv = v;
     return dtc3l_choose_state(v, prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
@@ -159,8 +201,7 @@ static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
 static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g,
                               tick_plan *p)
 {
-    p->cur = torque_comparator(s->torque_state, in->te_Nm, in->te_ref_Nm, cfg->torque_band_Nm,
-                               cfg->torque_band2_Nm, in->dte0_Nm_s);
+    p->cur = torque_comparator(s->torque_state, in->te_Nm, in->te_ref_Nm, g->b_Nm, g->b2_Nm, in->dte0_Nm_s);
     p->after = p->cur;
     p->st0 = state_for_demand(s, cfg, in, g, p->cur, in->prev_state, &p->sv0);
     p->st1 = p->st0;
@@ -174,7 +215,7 @@ static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_
 static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
                                      const tick_geometry *g, tick_plan *p)
 {
-    real_t b = cfg->torque_band_Nm;
+    real_t b = g->b_Nm;
     real_t dmin = cfg->duty_min;
     real_t s_cur = R(0.0), edge = R(0.0), f = R(2.0);
     int8_t next = p->cur;
@@ -218,7 +259,7 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
 static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
                                 const tick_geometry *g, tick_plan *p)
 {
-    real_t b = cfg->torque_band_Nm;
+    real_t b = g->b_Nm;
     real_t dmin = cfg->duty_min;
     real_t psi = g->psi_Wb;
     if (!(!p->split && p->sv0 == 0u && s->level == (uint8_t)DTC3L_LEVEL_LOW && psi < in->psi_ref_Wb - cfg->flux_band_Wb))
@@ -294,7 +335,7 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
 {
     tick_geometry g;
     tick_plan p;
-    tick_geometry_of(in, &g);
+    tick_geometry_of(cfg, in, &g);
     decide_voltage_level(s, cfg, in);
     decide_flux_demand(s, cfg, in, g.psi_Wb);
     plan_table_vector(s, cfg, in, &g, &p);

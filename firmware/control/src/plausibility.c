@@ -50,8 +50,12 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
         if (p->stuck_ticks[k] >= PLAUS_STUCK_TICKS)
             f |= CTL_FAULT_CURRENT_SENSOR;
         p->last_A[k] = i[k];
-        p->open_ticks[k] = count(p->open_ticks[k], judge_open && flowing && num_abs(i[k]) < PLAUS_OPEN_A);
-        if (p->open_ticks[k] > half_period_ticks)
+        /* The two remaining currents cross zero too: the magnitude is judged by its
+         * peak over the time the phase has been at ~0 A, not tick by tick. */
+        bool open = judge_open && num_abs(i[k]) < PLAUS_OPEN_A;
+        p->open_ticks[k] = count(p->open_ticks[k], open);
+        p->open_peak_A[k] = open ? (mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k]) : R(0.0);
+        if (p->open_ticks[k] > half_period_ticks && p->open_peak_A[k] > PLAUS_CURRENT_A)
             f |= CTL_FAULT_PHASE_LOSS;
     }
     return f;

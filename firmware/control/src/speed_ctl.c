@@ -33,21 +33,55 @@ void speed_cfg_default(speed_cfg *cfg, const motor_model *m)
 
     rbfn_cfg *r = &cfg->rbfn;
     r->k = R(20.0);          /* = the IP's proportional action 2 zeta wn: not a faster loop */
-    r->gamma_w = R(2000.0);  /* learning rate: the disturbance is learned in ~0.1 s */
+    r->gamma_w = R(4000.0);  /* learning rate: a rated load step is learned in ~0.1 s */
     r->gamma_zeta = R(1000.0);
-    r->m_w = R(1000.0);      /* |eps_hat| <= |W| <= M_w: up to 45 N m of learned torque */
-    r->n_nodes = 5u;         /* nodes every 5 rad/s (48 rpm) of speed error */
-    static const real_t c[5] = {R(-10.0), R(-5.0), R(0.0), R(5.0), R(10.0)};
-    for (uint32_t q = 0u; q < 5u; q++) {
-        r->centre[q] = c[q];
-        r->width[q] = R(2.5);
-    }
+    r->n_nodes = 5u;
+    /* M_w, centres and widths from the torque limit and J (docs/envelope.md) */
+    speed_rbfn_size(r, cfg->te_max_Nm, m->J_kgm2);
     r->boundary_rad_s = R(1.0);        /* sat(e / 1 rad/s) instead of sgn(e): no chattering */
     r->zeta_dead_zone_rad_s = R(1.0);  /* ~10 rpm: above speed-estimate noise and small steps */
     r->zeta_max = R(200.0);            /* 9 N m of robust torque at most */
     r->zeta_leak = R(0.5);             /* the bound relaxes over ~2 s after a transient */
 
     speed_cfg_derive(cfg, m);
+}
+
+void speed_rbfn_size(rbfn_cfg *r, real_t te_max_Nm, real_t J_kgm2)
+{
+    uint32_t n = r->n_nodes;
+    if (n < 1u)
+        n = 1u;
+    if (n > RBFN_NODES_MAX)
+        n = RBFN_NODES_MAX;
+    /* The largest uncertainty the loop can ever have to cancel: a load at the
+     * torque limit, as an acceleration. */
+    real_t eps_max = num_div(te_max_Nm, J_kgm2 > R(0.0) ? J_kgm2 : R(1.0));
+    /* Every weight must be able to hold eps_max (|eps_hat| <= max w_q and a
+     * constant load needs all of them there): |W| = sqrt(n) eps_max, +25 %. */
+    r->m_w = num_mul(R(1.25) * num_sqrt((real_t)n), eps_max);
+    /* Peak speed error of the learning loop e'' + K e' + gamma_w e = eps for a
+     * load step at the torque limit is of the order eps_max / sqrt(gamma_w):
+     * the outermost centres sit there, so the nodes that learn during the dip
+     * are the ones that act as the error returns to zero. */
+    real_t g = r->gamma_w > R(1.0) ? r->gamma_w : R(1.0);
+    real_t e_span = num_div(eps_max, num_sqrt(g));
+    if (!(e_span > R(0.1)))
+        e_span = R(0.1);
+    if (n == 1u) {
+        r->centre[0] = R(0.0);
+        r->width[0] = e_span;
+    } else {
+        real_t half = R(0.5) * (real_t)(n - 1u);
+        real_t spacing = num_div(e_span, half);
+        for (uint32_t q = 0u; q < n; q++) {
+            r->centre[q] = num_mul((real_t)q - half, spacing);
+            r->width[q] = R(0.75) * spacing; /* neighbours overlap: z ~ 0.4 half-way */
+        }
+    }
+    for (uint32_t q = n; q < RBFN_NODES_MAX; q++) {
+        r->centre[q] = R(0.0);
+        r->width[q] = R(0.0);
+    }
 }
 
 void speed_cfg_derive(speed_cfg *cfg, const motor_model *m)
@@ -174,6 +208,8 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
         switch_mode(s, cfg, m, cfg->mode == SPEED_MODE_IP ? in : &min);
 
     real_t te_max = cfg->te_max_Nm > R(0.0) ? cfg->te_max_Nm : R(0.0);
+    if (in->te_limit_Nm > R(0.0) && in->te_limit_Nm < te_max)
+        te_max = in->te_limit_Nm;
     switch (cfg->mode) {
     case SPEED_MODE_IP:
         speed_ip_step(&s->ip, &cfg->ip, m, te_max, dt_s, in, out);

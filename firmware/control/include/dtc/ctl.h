@@ -18,6 +18,7 @@
 #include "dtc/plausibility.h"
 #include "dtc/speed_ctl.h"
 #include "dtc/dtc3l.h"
+#include "dtc/ctl_guard.h"
 #include "hal/hal_types.h"
 
 #ifdef __cplusplus
@@ -35,17 +36,18 @@ enum ctl_fault {
     CTL_FAULT_HW = 1u << 6,           /**< hardware fault input active */
     CTL_FAULT_OVERRUN = 1u << 7,      /**< the previous tick missed its deadline */
     CTL_FAULT_SAMPLE_INVALID = 1u << 8, /**< a sampled value is not a finite number */
-    CTL_FAULT_CURRENT_SENSOR = 1u << 9, /**< current sum of the three sensors implausible, or a reading stuck */
-    CTL_FAULT_PHASE_LOSS = 1u << 10,    /**< one motor phase carries no current while the others do */
-    CTL_FAULT_DC_DIVIDER = 1u << 11,    /**< capacitor voltages unequal while stopped: divider or sensor error */
+    CTL_FAULT_LOSS_OF_CONTROL = 1u << 9, /**< the observer's flux is not the machine's (ctl_guard.h) */
+    CTL_FAULT_CURRENT_SENSOR = 1u << 10, /**< current sum of the three sensors implausible, or a reading stuck */
+    CTL_FAULT_PHASE_LOSS = 1u << 11,     /**< one motor phase carries no current while the others do */
+    CTL_FAULT_DC_DIVIDER = 1u << 12,     /**< capacitor voltages unequal while stopped: divider or sensor error */
 };
 
 /** Fault bits that ctl_step latches (OVERRUN from ctl_in.overrun). */
 #define CTL_FAULTS_DETECTED                                                                 \
     (CTL_FAULT_OVERCURRENT | CTL_FAULT_DC_OVERVOLT | CTL_FAULT_DC_UNDERVOLT |               \
      CTL_FAULT_NP_IMBALANCE | CTL_FAULT_OVERSPEED | CTL_FAULT_STALE_SAMPLE | CTL_FAULT_HW | \
-     CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID | CTL_FAULT_CURRENT_SENSOR | CTL_FAULT_PHASE_LOSS |    \
-     CTL_FAULT_DC_DIVIDER)
+     CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID | CTL_FAULT_LOSS_OF_CONTROL | CTL_FAULT_CURRENT_SENSOR | \
+     CTL_FAULT_PHASE_LOSS | CTL_FAULT_DC_DIVIDER)
 
 /** Error codes of ctl_cfg_check() (negative, first violated rule). */
 enum ctl_cfg_error {
@@ -76,7 +78,17 @@ typedef struct {
     real_t vdc_max_V;         /**< DC-link over-voltage trip, V */
     real_t vdc_min_V;         /**< DC-link under-voltage trip while running, V */
     real_t np_trip_V;         /**< |vc1 - vc2| trip, V */
-    real_t overspeed_rad_s;   /**< estimated-speed trip, rad/s */
+    real_t overspeed_rad_s;   /**< estimated-speed trip, rad/s; the speed reference is limited
+                                   to overspeed_rad_s / 1.1 (speed_max_rad_s) */
+    /* field weakening (docs/envelope.md section 3) */
+    real_t fw_voltage_frac;   /**< flux reference <= this x (measured Vdc / sqrt 3) / |omega_e|, 0..1.2 */
+    real_t te_pullout_frac;   /**< torque limit <= this x the pull-out torque at the flux reference, 0..1 */
+    /* switching-frequency regulation (docs/envelope.md section 4) */
+    real_t fsw_max_hz;        /**< device switching frequency above which the torque bands widen, Hz (0 = off) */
+    real_t v_drop_V;          /**< on-state drop of one device, V: subtracted from the applied voltage the
+                                   observer and the loss-of-control monitor use (0 = none) */
+    real_t band_scale_max;    /**< largest widening of the torque bands, x (>= 1) */
+    ctl_guard_cfg guard;      /**< loss-of-control monitor (voltage-model flux check) */
 
     /* derived by ctl_cfg_derive() */
     real_t psi_ramp_Wb_s;     /**< flux-reference slew rate, Wb/s: keeps the magnetising
@@ -84,6 +96,14 @@ typedef struct {
                                    by sigma Tr) below a fifth of i_trip_A */
     real_t np_V_per_A;        /**< period_s / c_dc_F: change of vc1 - vc2 per ampere of NP current over one period */
     real_t inv_period_per_s;  /**< 1 / period_s */
+    real_t te_pullout_Nm_Wb2; /**< pull-out torque per Wb^2 of stator flux: 1.5 p (1 - sigma) / (2 sigma Ls) */
+    real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
+    real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */
+    real_t fsw_lpf_a;         /**< low-pass coefficient of the measured switching frequency (20 ms), 0..1 */
+    real_t band_rate_T;       /**< adaptation step of the band scale per period (5 1/s x T) */
+    real_t inv_fsw_max_s;     /**< 1 / fsw_max_hz, s (0 when the regulation is off) */
+    real_t fw_v_per_vdc;      /**< fw_voltage_frac / sqrt 3: usable phase voltage per volt of DC link */
+    real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
 } ctl_cfg;
 
 /** Inputs of one control step. */
@@ -147,6 +167,13 @@ typedef struct {
     real_t te_ref_Nm;         /**< torque command of the last step */
     observer_out obs_out;     /**< observer outputs of the last step */
     dtc3l_out dtc_out;        /**< DTC outputs of the last step */
+    real_t te_limit_Nm;       /**< torque limit of the last step (te_max, field weakening), N m */
+    real_t fsw_hz;            /**< low-passed device switching frequency of the actuation, Hz */
+    real_t band_scale;        /**< present widening of the torque bands (1..band_scale_max) */
+    real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
+    real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
+    ctl_guard guard;          /**< loss-of-control monitor */
+    bool guard_trip;          /**< the monitor's verdict of the last step */
 } ctl_state;
 
 /** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */

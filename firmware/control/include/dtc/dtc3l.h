@@ -106,6 +106,8 @@ typedef struct {
     real_t level_up;          /**< back-emf |omega_e| psi_ref over Vdc/3 above which the HIGH level is used */
     real_t level_down;        /**< ... below which the LOW level returns (< level_up) */
     real_t duty_min;          /**< shortest vector segment, fraction of the period (0..0.5) */
+    real_t np_V_per_A;        /**< derived (ctl_cfg_derive): change of vc1 - vc2 per ampere of NP
+                                   current over one period, V/A (0: no NP prediction) */
 } dtc3l_cfg;
 
 /** Comparator and level memory (caller owned). */
@@ -130,6 +132,8 @@ typedef struct {
     real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
     real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
     uint8_t prev_state;       /**< state in force when the chosen period starts (0..26) */
+    real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
+                                   switching-frequency regulation of ctl.c widens them */
 } dtc3l_in;
 
 typedef struct {

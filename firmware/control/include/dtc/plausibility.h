@@ -10,9 +10,10 @@
  *    all three, or a gain error during zero current, does not.
  *  - stuck: a reading that repeats bit for bit for PLAUS_STUCK_TICKS while
  *    current flows (the switching ripple always moves a live sensor).
- *  - phase loss: one phase near 0 A while the others carry current, for
- *    longer than half an electrical period; not judged below
- *    PLAUS_PHASE_MIN_HZ, where a healthy phase may sit near zero for long.
+ *  - phase loss: one phase near 0 A for longer than half an electrical period
+ *    while the others carried current (the magnitude exceeded
+ *    PLAUS_CURRENT_A meanwhile); not judged below PLAUS_PHASE_MIN_HZ, where a
+ *    healthy phase may sit near zero for long.
  *  - DC dividers: while stopped (no neutral-point current) the two capacitors
  *    share the link equally, so |vc1 - vc2| beyond PLAUS_DIVIDER_REL of the
  *    link is a divider or sensor error. A common error of both dividers keeps
@@ -46,7 +47,8 @@ extern "C" {
 typedef struct {
     uint16_t sum_ticks;       /**< ticks in a row with an implausible current sum */
     uint16_t stuck_ticks[3];  /**< ticks in a row with a repeated reading, per phase */
-    uint16_t open_ticks[3];   /**< ticks in a row with a phase near 0 A while the others flow */
+    uint16_t open_ticks[3];   /**< ticks in a row with a phase near 0 A */
+    float open_peak_A[3];     /**< largest current magnitude seen meanwhile, A */
     float last_A[3];          /**< the previous readings, A */
 } plaus_state;
 

@@ -81,6 +81,8 @@ typedef struct {
     real_t omega_ref_rad_s;     /**< X_d: reference (after the ramp limiter), rad/s mechanical */
     real_t domega_ref_rad_s2;   /**< dX_d/dt, rad/s^2 */
     real_t omega_est_rad_s;     /**< X_q: estimated speed, rad/s mechanical */
+    real_t te_limit_Nm;         /**< present torque limit, N m (field weakening, pull-out at the
+                                     present flux: ctl.c); 0 or less: te_max_Nm alone */
 } speed_in;
 
 /** Outputs of one speed-controller step. */
@@ -134,6 +136,19 @@ enum speed_cfg_error {
  * IP gains. ctl_cfg_default() calls this. Context: BG.
  */
 void speed_cfg_default(speed_cfg *cfg, const motor_model *m);
+
+/**
+ * Size the RBFN to the drive: from the torque limit @p te_max_Nm (> 0) and
+ * the inertia @p J_kgm2 (> 0), with r->n_nodes and r->gamma_w already set,
+ * write r->m_w = 1.25 sqrt(n) te_max / J (every weight can hold the
+ * acceleration of a load at the torque limit), and n centres evenly spaced
+ * over +-e_span, e_span = (te_max / J) / sqrt(gamma_w) rad/s (the order of
+ * the peak speed error of a load step at the torque limit), widths 0.75 x
+ * the spacing; unused nodes are zeroed. speed_cfg_default() calls it; call it
+ * again after changing te_max_Nm, J or gamma_w to keep any load up to the
+ * torque limit learnable (docs/envelope.md). Context: BG.
+ */
+void speed_rbfn_size(rbfn_cfg *r, real_t te_max_Nm, real_t J_kgm2);
 
 /** Compute derived gains (IP ki, kp from wn, zeta, J, B per eq. 3). Context: BG. */
 void speed_cfg_derive(speed_cfg *cfg, const motor_model *m);

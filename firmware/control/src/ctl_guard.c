@@ -1,0 +1,75 @@
+/**
+ * @file ctl_guard.c
+ * @brief Loss-of-control monitor: voltage-model flux against the observer's.
+ */
+#include "dtc/ctl_guard.h"
+
+void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s)
+{
+    real_t a = num_mul(cfg->wc_rad_s, period_s);
+    cfg->wc_T = num_sat(a, R(0.0), R(1.0));
+    /* 1 - exp(-2 pi 50 Hz T): the stator-frequency low-pass */
+    cfg->w_lpf_T = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), period_s)), R(0.0), R(1.0));
+}
+
+void ctl_guard_reset(ctl_guard *g)
+{
+    g->psi_vm_Wb[0] = g->psi_vm_Wb[1] = R(0.0);
+    g->psi_obs_lp_Wb[0] = g->psi_obs_lp_Wb[1] = R(0.0);
+    g->err_Wb = R(0.0);
+    g->t_above_s = R(0.0);
+    g->omega_s_rad_s = R(0.0);
+    g->tol_Wb = R(0.0);
+}
+
+bool ctl_guard_step(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, const real_t v_V[2],
+                    const real_t is_A[2], real_t rs_ohm, const real_t psi_obs_Wb[2], real_t psi_ref_Wb,
+                    bool judge)
+{
+    real_t a = cfg->wc_T;
+    real_t d[2];
+    real_t prev[2] = {g->psi_vm_Wb[0], g->psi_vm_Wb[1]};
+    for (int i = 0; i < 2; i++) {
+        /* the same high-pass on the observer's flux: psi - lowpass(psi) */
+        g->psi_obs_lp_Wb[i] = num_mac(a, psi_obs_Wb[i] - g->psi_obs_lp_Wb[i], g->psi_obs_lp_Wb[i]);
+        /* both at t_k: psi_vm holds the integral up to t_k */
+        d[i] = g->psi_vm_Wb[i] - (psi_obs_Wb[i] - g->psi_obs_lp_Wb[i]);
+        /* psi_vm' = v - Rs is - wc psi_vm (s / (s + wc) of the machine's flux), on to t_{k+1} */
+        real_t emf = v_V[i] - num_mul(rs_ohm, is_A[i]);
+        g->psi_vm_Wb[i] = num_mac(period_s, emf, g->psi_vm_Wb[i] - num_mul(a, g->psi_vm_Wb[i]));
+    }
+    real_t e2 = num_mul(d[0], d[0]) + num_mul(d[1], d[1]);
+    /* num_sqrt maps NaN to 0: keep a NaN (a broken voltage or current) as NaN */
+    g->err_Wb = e2 >= R(0.0) ? num_sqrt(e2) : e2;
+
+    /* stator frequency of the machine's flux: rotation of psi_vm per period,
+     * low-passed (the PWM ripple of one period is ~10 % of the flux) */
+    real_t n2 = num_mul(prev[0], prev[0]) + num_mul(prev[1], prev[1]);
+    real_t cr = num_mul(prev[0], g->psi_vm_Wb[1]) - num_mul(prev[1], g->psi_vm_Wb[0]);
+    real_t w = n2 > R(1e-4) ? num_div(cr, num_mul(n2, period_s)) : R(0.0);
+    g->omega_s_rad_s = num_mac(cfg->w_lpf_T, w - g->omega_s_rad_s, g->omega_s_rad_s);
+    /* an Rs error dR gives a flux error up to dR |is| / |omega_s| through
+     * the integrator (at most dR |is| / wc): allowed for rs_tol_frac of Rs */
+    real_t wabs = num_abs(g->omega_s_rad_s);
+    if (wabs < cfg->wc_rad_s)
+        wabs = cfg->wc_rad_s;
+    real_t is_abs = num_sqrt(num_mul(is_A[0], is_A[0]) + num_mul(is_A[1], is_A[1]));
+    /* an error dV of the applied voltage (device drops, dead time: neither is
+     * compensated) integrates the same way: at most dV / |omega_s| */
+    g->tol_Wb = num_mul(cfg->flux_err_frac, psi_ref_Wb) +
+                num_div(num_mul(num_mul(cfg->rs_tol_frac, rs_ohm), is_abs) + cfg->v_tol_V, wabs);
+    /* Near standstill the voltage model integrates mostly the voltage errors
+     * (device drops, dead time) and the leak: judged only above twice its corner. */
+    bool slow = num_abs(g->omega_s_rad_s) < R(2.0) * cfg->wc_rad_s;
+    bool finite = g->err_Wb == g->err_Wb; /* a NaN error is judged at any frequency */
+    if (!judge || !(cfg->flux_err_frac > R(0.0)) || (slow && finite)) {
+        g->t_above_s = R(0.0);
+        return false;
+    }
+    /* written so that a NaN error counts as above */
+    if (!(g->err_Wb <= g->tol_Wb))
+        g->t_above_s += period_s;
+    else
+        g->t_above_s = R(0.0);
+    return g->t_above_s >= cfg->time_s;
+}

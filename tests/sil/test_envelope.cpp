@@ -1,0 +1,431 @@
+// The drive over its whole operating envelope (issue 8 part 2), with the
+// firmware DEFAULTS: the scenario files set only the operating point.
+// One test per bullet of the issue, each with the issue's threshold, so the
+// test fails when the bullet fails. Design: docs/envelope.md.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim_test_util.hpp"
+
+extern "C" {
+#include "dtc/drive.h"
+}
+
+namespace {
+
+struct SimRun {
+    int status = -1;
+    std::string error;
+    sim_metrics m{};
+};
+
+using TickHook = std::function<void(double t_s, struct drive *d)>;
+
+void call_hook(void *user, double t_s, struct drive *d) { (*static_cast<TickHook *>(user))(t_s, d); }
+
+// Run host_sim/scenarios/@p file with @p controller and the overrides @p sets
+// ("section.key=value"), calling @p hook every tick when given.
+SimRun run_sim(const std::string &file, int controller, const std::vector<std::string> &sets = {},
+        TickHook hook = nullptr)
+{
+    SimRun r;
+    simtest::Loaded l = simtest::load_scenario(simtest::source_path("host_sim/scenarios/" + file), sets);
+    EXPECT_EQ(l.rc, 0) << l.error;
+    if (l.rc != 0)
+        return r;
+    sim_options opt;
+    sim_options_default(&opt);
+    opt.controller = controller;
+    if (hook) {
+        opt.on_tick = &call_hook;
+        opt.user = &hook;
+    }
+    auto res = std::make_unique<sim_result>();
+    r.status = sim_run(l.sc.get(), &opt, res.get());
+    r.error = res->error;
+    r.m = res->metrics;
+    const sim_metrics &m = r.m;
+    std::printf("[envelope] %-22s ctl %d: final %.1f rpm %.1f N m, steady %.2f rpm, recovery %.4f s (%s), "
+                "dip %.1f rpm, eps_hat %.1f / %.1f, |W|max %.0f / %.0f, np %.2f / %.2f V, fsw %.0f Hz, "
+                "faults 0x%x\n",
+                file.c_str(), controller, m.speed_final_rpm, m.te_final_nm, m.steady_error_rpm,
+                m.has_disturbance ? m.recovery_time_s : -1.0, m.recovered ? "recovered" : "not recovered",
+                m.has_disturbance ? m.max_dip_rpm : -1.0, m.eps_hat_final, m.eps_true, m.w_norm_max, m.m_w,
+                m.np_dev_max_v, m.np_dev_limit_v, m.switching_freq_hz, (unsigned)m.faults);
+    return r;
+}
+
+} // namespace
+
+// ---------------------------------------------------------------- RBFN sizing
+
+// A rated (41 N m) load step at 500 rpm: the RBFN recovers within 0.3 s and
+// has learned the uncertainty (-T_L / J = -911 rad/s^2).
+TEST(RatedStep500, RbfnRecoversWithinPointThreeSeconds)
+{
+    SimRun r = run_sim("rated_step_500.ini", SCENARIO_CTL_RBFN);
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    const sim_metrics &m = r.m;
+    EXPECT_EQ(m.faults, 0u);
+    ASSERT_TRUE(m.has_disturbance);
+    EXPECT_TRUE(m.recovered);
+    EXPECT_LE(m.recovery_time_s, 0.3);
+    EXPECT_LE(m.steady_error_rpm, 2.0);
+    EXPECT_NEAR(m.eps_true, -911.0, 20.0);
+    EXPECT_NEAR(m.eps_hat_final, m.eps_true, 0.05 * std::abs(m.eps_true));
+    EXPECT_LE(m.w_norm_max, m.m_w);
+}
+
+// The representable uncertainty follows the torque limit: a load close to
+// the 80 N m limit (70 N m) is learned too, with the weights off the
+// projection bound; and a rated generating load (-41 N m). (A -70 N m
+// generating load still trips on the neutral point: docs/envelope.md.)
+TEST(RatedStep500, AnyLoadUpToTheTorqueLimitIsLearnable)
+{
+    for (double load : {70.0, -41.0}) {
+        SCOPED_TRACE(load);
+        SimRun r = run_sim("rated_step_500.ini", SCENARIO_CTL_RBFN, {"load.step=2.5 " + std::to_string(load)});
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        const sim_metrics &m = r.m;
+        EXPECT_EQ(m.faults, 0u);
+        EXPECT_TRUE(m.recovered);
+        EXPECT_LE(m.steady_error_rpm, 2.0);
+        EXPECT_NEAR(m.eps_hat_final, m.eps_true, 0.05 * std::abs(m.eps_true));
+        EXPECT_LT(m.w_norm_max, 0.95 * m.m_w) << "the weights sit on the projection bound";
+    }
+}
+
+// ------------------------------------------------------- loss-of-control trip
+
+namespace {
+
+// Forces a divergence at @p t_s: the observer's speed adaptation is switched
+// off (kp = ki = 0 through the background configuration path) and its speed
+// estimate is scaled by @p factor and frozen there. Records the first tick
+// at which CTL_FAULT_LOSS_OF_CONTROL is latched.
+struct Diverger {
+    double t_s;
+    float factor;
+    bool done = false;
+    double t_trip = -1.0;
+    void operator()(double t, struct drive *d)
+    {
+        if (!done && t >= t_s) {
+            ctl_cfg *c = drive_cfg_edit(d);
+            c->obs.kp_speed = 0.0f;
+            c->obs.ki_speed = 0.0f;
+            drive_cfg_commit(d);
+            d->ctl.obs.omega_int_rad_s *= factor;
+            d->ctl.obs.omega_e_rad_s = d->ctl.obs.omega_int_rad_s;
+            done = true;
+        }
+        if (t_trip < 0.0 && (d->ctl.faults & CTL_FAULT_LOSS_OF_CONTROL) != 0u)
+            t_trip = t;
+    }
+};
+
+} // namespace
+
+// A speed estimate that is frozen at a wrong value (the observer has lost
+// the machine) is caught by the voltage-model flux check within 50 ms, the
+// overspeed trip being blind to it (the estimate stays in range).
+TEST(LossOfControl, ForcedDivergenceTripsWithinFiftyMilliseconds)
+{
+    for (float factor : {0.5f, 0.0f, -1.0f}) {
+        SCOPED_TRACE(factor);
+        Diverger dv{3.0, factor};
+        SimRun r = run_sim("rated_step_500.ini", SCENARIO_CTL_RBFN, {},
+                           [&dv](double t, struct drive *d) { dv(t, d); });
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        std::printf("[envelope] forced divergence x%.1f: trip %.4f s after\n", factor, dv.t_trip - dv.t_s);
+        EXPECT_NE(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
+        ASSERT_GE(dv.t_trip, dv.t_s);
+        EXPECT_LE(dv.t_trip - dv.t_s, 0.05);
+    }
+}
+
+// The same forcing with the estimate frozen at the right value is not a
+// loss of control: no trip, and the drive still holds the speed.
+TEST(LossOfControl, FrozenButRightEstimateDoesNotTrip)
+{
+    Diverger dv{3.0, 1.0f};
+    SimRun r = run_sim("rated_step_500.ini", SCENARIO_CTL_RBFN, {}, [&dv](double t, struct drive *d) { dv(t, d); });
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u);
+    EXPECT_NEAR(r.m.speed_final_rpm, 500.0, 10.0);
+}
+
+// The issue's runaway (30 rpm, 40 N m, IP) now ends in a loss-of-control
+// trip instead of an unfaulted run to -24,000 rpm.
+TEST(LossOfControl, SensorlessRunawayTrips)
+{
+    double t_trip = -1.0;
+    SimRun r = run_sim("runaway_trip.ini", SCENARIO_CTL_IP, {}, [&t_trip](double t, struct drive *d) {
+        if (t_trip < 0.0 && (d->ctl.faults & CTL_FAULT_LOSS_OF_CONTROL) != 0u)
+            t_trip = t;
+    });
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    std::printf("[envelope] runaway: loss-of-control trip at %.4f s (load at 2.0 s)\n", t_trip);
+    EXPECT_NE(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
+    EXPECT_GE(t_trip, 2.0);
+    EXPECT_LE(t_trip, 2.5);
+}
+
+// No false trip on healthy runs: rated load at 500 rpm (both controllers),
+// torque steps motoring and generating at 500 and 1000 rpm, 1700 rpm.
+TEST(LossOfControl, NoFalseTripOnHealthyRuns)
+{
+    struct Case {
+        const char *file;
+        int controller;
+        std::vector<std::string> sets;
+    };
+    const std::vector<Case> cases = {
+        {"rated_step_500.ini", SCENARIO_CTL_RBFN, {}},
+        {"rated_step_500.ini", SCENARIO_CTL_IP, {}},
+        {"torque_step.ini", SCENARIO_CTL_RBFN, {}},
+        {"torque_step.ini", SCENARIO_CTL_IP, {"reference.ramp=0.3 1.3 1000"}},
+        {"case1.ini", SCENARIO_CTL_RBFN, {"reference.ramp=0.3 2.3 1700"}},
+    };
+    for (const Case &c : cases) {
+        SCOPED_TRACE(std::string(c.file) + (c.sets.empty() ? "" : " " + c.sets[0]));
+        SimRun r = run_sim(c.file, c.controller, c.sets);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        EXPECT_EQ(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
+    }
+}
+
+// ------------------------------------- nameplate and field weakening
+
+namespace {
+
+double window_speed(const sim_metrics &m, const char *name)
+{
+    for (int i = 0; i < m.n_windows; ++i)
+        if (std::string(m.windows[i].name) == name && m.windows[i].valid)
+            return m.windows[i].speed_rpm;
+    ADD_FAILURE() << "no window " << name;
+    return 0.0;
+}
+
+} // namespace
+
+// 1740 rpm with the rated 41 N m, both controllers with integral action.
+TEST(Nameplate, ReachesAndHolds1740RpmWithRatedTorque)
+{
+    for (int c : {SCENARIO_CTL_RBFN, SCENARIO_CTL_IP}) {
+        SCOPED_TRACE(c);
+        SimRun r = run_sim("nameplate.ini", c);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        const sim_metrics &m = r.m;
+        EXPECT_EQ(m.faults, 0u);
+        EXPECT_NEAR(window_speed(m, "loaded"), 1740.0, 2.0);
+        EXPECT_GE(m.te_final_nm, 41.0);
+        if (c == SCENARIO_CTL_RBFN) {
+            EXPECT_LE(m.steady_error_rpm, 2.0);
+        }
+    }
+}
+
+// 2610 rpm (1.5 x base) with 27 N m: constant power in field weakening.
+TEST(FieldWeakening, HoldsRatedPowerAtOnePointFiveTimesBaseSpeed)
+{
+    for (int c : {SCENARIO_CTL_RBFN, SCENARIO_CTL_IP}) {
+        SCOPED_TRACE(c);
+        SimRun r = run_sim("field_weakening.ini", c);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        const sim_metrics &m = r.m;
+        EXPECT_EQ(m.faults, 0u);
+        EXPECT_NEAR(window_speed(m, "loaded"), 2610.0, 2.0);
+        EXPECT_GE(m.te_final_nm, 27.0);
+        // mean |error| includes the speed ripple at this speed (2-3 rpm)
+        EXPECT_LE(m.steady_error_rpm, 5.0);
+    }
+}
+
+// The overspeed trip follows the speed range: it sits above the reference
+// limit, which covers 1.5 x base speed; a reference beyond the range is
+// limited instead of tripping.
+TEST(FieldWeakening, OverspeedLevelFollowsTheSpeedRange)
+{
+    ctl_cfg cfg;
+    ctl_cfg_default(&cfg);
+    const double rpm_per_rad_s = 60.0 / (2.0 * M_PI);
+    EXPECT_GE(cfg.speed_max_rad_s * rpm_per_rad_s, 2610.0);
+    EXPECT_GT(cfg.overspeed_rad_s, 1.05 * cfg.speed_max_rad_s);
+
+    SimRun r = run_sim("field_weakening.ini", SCENARIO_CTL_RBFN,
+                       {"reference.ramp=0.3 4.5 3500", "load.step=5.0 10"});
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u);
+    EXPECT_NEAR(r.m.speed_final_rpm, cfg.speed_max_rad_s * rpm_per_rad_s, 10.0);
+}
+
+// ------------------------------------------------- switching frequency
+
+namespace {
+
+double fsw_at(double rpm, double load_Nm)
+{
+    SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN,
+                       {"reference.ramp=0.3 2.3 " + std::to_string(rpm), "load.step=2.5 " + std::to_string(load_Nm)});
+    EXPECT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u) << rpm << " rpm, " << load_Nm << " N m";
+    EXPECT_NEAR(window_speed(r.m, "point"), rpm, 5.0) << load_Nm << " N m";
+    std::printf("[envelope] %6.0f rpm %4.0f N m: switching %.0f Hz, np %.2f V\n", rpm, load_Nm,
+                r.m.switching_freq_hz, r.m.np_dev_max_v);
+    return r.m.switching_freq_hz;
+}
+
+} // namespace
+
+// Device switching frequency <= 1.5 kHz over the speed range (before the
+// adaptive bands: 2.2-2.5 kHz at 700-1300 rpm).
+TEST(SwitchingFrequency, AtMostOnePointFiveKilohertzEverywhere)
+{
+    for (double rpm : {100.0, 700.0, 1000.0, 1300.0, 1740.0})
+        for (double load : {0.0, 20.0, 41.0})
+            EXPECT_LE(fsw_at(rpm, load), 1500.0) << rpm << " rpm, " << load << " N m";
+}
+
+// 0.5-1 kHz at the paper's 500 rpm point, from no load to rated.
+TEST(SwitchingFrequency, HalfToOneKilohertzAtFiveHundredRpm)
+{
+    for (double load : {0.0, 8.0, 20.0, 41.0}) {
+        const double f = fsw_at(500.0, load);
+        EXPECT_GE(f, 500.0) << load << " N m";
+        EXPECT_LE(f, 1000.0) << load << " N m";
+    }
+}
+
+// ------------------------------------------------------- torque response
+
+// 0 -> 41 N m command at 500 rpm (no load), answered 10-90 % within 5 ms.
+// The command step: the torque limit set to the rated 41 N m and, at
+// t_step, the IP's integrator put far above it, so the next command is the
+// limit (the controller then stays there). The response is the observer's
+// torque estimate (telemetry; the plant's torque is not visible to the
+// hook), sampled every tick.
+TEST(TorqueResponse, RatedTorqueStepAnsweredWithinFiveMilliseconds)
+{
+    const double t_step = 2.5;
+    std::vector<std::pair<double, double>> te; // (t, te_est) after the step
+    double t10 = -1.0, t90 = -1.0, te_before = 0.0;
+    bool set = false;
+    SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_IP, {"load.step=2.5 0", "control.te_max_Nm=41"},
+                       [&](double t, struct drive *d) {
+                           if (!set && t >= t_step) {
+                               te_before = d->ctl.te_ref_Nm;
+                               d->ctl.speed.ip.integ_Nm = 1000.0f;
+                               set = true;
+                               return;
+                           }
+                           if (set && t < t_step + 0.05) {
+                               const double x = d->ctl.obs_out.te_Nm;
+                               te.emplace_back(t, x);
+                               if (t10 < 0.0 && x >= 0.1 * 41.0)
+                                   t10 = t;
+                               if (t90 < 0.0 && x >= 0.9 * 41.0)
+                                   t90 = t;
+                           }
+                       });
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    std::printf("[envelope] torque step %.1f -> 41 N m at 500 rpm: 10 %% at +%.2f ms, 90 %% at +%.2f ms\n", te_before,
+                (t10 - t_step) * 1e3, (t90 - t_step) * 1e3);
+    EXPECT_LT(std::abs(te_before), 5.0);
+    ASSERT_GT(t10, 0.0);
+    ASSERT_GT(t90, 0.0);
+    EXPECT_LE(t90 - t10, 0.005);
+}
+
+// --------------------------------------------------------- neutral point
+
+namespace {
+
+double np_at(double rpm, double load_Nm)
+{
+    SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN,
+                       {"reference.ramp=0.3 2.3 " + std::to_string(rpm), "load.step=2.5 " + std::to_string(load_Nm)});
+    EXPECT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u) << rpm << " rpm, " << load_Nm << " N m";
+    return r.m.np_dev_max_v;
+}
+
+} // namespace
+
+// The part of the NP bullet that is met: within 2 % of Vdc (6.22 V) at no
+// load from 100 to 1740 rpm, and at the paper's 500 rpm from -20 N m
+// (generating) to the rated +41 N m (docs/envelope.md section 5).
+TEST(NeutralPoint, WithinTwoPercentAtNoLoadAndAtFiveHundredRpm)
+{
+    for (double rpm : {100.0, 500.0, 1000.0, 1740.0})
+        EXPECT_LE(np_at(rpm, 0.0), 6.22) << rpm << " rpm, no load";
+    for (double load : {-20.0, 20.0, 41.0})
+        EXPECT_LE(np_at(500.0, load), 6.22) << "500 rpm, " << load << " N m";
+}
+
+// NOT the issue's threshold: with load above 500 rpm the deviation is still
+// 6.5-9.4 V (before this branch: 16-24 V, and a 30 V trip at 1740 rpm with
+// 41 N m). This guards the improvement until the bullet is finished.
+TEST(NeutralPoint, RatedTorqueStaysFarFromTheTrip)
+{
+    for (double rpm : {500.0, 1000.0, 1740.0})
+        for (double load : {-41.0, 41.0})
+            EXPECT_LE(np_at(rpm, load), 10.0) << rpm << " rpm, " << load << " N m";
+}
+
+// -------------------------------------------------------------- low speed
+
+// Rated torque at 30 rpm and 20 N m at 10 rpm, sensorless, nominal
+// parameters, firmware defaults (RBFN, the default controller; at 10 rpm the
+// IP too).
+TEST(LowSpeed, HoldsRatedTorqueAtThirtyRpmAndTwentyNmAtTenRpm)
+{
+    struct Case {
+        const char *file;
+        int controller;
+        double rpm;
+    };
+    for (const Case &c : {Case{"low_speed_30rpm.ini", SCENARIO_CTL_RBFN, 30.0},
+                          Case{"low_speed_10rpm.ini", SCENARIO_CTL_RBFN, 10.0},
+                          Case{"low_speed_10rpm.ini", SCENARIO_CTL_IP, 10.0}}) {
+        SCOPED_TRACE(std::string(c.file) + " ctl " + std::to_string(c.controller));
+        SimRun r = run_sim(c.file, c.controller);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        EXPECT_EQ(r.m.faults, 0u);
+        EXPECT_NEAR(window_speed(r.m, "point"), c.rpm, 5.0);
+        EXPECT_LE(r.m.speed_est_error_rpm, 5.0);
+    }
+}
+
+// The IP cannot hold 41 N m at 30 rpm (its dip takes the speed through
+// zero and the observer loses the machine): it must trip, not run away.
+TEST(LowSpeed, IpAtThirtyRpmWithRatedTorqueTripsInsteadOfRunningAway)
+{
+    SimRun r = run_sim("low_speed_30rpm.ini", SCENARIO_CTL_IP);
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    if (r.m.faults == 0u) {
+        EXPECT_NEAR(window_speed(r.m, "point"), 30.0, 5.0); // holding it is fine too
+    } else {
+        EXPECT_NE(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
+    }
+}
+
+// NOT with the defaults (the bullet asks for Rs adaptation on by default):
+// with obs_ki_rs = 0.1 set, the adaptation finds the 30 % warmer stator and
+// the RBFN holds 20 N m at 30 rpm. With the default (off) it drifts to
+// 8 rpm (docs/envelope.md section 6).
+TEST(LowSpeed, WarmStatorHeldWhenRsAdaptationIsOn)
+{
+    SimRun r = run_sim("warm_stator.ini", SCENARIO_CTL_RBFN, {"control.obs_ki_rs=0.1"});
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u);
+    EXPECT_NEAR(window_speed(r.m, "point"), 30.0, 5.0);
+}
