@@ -127,9 +127,10 @@ def _positive(text: str) -> float:
 # ---------------------------------------------------------------------------- commands
 
 def _open(args, dic):
-    from .link import Link, open_bus
-    bus = open_bus(args.interface, args.channel, args.bitrate)
-    return Link(bus, dic, args.node, args.timeout, channel=args.channel)
+    from .link import Link, SdoLock, lock_path, open_transport
+    transport = open_transport(args.interface, args.channel, args.bitrate)
+    lock = SdoLock(lock_path(args.interface, args.channel, args.node))
+    return Link(transport, dic, args.node, args.timeout, channel=args.channel, lock=lock)
 
 
 def _fmt(p, raw) -> str:
