@@ -334,11 +334,14 @@ class Capture:
             return dict(self.latest)
 
 
-def no_telemetry_error(link, tpdos: Sequence[Tpdo], waited_s: float) -> DtctuneError:
+def no_telemetry_error(link, tpdos: Sequence[Tpdo], waited_s: float, can_start: bool = True) -> DtctuneError:
     cobs = ", ".join("0x%03X" % t.cob_id for t in tpdos)
-    return DtctuneError("no telemetry from node %d within %.1f s (TPDOs %s): the drive sends them only "
-                        "in NMT operational; add --start to switch it there" % (link.node_id, waited_s, cobs),
-                        EXIT_NO_ANSWER)
+    if can_start:
+        why = "it was switched to NMT operational, where they are sent: is telemetry mapped and the drive running?"
+    else:
+        why = "the drive sends them only in NMT operational; drop --no-start (or add --start) to switch it there"
+    return DtctuneError("no telemetry from node %d within %.1f s (TPDOs %s): %s"
+                        % (link.node_id, waited_s, cobs, why), EXIT_NO_ANSWER)
 
 
 def columns(tpdos: Sequence[Tpdo]) -> List[Signal]:
@@ -420,7 +423,7 @@ def render_table(tpdos: Sequence[Tpdo], cap: Capture, title: str) -> str:
     return "\n".join(lines)
 
 
-def wait_first(cap: Capture, link, tpdos: Sequence[Tpdo], timeout_s: float) -> None:
+def wait_first(cap: Capture, link, tpdos: Sequence[Tpdo], timeout_s: float, can_start: bool = False) -> None:
     """Wait until every TPDO was seen once, or raise the 'no telemetry' error."""
     t0 = time.monotonic()
     if not cap.wait_all_seen(timeout_s):
@@ -434,5 +437,5 @@ def wait_first(cap: Capture, link, tpdos: Sequence[Tpdo], timeout_s: float) -> N
             except DtctuneError as e:
                 if "switched off" in str(e):
                     raise
-            raise no_telemetry_error(link, tpdos, waited)
+            raise no_telemetry_error(link, tpdos, waited, can_start)
         # Some TPDOs arrive, others not: report what is missing but go on with what we have.
