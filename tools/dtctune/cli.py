@@ -10,7 +10,6 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import List, Optional
 
 from . import __version__
 from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_OK, EXIT_USAGE

@@ -17,9 +17,7 @@ import os
 import re
 import select
 import struct
-import tempfile
 import time
-from typing import Optional
 
 from . import abort_codes
 from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_REFUSED, EXIT_USAGE
@@ -198,9 +196,9 @@ def open_transport(interface: str, channel: str, bitrate: Optional[int] = None):
 # ------------------------------------------------------------------------------ the SDO lock
 
 def lock_path(interface: str, channel: str, node_id: int) -> str:
-    """The lock file of one SDO channel: $DTCTUNE_LOCK_DIR (default the system's temporary
-    directory)/dtctune-sdo-INTERFACE-CHANNEL-nodeN.lock."""
-    d = os.environ.get("DTCTUNE_LOCK_DIR") or tempfile.gettempdir()
+    """The lock file of one SDO channel: $DTCTUNE_LOCK_DIR (default $TMPDIR, else /tmp)/dtctune-sdo-INTERFACE-CHANNEL-nodeN.lock."""
+    # (not tempfile.gettempdir(): importing tempfile costs start-up time)
+    d = os.environ.get("DTCTUNE_LOCK_DIR") or os.environ.get("TMPDIR") or "/tmp"
     safe = lambda s: re.sub(r"[^A-Za-z0-9_.-]", "_", str(s))  # noqa: E731
     return os.path.join(d, "dtctune-sdo-%s-%s-node%d.lock" % (safe(interface), safe(channel), node_id))
 

@@ -11,9 +11,7 @@ import os
 import re
 import struct
 import sys
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, Iterable, List, Optional, Union
 
 from .errors import DtctuneError, EXIT_USAGE
 
@@ -46,25 +44,32 @@ _STRUCTS = {
 }
 
 
-@dataclass
 class Var:
     """One EDS variable (a VAR object, or a sub-index of an ARRAY/RECORD), as dtctune needs it.
 
     Read straight from the EDS text in one pass (see `parse_eds`): no canopen import, so the
-    commands start fast."""
+    commands start fast. (A plain class: dataclasses and typing cost start-up time.)"""
 
-    index: int
-    subindex: int
-    name: str
-    data_type: int
-    access_type: str = "rw"
-    default: object = None
-    min: Optional[Union[int, float]] = None
-    max: Optional[Union[int, float]] = None
-    factor: float = 1.0
-    unit: str = ""
-    description: str = ""
-    value_descriptions: Dict[int, str] = field(default_factory=dict)
+    __slots__ = ("index", "subindex", "name", "data_type", "access_type", "default", "min", "max",
+                 "factor", "unit", "description", "value_descriptions")
+
+    def __init__(self, index: int, subindex: int, name: str, data_type: int, access_type: str = "rw",
+                 unit: str = "", description: str = ""):
+        self.index = index
+        self.subindex = subindex
+        self.name = name
+        self.data_type = data_type
+        self.access_type = access_type
+        self.default = None
+        self.min = None
+        self.max = None
+        self.factor = 1.0
+        self.unit = unit
+        self.description = description
+        self.value_descriptions = {}
+
+    def __repr__(self) -> str:
+        return "Var(%s)" % ", ".join("%s=%r" % (k, getattr(self, k)) for k in self.__slots__)
 
     @property
     def readable(self) -> bool:
@@ -105,7 +110,6 @@ class Var:
 # Where the build puts the EDS, relative to the repository root.
 REPO_EDS = Path("build") / "host" / "drive.eds"
 
-Number = Union[int, float]
 
 _INT_RANGES = {
     dt.BOOLEAN: (0, 1),
@@ -177,12 +181,17 @@ def find_eds(explicit: Optional[str]) -> Path:
         "or pass --eds PATH" % ", ".join(str(p) for p in cands), EXIT_USAGE)
 
 
-@dataclass
 class Param:
     """One accessible value of the drive: an EDS variable (or a sub-index of an array/record)."""
 
-    name: str
-    var: Var
+    __slots__ = ("name", "var")
+
+    def __init__(self, name: str, var: Var):
+        self.name = name
+        self.var = var
+
+    def __repr__(self) -> str:
+        return "Param(%r, %s)" % (self.name, self.address)
 
     @property
     def index(self) -> int:
