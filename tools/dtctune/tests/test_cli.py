@@ -309,3 +309,18 @@ def test_monitor_piped_in_a_real_process_has_no_screen_codes(tmp_path):
                             "--seconds", "0.5"], stdout=f, stderr=subprocess.PIPE, text=True, timeout=60,
                            env=dict(__import__("os").environ, TERM="xterm"))
     assert "\x1b" not in dest.read_text() and "\x1b" not in r.stderr
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["list", "--no-values"], ["--timeout", "0.2", "get", "speed.ref_rpm"],
+                                  ["--timeout", "0.2", "set", "speed.ref_rpm", "1"]])
+def test_start_up_imports_no_can_library(argv):
+    """Start-up (issue 12): --help, list, get and set on socketcan import neither python-can nor
+    canopen nor numpy/matplotlib (on this machine without kernel CAN, get/set end at the socket)."""
+    import subprocess
+    import sys
+    code = ("import sys\nfrom dtctune.cli import main\n"
+            "try:\n    main(sys.argv[1:])\nexcept SystemExit:\n    pass\n"
+            "print(*[m in sys.modules for m in ('can', 'canopen', 'numpy', 'matplotlib')], file=sys.stderr)\n")
+    r = subprocess.run([sys.executable, "-c", code, "--eds", str(EDS)] + argv, capture_output=True, text=True,
+                       timeout=60)
+    assert r.stderr.split()[-4:] == ["False"] * 4, r.stderr
