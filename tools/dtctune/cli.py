@@ -29,7 +29,7 @@ commands:
 monitor and record switch the drive to NMT operational when no telemetry flows (TPDOs are sent
 only there); --no-start prevents that, --start does it at once.
 Two dtctune processes on one bus and node take turns on the drive's single SDO channel (an
-flock on $DTCTUNE_LOCK_DIR/dtctune-sdo-INTERFACE-CHANNEL-nodeN.lock, default in /tmp).
+flock on $DTCTUNE_LOCK_DIR/dtctune-sdo-INTERFACE-CHANNEL-nodeN.lock, default $TMPDIR or /tmp).
 
 exit status: 0 ok, 2 bad arguments / unknown name / value refused before sending / EDS problem,
 3 no answer (timeout) or CAN interface unusable, 4 the drive refused (SDO abort, shown in words).
@@ -92,7 +92,8 @@ def build_parser() -> argparse.ArgumentParser:
     c = sub.add_parser("scope", help="capture the drive's scope")
     c.add_argument("--trigger", choices=["ref", "fault", "manual"], default="manual")
     c.add_argument("--channels", required=True, metavar="a,b,c,d",
-                   help="up to 4 telemetry signals (names as in `monitor`, or scope channel numbers)")
+                   help="up to 4 telemetry signals: tel_speed_est_rpm, speed_est_rpm, the pdo_* name "
+                        "`monitor`/`record` show (pdo_speed_est), or the 0x3000 subindex (2)")
     c.add_argument("--png", metavar="OUT", default=None, help="plot to this PNG")
     c.add_argument("--csv", metavar="OUT", default=None, help="also write the samples as CSV")
     c.add_argument("--pretrigger", type=float, default=None, metavar="FRACTION",

@@ -138,3 +138,9 @@ def run(channel, capsys):
         return status, cap.out, cap.err
 
     return _run
+
+
+@pytest.fixture(autouse=True)
+def _lock_dir(tmp_path, monkeypatch):
+    """The SDO lock files of the tests go to the test's own directory, not /tmp."""
+    monkeypatch.setenv("DTCTUNE_LOCK_DIR", str(tmp_path))
