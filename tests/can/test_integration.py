@@ -353,9 +353,9 @@ def test_scope_manual_png(drive):
 
 
 def test_scope_triggers_on_reference_change(drive):
-    """dtctune waits for a reference change; the change comes by RPDO (not SDO: dtctune polls the
-    scope state over the one SDO channel meanwhile). Controlword 0x0F with the new target velocity
-    leaves the run state as it is."""
+    """dtctune waits for a reference change; the change comes by RPDO here (the same trigger by
+    an SDO `dtctune set` from a second process is test_two_dtctune_processes_share_the_sdo_channel).
+    Controlword 0x0F with the new target velocity leaves the run state as it is."""
     png, csv_path = OUT / "scope_ref.png", OUT / "scope_ref.csv"
     _, out, _ = dtctune("get", "speed_ref_rpm", check=0)
     ref0 = value_of(out)
