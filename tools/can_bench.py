@@ -9,8 +9,8 @@ By default it starts the SIL itself (build/host/bin/dtc-sim --realtime --can CHA
 closed-loop scenario) and stops it at the end; --no-sim measures a drive that is already on the
 bus (the real one). Figures:
   * SDO round trip: N expedited uploads, request sent -> response received, in one thread on a
-    raw python-can socket (median, p90, p99, max), and the same through the canopen package
-    as dtctune uses it;
+    raw python-can socket (median, p90, p99, max), and the same through dtctune's own SDO client
+    (its Link on a raw SocketCAN socket, with the SDO lock; JSON key "sdo_dtctune");
   * telemetry: for each rate, telemetry_hz is set, the TPDOs are received for S seconds and the
     drive's telemetry sequence counter (pdo_seq) tells the cycles lost anywhere between the
     drive and us; the drive's own tpdo_dropped counter tells the frames its transmit queue
@@ -35,7 +35,7 @@ sys.path.insert(0, str(HERE))  # the dtctune package next to this script, instal
 import can  # noqa: E402
 
 from dtctune.errors import DtctuneError  # noqa: E402
-from dtctune.link import Link, open_bus  # noqa: E402
+from dtctune.link import Link, SdoLock, lock_path, open_transport  # noqa: E402
 from dtctune.od import Dictionary, find_eds  # noqa: E402
 from dtctune.sil import Sil  # noqa: E402
 from dtctune import telemetry  # noqa: E402
@@ -80,7 +80,7 @@ def sdo_rtt_raw(channel: str, node: int, index: int, sub: int, n: int):
     return out, aborts
 
 
-def sdo_rtt_canopen(link: Link, p, n: int):
+def sdo_rtt_dtctune(link: Link, p, n: int):
     out = []
     for _ in range(n):
         t0 = time.perf_counter()
@@ -196,8 +196,9 @@ def main(argv=None) -> int:
         raw, aborts = sdo_rtt_raw(args.channel, args.node, p_obj.index, p_obj.subindex, args.n)
         results["sdo_raw"] = ms_stats(raw)
         results["sdo_raw"]["aborts"] = aborts
-        with Link(open_bus("socketcan", args.channel), dic, args.node, 1.0, args.channel) as link:
-            results["sdo_canopen"] = ms_stats(sdo_rtt_canopen(link, p_obj, max(100, args.n // 5)))
+        lock = SdoLock(lock_path("socketcan", args.channel, args.node))
+        with Link(open_transport("socketcan", args.channel), dic, args.node, 1.0, args.channel, lock=lock) as link:
+            results["sdo_dtctune"] = ms_stats(sdo_rtt_dtctune(link, p_obj, max(100, args.n // 5)))
             tpdos = telemetry.read_layout(dic, link)
             p_rate = dic.lookup("telemetry_hz")
             rate0 = int(link.read(p_rate))
@@ -209,12 +210,12 @@ def main(argv=None) -> int:
             finally:
                 link.write(p_rate, rate0)
 
-        r, c = results["sdo_raw"], results["sdo_canopen"]
+        r, c = results["sdo_raw"], results["sdo_dtctune"]
         print("SDO expedited upload round trip (%s, %d x 0x%04X:%d):" % (args.channel, r["n"], p_obj.index,
                                                                           p_obj.subindex))
         print("  raw socket : median %.3f ms  p90 %.3f ms  p99 %.3f ms  max %.3f ms" %
               (r["median_ms"], r["p90_ms"], r["p99_ms"], r["max_ms"]))
-        print("  canopen    : median %.3f ms  p90 %.3f ms  p99 %.3f ms  max %.3f ms  (%d reads)" %
+        print("  dtctune    : median %.3f ms  p90 %.3f ms  p99 %.3f ms  max %.3f ms  (%d reads)" %
               (c["median_ms"], c["p90_ms"], c["p99_ms"], c["max_ms"], c["n"]))
         print("telemetry (%d TPDOs per cycle, %.0f s per rate):" % (len(tpdos), args.seconds))
         print("  %7s %9s %9s %8s %6s %9s %8s %9s" % ("set Hz", "wall Hz", "drive Hz", "cycles", "lost",

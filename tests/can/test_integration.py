@@ -353,9 +353,9 @@ def test_scope_manual_png(drive):
 
 
 def test_scope_triggers_on_reference_change(drive):
-    """dtctune waits for a reference change; the change comes by RPDO (not SDO: dtctune polls the
-    scope state over the one SDO channel meanwhile). Controlword 0x0F with the new target velocity
-    leaves the run state as it is."""
+    """dtctune waits for a reference change; the change comes by RPDO here (the same trigger by
+    an SDO `dtctune set` from a second process is test_two_dtctune_processes_share_the_sdo_channel).
+    Controlword 0x0F with the new target velocity leaves the run state as it is."""
     png, csv_path = OUT / "scope_ref.png", OUT / "scope_ref.csv"
     _, out, _ = dtctune("get", "speed_ref_rpm", check=0)
     ref0 = value_of(out)
@@ -401,6 +401,59 @@ def test_scope_triggers_on_reference_change(drive):
     assert ref[-1] > ref0 + 5.0                                   # ramping to the new reference after it
     _, out, _ = dtctune("get", "speed_ref_rpm", check=0)
     assert value_of(out) == pytest.approx(round(ref0) + 100, abs=0.01)
+
+
+def test_two_dtctune_processes_share_the_sdo_channel(drive):
+    """Issue 12: the scope waiting for a reference change in one process (it polls its state
+    over SDO), then uploading the capture (a segmented upload, over two thousand round trips),
+    while another process sets and reads a gain and finally triggers the scope with an SDO
+    `set speed_ref_rpm`, as in the README: every command succeeds and reads back what it wrote
+    (before the SDO lock: "Node returned a value for 0x2600:09" and timeouts)."""
+    csv_path = OUT / "scope_concurrent.csv"
+    if csv_path.exists():
+        csv_path.unlink()
+    _, out, _ = dtctune("get", "speed_ref_rpm", check=0)
+    ref0 = value_of(out)
+    exe = shutil.which("dtctune", path=str(Path(sys.executable).parent)) or shutil.which("dtctune")
+    base = [exe, "--channel", CHANNEL, "--node", str(NODE), "--eds", str(EDS)]
+    scope = subprocess.Popen(base + ["scope", "--trigger", "ref", "--pretrigger", "0.25", "--wait", "120",
+                                     "--channels", "speed_ref_rpm,speed_est_rpm,te_ref_Nm,ia_A",
+                                     "--csv", str(csv_path)],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    n_before, n_after = 0, 0
+    try:
+        def pair(k):
+            value = 2400.0 + 10 * (k % 2)
+            _, out, _ = dtctune("set", "rbfn_gamma_w", "%g" % value, check=0)
+            assert value_of(out) == value
+            _, out, _ = dtctune("get", "rbfn_gamma_w", check=0)
+            assert value_of(out) == value
+
+        while n_before < 4:          # the scope polls meanwhile
+            pair(n_before)
+            n_before += 1
+        assert scope.poll() is None, scope.communicate()
+        _, out, _ = dtctune("set", "speed_ref_rpm", "%g" % (round(ref0) + 50), check=0)
+        while scope.poll() is None and n_after < 40:   # the upload runs meanwhile
+            # `list` reads every parameter: some 170 SDO uploads back to back
+            _, out, _ = dtctune("list", check=0)
+            assert "rbfn_gamma_w" in out and "(" not in out.split("rbfn_gamma_w", 1)[1].split("\n")[0]
+            n_after += 1
+        s_out, s_err = scope.communicate(timeout=240)
+    finally:
+        if scope.poll() is None:
+            scope.kill()
+            scope.wait()
+        dtctune("set", "rbfn_gamma_w", "2500", check=0)
+    print("%d set+get pairs while the scope waited, %d full lists while it uploaded" % (n_before, n_after))
+    assert scope.returncode == 0, s_err
+    with open(csv_path) as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 1024
+    t = [float(r["t_s"]) for r in rows]
+    ref = [float(r["tel_speed_ref_rpm"]) for r in rows]
+    assert max(abs(r - ref0) for tt, r in zip(t, ref) if tt < 0) < 1.0   # flat before the trigger
+    assert ref[-1] > ref0 + 5.0                                           # the step after it
 
 
 # ----------------------------------------------------------------------------- defaults (last: stops the motor)

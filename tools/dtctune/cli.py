@@ -10,7 +10,6 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import List, Optional
 
 from . import __version__
 from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_OK, EXIT_USAGE
@@ -22,9 +21,15 @@ commands:
   set NAME VALUE            write one parameter (range checked before sending), then read it back
   save                      store the present parameters in the drive's non-volatile memory (0x1010)
   restore-defaults          apply the default parameters and store them (0x1011; the drive must be stopped)
-  monitor [--once]          live table of the telemetry TPDOs
-  record --seconds S --csv OUT    record the telemetry TPDOs with timestamps
+  monitor [--once]          live table of the telemetry TPDOs (plain text when not on a terminal)
+  record --seconds S --csv OUT    record the telemetry TPDOs with timestamps, from now for S seconds
   scope --trigger ref|fault|manual --channels a,b,c,d --png OUT   capture the drive's scope
+            (--background: return once armed, finish in a background process)
+
+monitor and record switch the drive to NMT operational when no telemetry flows (TPDOs are sent
+only there); --no-start prevents that, --start does it at once.
+Two dtctune processes on one bus and node take turns on the drive's single SDO channel (an
+flock on $DTCTUNE_LOCK_DIR/dtctune-sdo-INTERFACE-CHANNEL-nodeN.lock, default $TMPDIR or /tmp).
 
 exit status: 0 ok, 2 bad arguments / unknown name / value refused before sending / EDS problem,
 3 no answer (timeout) or CAN interface unusable, 4 the drive refused (SDO abort, shown in words).
@@ -79,14 +84,16 @@ def build_parser() -> argparse.ArgumentParser:
     _telemetry_options(c)
 
     c = sub.add_parser("record", help="record telemetry to CSV")
-    c.add_argument("--seconds", type=_positive, required=True, help="duration, s")
+    c.add_argument("--seconds", type=_positive, required=True,
+                   help="duration, s: the recording starts as soon as telemetry flows")
     c.add_argument("--csv", required=True, metavar="OUT", help="CSV file to write")
     _telemetry_options(c)
 
     c = sub.add_parser("scope", help="capture the drive's scope")
     c.add_argument("--trigger", choices=["ref", "fault", "manual"], default="manual")
     c.add_argument("--channels", required=True, metavar="a,b,c,d",
-                   help="up to 4 telemetry signals (names as in `monitor`, or scope channel numbers)")
+                   help="up to 4 telemetry signals: tel_speed_est_rpm, speed_est_rpm, the pdo_* name "
+                        "`monitor`/`record` show (pdo_speed_est), or the 0x3000 subindex (2)")
     c.add_argument("--png", metavar="OUT", default=None, help="plot to this PNG")
     c.add_argument("--csv", metavar="OUT", default=None, help="also write the samples as CSV")
     c.add_argument("--pretrigger", type=float, default=None, metavar="FRACTION",
@@ -94,12 +101,18 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--decimation", type=int, default=None, metavar="N",
                    help="keep every N-th control tick (default: the drive's setting)")
     c.add_argument("--wait", type=_positive, default=30.0, help="how long to wait for the trigger, s (default 30)")
+    c.add_argument("--background", action="store_true",
+                   help="return as soon as the scope is armed (status 0); a background process waits for "
+                        "the trigger and writes the outputs (so a script can trigger it next)")
     return p
 
 
 def _telemetry_options(c: argparse.ArgumentParser) -> None:
-    c.add_argument("--start", action="store_true",
-                   help="switch the drive to NMT operational first (TPDOs flow only there)")
+    g = c.add_mutually_exclusive_group()
+    g.add_argument("--start", action="store_true",
+                   help="switch the drive to NMT operational at once (TPDOs flow only there)")
+    g.add_argument("--no-start", action="store_true",
+                   help="never switch the drive to NMT operational (default: only when no telemetry flows)")
     c.add_argument("--from-eds", action="store_true",
                    help="take the TPDO layout from the EDS instead of reading it from the drive")
 
@@ -127,9 +140,10 @@ def _positive(text: str) -> float:
 # ---------------------------------------------------------------------------- commands
 
 def _open(args, dic):
-    from .link import Link, open_bus
-    bus = open_bus(args.interface, args.channel, args.bitrate)
-    return Link(bus, dic, args.node, args.timeout, channel=args.channel)
+    from .link import Link, SdoLock, lock_path, open_transport
+    transport = open_transport(args.interface, args.channel, args.bitrate)
+    lock = SdoLock(lock_path(args.interface, args.channel, args.node))
+    return Link(transport, dic, args.node, args.timeout, channel=args.channel, lock=lock)
 
 
 def _fmt(p, raw) -> str:
@@ -221,18 +235,35 @@ def _telemetry_setup(args, dic, link):
     return telemetry, tpdos, cap
 
 
+# How long monitor/record listen for telemetry before switching the drive to NMT operational.
+QUIET_BEFORE_START_S = 0.5
+
+
+def _await_telemetry(args, telemetry, cap, link, tpdos, timeout_s: float, note) -> None:
+    """Wait for the first telemetry; when none flows, switch the node to NMT operational
+    (unless --no-start) and wait again."""
+    if not args.start and not args.no_start:
+        if not cap.wait_all_seen(QUIET_BEFORE_START_S) and not cap.snapshot():
+            link.nmt("OPERATIONAL")
+            note("no telemetry from node %d: switched it to NMT operational (TPDOs are sent only there; "
+                 "--no-start prevents this)" % args.node)
+    telemetry.wait_first(cap, link, tpdos, timeout_s, can_start=not args.no_start)
+
+
 def cmd_monitor(args, dic, out) -> int:
     with _open(args, dic) as link:
         telemetry, tpdos, cap = _telemetry_setup(args, dic, link)
         try:
             cap.keep = False
-            telemetry.wait_first(cap, link, tpdos, max(2.0, 3 * args.interval))
+            _await_telemetry(args, telemetry, cap, link, tpdos, max(2.0, 3 * args.interval),
+                             lambda text: print(text, file=out))
             title = "node %d on %s" % (args.node, args.channel)
             if args.once:
                 time.sleep(0.5)  # long enough for a first rate figure
                 print(telemetry.render_table(tpdos, cap, title), file=out)
                 return EXIT_OK
-            interactive = hasattr(out, "isatty") and out.isatty()
+            # Screen codes (clear, home) only on a terminal that understands them.
+            interactive = hasattr(out, "isatty") and out.isatty() and os.environ.get("TERM", "") not in ("", "dumb")
             t_end = None if args.seconds is None else time.monotonic() + args.seconds
             try:
                 while t_end is None or time.monotonic() < t_end:
@@ -258,7 +289,7 @@ def cmd_record(args, dic, out) -> int:
         telemetry, tpdos, cap = _telemetry_setup(args, dic, link)
         t_until = None
         try:
-            telemetry.wait_first(cap, link, tpdos, 2.0)
+            _await_telemetry(args, telemetry, cap, link, tpdos, 2.0, lambda text: print(text, file=out))
             clock = _drive_clock(dic, link)
             # The window, in the clock of the frames' receive timestamps: frames still queued
             # in the socket when it ends are read afterwards and counted where they belong.

@@ -1,17 +1,26 @@
-"""The CAN link to one drive: a python-can bus, a canopen network, SDO access with plain errors."""
+"""The CAN link to one drive: SDO access with plain errors, NMT, and the SDO lock.
+
+The SDO client (CiA 301 expedited and segmented transfers) is dtctune's own, on one of two
+transports: a raw SocketCAN socket (the standard library only, for `--interface socketcan`: no
+python-can or canopen import, so a command starts in a fraction of a second) or a python-can bus
+(every other interface; python-can is imported only then).
+
+The drive has one SDO server channel (requests 0x600 + id, answers 0x580 + id). Two clients
+using it at once receive each other's answers, so every SDO transfer of dtctune holds an
+advisory lock (fcntl.flock) on a file per interface, channel and node: two dtctune processes on
+the same bus take turns per transfer instead of colliding (see SdoLock).
+"""
 from __future__ import annotations
 
 import errno
-import logging
+import os
+import re
+import select
 import struct
-from typing import Optional
-
-import can
-import canopen
-from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
+import time
 
 from . import abort_codes
-from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_REFUSED
+from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_REFUSED, EXIT_USAGE
 from .od import Dictionary, Param
 
 # CiA 301 signatures for store (0x1010) and restore (0x1011): "save" and "load" in ASCII,
@@ -21,9 +30,148 @@ SIGNATURE_LOAD = 0x64616F6C
 OBJ_STORE = 0x1010
 OBJ_RESTORE = 0x1011
 
+NMT_COMMANDS = {"OPERATIONAL": 0x01, "STOPPED": 0x02, "PRE-OPERATIONAL": 0x80, "RESET": 0x81,
+                "RESET COMMUNICATION": 0x82}
 
-def open_bus(interface: str, channel: str, bitrate: Optional[int] = None) -> can.BusABC:
+ABORT_TOGGLE = 0x05030000
+ABORT_TIMEOUT = 0x05040000
+ABORT_COMMAND = 0x05040001
+ABORT_MEMORY = 0x05040005
+MAX_UPLOAD = 1 << 20  # a segmented upload longer than this is a confused server: abort it
+
+# How long a command waits for another dtctune's SDO transfer to finish (a scope upload of
+# 4 x 1024 samples takes several seconds inside User-Mode Linux).
+LOCK_WAIT_S = float(os.environ.get("DTCTUNE_LOCK_WAIT", "60"))
+
+
+# ------------------------------------------------------------------------------ errors
+
+class SdoAbort(Exception):
+    def __init__(self, code: int):
+        super().__init__("SDO abort 0x%08X" % code)
+        self.code = code
+
+
+class SdoTimeout(Exception):
+    pass
+
+
+class SdoProtocolError(Exception):
+    pass
+
+
+# ------------------------------------------------------------------------------ transports
+
+_CAN_FRAME = struct.Struct("=IB3x8s")
+
+
+def _socketcan_error(e: OSError, channel: str) -> DtctuneError:
+    if e.errno == errno.EAFNOSUPPORT:
+        return DtctuneError("SocketCAN is not available in this kernel (errno 97); use a kernel "
+                            "with CAN/vcan, or run inside tests/can/uml/run_in_uml.sh", EXIT_NO_ANSWER)
+    if e.errno == errno.ENODEV:
+        return DtctuneError("CAN interface %s does not exist (create it: ip link add dev %s type vcan; "
+                            "ip link set up %s)" % (channel, channel, channel), EXIT_NO_ANSWER)
+    if e.errno == errno.ENETDOWN:
+        return DtctuneError("CAN interface %s is down (ip link set up %s)" % (channel, channel), EXIT_NO_ANSWER)
+    return DtctuneError("cannot use CAN interface %s (socketcan): %s" % (channel, e.strerror or e), EXIT_NO_ANSWER)
+
+
+class SocketcanTransport:
+    """Standard CAN frames on a raw SocketCAN socket, only the identifiers asked for."""
+
+    def __init__(self, channel: str):
+        import socket
+        self.channel = channel
+        try:
+            s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+        except (OSError, AttributeError) as e:
+            if isinstance(e, AttributeError):
+                raise DtctuneError("SocketCAN is not available on this system", EXIT_NO_ANSWER) from None
+            raise _socketcan_error(e, channel) from None
+        try:
+            s.setsockopt(socket.SOL_CAN_RAW, socket.CAN_RAW_FILTER, b"")  # nothing until set_ids
+            s.bind((channel,))
+        except OSError as e:
+            s.close()
+            raise _socketcan_error(e, channel) from None
+        self._socket_mod = socket
+        self.sock = s
+
+    def set_ids(self, ids) -> None:
+        flt = b"".join(struct.pack("=II", c, 0x7FF | 0xC0000000) for c in sorted(ids))
+        self.sock.setsockopt(self._socket_mod.SOL_CAN_RAW, self._socket_mod.CAN_RAW_FILTER, flt)
+
+    def send(self, can_id: int, data: bytes) -> None:
+        try:
+            self.sock.send(_CAN_FRAME.pack(can_id, len(data), bytes(data).ljust(8, b"\0")))
+        except OSError as e:
+            if e.errno == errno.ENOBUFS:  # transmit queue full: wait a little once
+                time.sleep(0.01)
+                self.sock.send(_CAN_FRAME.pack(can_id, len(data), bytes(data).ljust(8, b"\0")))
+                return
+            raise
+
+    def recv(self, timeout_s: float):
+        """(can_id, data) of the next frame, or None after timeout_s."""
+        r, _, _ = select.select([self.sock], [], [], max(0.0, timeout_s))
+        if not r:
+            return None
+        frame = self.sock.recv(16)
+        can_id, dlc, payload = _CAN_FRAME.unpack(frame)
+        if can_id & 0x60000000:  # RTR or error frame
+            return (None, b"")
+        return (can_id & 0x7FF, payload[:min(dlc, 8)])
+
+    def flush(self) -> None:
+        while True:
+            r, _, _ = select.select([self.sock], [], [], 0)
+            if not r:
+                return
+            self.sock.recv(16)
+
+    def close(self) -> None:
+        self.sock.close()
+
+
+class PythonCanTransport:
+    """The same on a python-can bus (any interface python-can knows)."""
+
+    def __init__(self, bus, channel: str = "?"):
+        import can
+        self._can = can
+        self.bus = bus
+        self.channel = channel
+
+    def set_ids(self, ids) -> None:
+        try:
+            self.bus.set_filters([{"can_id": i, "can_mask": 0x7FF, "extended": False} for i in sorted(ids)])
+        except (NotImplementedError, self._can.CanError, OSError):
+            pass  # an interface without filters delivers everything; we sort it out
+
+    def send(self, can_id: int, data: bytes) -> None:
+        self.bus.send(self._can.Message(arbitration_id=can_id, is_extended_id=False, data=bytes(data)))
+
+    def recv(self, timeout_s: float):
+        m = self.bus.recv(max(0.0, timeout_s))
+        if m is None:
+            return None
+        if m.is_error_frame or m.is_remote_frame or m.is_extended_id:
+            return (None, b"")
+        return (m.arbitration_id, bytes(m.data))
+
+    def flush(self) -> None:
+        while self.bus.recv(0) is not None:
+            pass
+
+    def close(self) -> None:
+        self.bus.shutdown()
+
+
+def open_bus(interface: str, channel: str, bitrate: Optional[int] = None):
     """A python-can bus, or one clear error for the usual ways this fails."""
+    import logging
+    import can
     logging.getLogger("can").setLevel(logging.CRITICAL)
     kwargs = {"interface": interface, "channel": channel}
     if bitrate:
@@ -31,63 +179,122 @@ def open_bus(interface: str, channel: str, bitrate: Optional[int] = None) -> can
     try:
         return can.Bus(**kwargs)
     except OSError as e:
-        if e.errno == errno.EAFNOSUPPORT:
-            raise DtctuneError("SocketCAN is not available in this kernel (errno 97); use a kernel "
-                               "with CAN/vcan, or run inside tests/can/uml/run_in_uml.sh",
-                               EXIT_NO_ANSWER) from None
-        if e.errno == errno.ENODEV:
-            raise DtctuneError("CAN interface %s does not exist (create it: ip link add dev %s type vcan; "
-                               "ip link set up %s)" % (channel, channel, channel), EXIT_NO_ANSWER) from None
-        if e.errno == errno.ENETDOWN:
-            raise DtctuneError("CAN interface %s is down (ip link set up %s)" % (channel, channel),
-                               EXIT_NO_ANSWER) from None
-        raise DtctuneError("cannot open CAN interface %s (%s): %s" % (channel, interface, e),
-                           EXIT_NO_ANSWER) from None
+        raise _socketcan_error(e, channel) from None
     except (can.CanError, ValueError, ImportError, NotImplementedError) as e:
         raise DtctuneError("cannot open CAN interface %s (%s): %s"
                            % (channel, interface, " ".join(str(e).split())), EXIT_NO_ANSWER) from None
 
 
-class Link:
-    """SDO access to node `node_id` through `bus`, values decoded with the EDS `dic`."""
+def open_transport(interface: str, channel: str, bitrate: Optional[int] = None):
+    """The cheapest transport for this interface: a raw socket for socketcan (unless a bit rate
+    is to be set, which python-can does through netlink), else python-can."""
+    if interface == "socketcan" and not bitrate:
+        return SocketcanTransport(channel)
+    return PythonCanTransport(open_bus(interface, channel, bitrate), channel)
 
-    def __init__(self, bus: can.BusABC, dic: Dictionary, node_id: int, timeout_s: float = 1.0,
-                 channel: str = "?"):
-        self.bus = bus
+
+# ------------------------------------------------------------------------------ the SDO lock
+
+def lock_path(interface: str, channel: str, node_id: int) -> str:
+    """The lock file of one SDO channel: $DTCTUNE_LOCK_DIR (default $TMPDIR, else /tmp)/dtctune-sdo-INTERFACE-CHANNEL-nodeN.lock."""
+    # (not tempfile.gettempdir(): importing tempfile costs start-up time)
+    d = os.environ.get("DTCTUNE_LOCK_DIR") or os.environ.get("TMPDIR") or "/tmp"
+    safe = lambda s: re.sub(r"[^A-Za-z0-9_.-]", "_", str(s))  # noqa: E731
+    return os.path.join(d, "dtctune-sdo-%s-%s-node%d.lock" % (safe(interface), safe(channel), node_id))
+
+
+class SdoLock:
+    """An advisory lock (fcntl.flock, exclusive) held around each SDO transfer, so that two
+    dtctune processes on the same interface, channel and node take turns on the drive's one
+    SDO server instead of mixing their requests and answers. Other programs (that do not take
+    the lock) are not held back. The file is created on first use and never removed (removing
+    it would let two processes lock two different files)."""
+
+    def __init__(self, path: Optional[str], wait_s: float = LOCK_WAIT_S):
+        self.path = path
+        self.wait_s = wait_s
+        self.fd: Optional[int] = None
+        self.depth = 0
+        self.waited_s = 0.0  # total time spent waiting for other processes (for tests, curiosity)
+
+    def _open(self) -> int:
+        if self.fd is None:
+            try:
+                self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o666)
+                try:
+                    os.fchmod(self.fd, 0o666)  # other users of the bus share it (umask aside)
+                except OSError:
+                    pass
+            except OSError:
+                try:  # someone else's file in a sticky /tmp: reading is enough for flock
+                    self.fd = os.open(self.path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0))
+                except OSError as e:
+                    raise DtctuneError("cannot open the SDO lock file %s: %s (set DTCTUNE_LOCK_DIR to a "
+                                       "writable directory)" % (self.path, e.strerror or e), EXIT_USAGE) from None
+        return self.fd
+
+    def __enter__(self):
+        if self.path is None:
+            return self
+        if self.depth == 0:
+            import fcntl
+            fd = self._open()
+            t0 = time.monotonic()
+            delay = 0.002
+            while True:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    break
+                except BlockingIOError:
+                    if time.monotonic() - t0 > self.wait_s:
+                        raise DtctuneError(
+                            "the SDO channel is busy: another dtctune has held %s for more than %.0f s"
+                            % (self.path, self.wait_s), EXIT_NO_ANSWER) from None
+                    time.sleep(delay)
+                    delay = min(delay * 2, 0.02)
+            self.waited_s += time.monotonic() - t0
+        self.depth += 1
+        return self
+
+    def __exit__(self, *exc):
+        if self.path is None:
+            return
+        self.depth -= 1
+        if self.depth == 0:
+            import fcntl
+            fcntl.flock(self.fd, fcntl.LOCK_UN)
+
+    def close(self) -> None:
+        if self.fd is not None:
+            os.close(self.fd)
+            self.fd = None
+
+
+# ------------------------------------------------------------------------------ the link
+
+class Link:
+    """SDO access to node `node_id` through `bus` (a transport above, or a python-can bus),
+    values decoded with the EDS `dic`."""
+
+    def __init__(self, bus, dic: Dictionary, node_id: int, timeout_s: float = 1.0,
+                 channel: str = "?", lock: Optional[SdoLock] = None):
+        self.transport = bus if hasattr(bus, "set_ids") else PythonCanTransport(bus, channel)
         self.dic = dic
         self.node_id = node_id
         self.channel = channel
         self.timeout_s = timeout_s
-        self.network = canopen.Network(bus)
-        # The receive thread polls with this period; closing waits for it, so keep it short.
-        self.network.NOTIFIER_CYCLE = 0.05
-        self.network.connect()  # starts the receive thread on the existing bus
-        self.node = canopen.RemoteNode(node_id, dic.od)
-        self.network.add_node(self.node)
-        self.node.sdo.RESPONSE_TIMEOUT = timeout_s
-        # Only what we use reaches Python: on a busy bus (telemetry at kHz rates) the receive
-        # thread would otherwise spend its time on frames nobody reads.
-        self._ids = {0x580 + node_id}
-        self._apply_filters()
-        # One attempt: a drive that does not answer in timeout_s is reported, not retried.
-        self.node.sdo.MAX_RETRIES = 1
-
-    def listen(self, can_ids) -> None:
-        """Also receive these identifiers (e.g. TPDOs) from now on."""
-        self._ids.update(can_ids)
-        self._apply_filters()
-
-    def _apply_filters(self) -> None:
-        try:
-            self.bus.set_filters([{"can_id": i, "can_mask": 0x7FF, "extended": False} for i in sorted(self._ids)])
-        except (NotImplementedError, can.CanError, OSError):
-            pass  # an interface without filters delivers everything; canopen sorts it out
+        self.lock = lock if lock is not None else SdoLock(None)
+        self.tx_id = 0x600 + node_id
+        self.rx_id = 0x580 + node_id
+        # Only the SDO answers reach us (telemetry has a socket of its own).
+        self.transport.set_ids({self.rx_id})
 
     def close(self) -> None:
         try:
-            self.network.disconnect()  # stops the notifier and shuts the bus down
+            self.transport.close()
         except Exception:
             pass
+        self.lock.close()
 
     def __enter__(self):
         return self
@@ -103,39 +310,142 @@ class Link:
             EXIT_NO_ANSWER)
 
     def _translate(self, e: Exception, what: str) -> DtctuneError:
-        if isinstance(e, SdoAbortedError):
-            return DtctuneError("the drive refused %s: %s" % (what, abort_codes.describe(e.code)),
-                                EXIT_REFUSED)
-        if isinstance(e, SdoCommunicationError):
-            if "No SDO response" in str(e):
-                return self._no_answer(what)
+        if isinstance(e, SdoAbort):
+            return DtctuneError("the drive refused %s: %s" % (what, abort_codes.describe(e.code)), EXIT_REFUSED)
+        if isinstance(e, SdoTimeout):
+            return self._no_answer(what)
+        if isinstance(e, SdoProtocolError):
             return DtctuneError("SDO protocol error during %s: %s" % (what, e), EXIT_NO_ANSWER)
-        if isinstance(e, can.CanError) or isinstance(e, OSError):
-            return DtctuneError("CAN error during %s: %s" % (what, " ".join(str(e).split())),
-                                EXIT_NO_ANSWER)
-        raise e
+        if isinstance(e, OSError):
+            if e.errno in (errno.ENETDOWN, errno.ENODEV):
+                return _socketcan_error(e, self.channel)
+            return DtctuneError("CAN error during %s: %s" % (what, e.strerror or e), EXIT_NO_ANSWER)
+        return DtctuneError("CAN error during %s: %s" % (what, " ".join(str(e).split())), EXIT_NO_ANSWER)
+
+    def _errors(self):
+        errs = (SdoAbort, SdoTimeout, SdoProtocolError, OSError)
+        if isinstance(self.transport, PythonCanTransport):
+            errs = errs + (self.transport._can.CanError,)
+        return errs
+
+    # ------------------------------------------------------------------ SDO protocol
+    def _abort(self, mux: bytes, code: int) -> None:
+        try:
+            self.transport.send(self.tx_id, bytes([0x80]) + mux + struct.pack("<L", code))
+        except Exception:
+            pass
+
+    def _exchange(self, req: bytes, mux: bytes, initiate: bool) -> bytes:
+        """Send a request and return the 8 bytes of its answer. For an initiate request, an
+        answer about another object (another client's) is passed over."""
+        self.transport.send(self.tx_id, req)
+        deadline = time.monotonic() + self.timeout_s
+        while True:
+            left = deadline - time.monotonic()
+            f = self.transport.recv(left) if left > 0 else None
+            if f is None:
+                self._abort(mux, ABORT_TIMEOUT)
+                raise SdoTimeout()
+            can_id, data = f
+            if can_id != self.rx_id or len(data) < 1:
+                continue
+            data = bytes(data).ljust(8, b"\0")
+            if (initiate or data[0] == 0x80) and data[1:4] != mux:
+                continue  # not about our object: someone else's transfer
+            if data[0] == 0x80:
+                raise SdoAbort(struct.unpack_from("<L", data, 4)[0])
+            return data
+
+    def _upload(self, index: int, subindex: int) -> bytes:
+        mux = struct.pack("<HB", index, subindex)
+        with self.lock:
+            self.transport.flush()
+            resp = self._exchange(bytes([0x40]) + mux + bytes(4), mux, True)
+            cmd = resp[0]
+            if cmd & 0xE0 != 0x40:
+                self._abort(mux, ABORT_COMMAND)
+                raise SdoProtocolError("answer 0x%02X to an upload request" % cmd)
+            if cmd & 0x02:  # expedited
+                n = (cmd >> 2) & 3 if cmd & 0x01 else 0
+                return resp[4:8 - n]
+            size = struct.unpack_from("<L", resp, 4)[0] if cmd & 0x01 else None
+            data = bytearray()
+            toggle = 0
+            while True:
+                resp = self._exchange(bytes([0x60 | (toggle << 4)]) + bytes(7), mux, False)
+                cmd = resp[0]
+                if cmd & 0xE0 != 0x00:
+                    self._abort(mux, ABORT_COMMAND)
+                    raise SdoProtocolError("answer 0x%02X to an upload segment request" % cmd)
+                if (cmd >> 4) & 1 != toggle:
+                    self._abort(mux, ABORT_TOGGLE)
+                    raise SdoProtocolError("toggle bit not alternated in an upload segment")
+                data += resp[1:8 - ((cmd >> 1) & 7)]
+                if cmd & 0x01:
+                    break
+                if len(data) > MAX_UPLOAD:
+                    self._abort(mux, ABORT_MEMORY)
+                    raise SdoProtocolError("upload longer than %d bytes" % MAX_UPLOAD)
+                toggle ^= 1
+            if size is not None and len(data) != size:
+                raise SdoProtocolError("%d bytes uploaded, %d announced" % (len(data), size))
+            return bytes(data)
+
+    def _download(self, index: int, subindex: int, data: bytes) -> None:
+        mux = struct.pack("<HB", index, subindex)
+        data = bytes(data)
+        with self.lock:
+            self.transport.flush()
+            if 1 <= len(data) <= 4:
+                cmd = 0x23 | ((4 - len(data)) << 2)
+                resp = self._exchange(bytes([cmd]) + mux + data.ljust(4, b"\0"), mux, True)
+                if resp[0] != 0x60:
+                    self._abort(mux, ABORT_COMMAND)
+                    raise SdoProtocolError("answer 0x%02X to a download request" % resp[0])
+                return
+            resp = self._exchange(bytes([0x21]) + mux + struct.pack("<L", len(data)), mux, True)
+            if resp[0] != 0x60:
+                self._abort(mux, ABORT_COMMAND)
+                raise SdoProtocolError("answer 0x%02X to a download request" % resp[0])
+            toggle = 0
+            pos = 0
+            while True:
+                chunk = data[pos:pos + 7]
+                pos += len(chunk)
+                last = pos >= len(data)
+                cmd = (toggle << 4) | ((7 - len(chunk)) << 1) | (1 if last else 0)
+                resp = self._exchange(bytes([cmd]) + chunk.ljust(7, b"\0"), mux, False)
+                if resp[0] & 0xE0 != 0x20:
+                    self._abort(mux, ABORT_COMMAND)
+                    raise SdoProtocolError("answer 0x%02X to a download segment" % resp[0])
+                if (resp[0] >> 4) & 1 != toggle:
+                    self._abort(mux, ABORT_TOGGLE)
+                    raise SdoProtocolError("toggle bit not alternated in a download segment answer")
+                if last:
+                    return
+                toggle ^= 1
 
     # ------------------------------------------------------------------ raw SDO
     def upload(self, index: int, subindex: int, what: str) -> bytes:
         try:
-            return self.node.sdo.upload(index, subindex)
-        except (SdoAbortedError, SdoCommunicationError, can.CanError, OSError) as e:
+            return self._upload(index, subindex)
+        except self._errors() as e:
             raise self._translate(e, what) from None
 
     def download(self, index: int, subindex: int, data: bytes, what: str) -> None:
         try:
-            self.node.sdo.download(index, subindex, data)
-        except (SdoAbortedError, SdoCommunicationError, can.CanError, OSError) as e:
+            self._download(index, subindex, data)
+        except self._errors() as e:
             raise self._translate(e, what) from None
 
     def abort_code_of_download(self, index: int, subindex: int, data: bytes) -> Optional[int]:
         """Write and return the drive's abort code, or None when it accepted. For tests/benchmarks."""
         try:
-            self.node.sdo.download(index, subindex, data)
+            self._download(index, subindex, data)
             return None
-        except SdoAbortedError as e:
+        except SdoAbort as e:
             return e.code
-        except (SdoCommunicationError, can.CanError, OSError) as e:
+        except self._errors() as e:
             raise self._translate(e, "the write of 0x%04X:%d" % (index, subindex)) from None
 
     # ------------------------------------------------------------------ parameters
@@ -166,6 +476,6 @@ class Link:
     def nmt(self, state: str) -> None:
         """Send an NMT command to our node: 'OPERATIONAL', 'PRE-OPERATIONAL', 'STOPPED', 'RESET'."""
         try:
-            self.node.nmt.state = state
-        except (can.CanError, OSError) as e:
+            self.transport.send(0x000, bytes([NMT_COMMANDS[state], self.node_id]))
+        except self._errors() as e:
             raise DtctuneError("CAN error sending NMT %s: %s" % (state, e), EXIT_NO_ANSWER) from None

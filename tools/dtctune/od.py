@@ -6,25 +6,110 @@ build, so the names, units, ranges and access rights shown here are the table's.
 from __future__ import annotations
 
 import difflib
-import logging
 import math
 import os
 import re
 import struct
 import sys
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, Iterable, List, Optional, Union
-
-from canopen import objectdictionary as cood
-from canopen.objectdictionary import datatypes as dt
 
 from .errors import DtctuneError, EXIT_USAGE
+
+
+class dt:
+    """CiA 301 data type codes (the EDS DataType values dtctune handles)."""
+    BOOLEAN = 0x01
+    INTEGER8 = 0x02
+    INTEGER16 = 0x03
+    INTEGER32 = 0x04
+    UNSIGNED8 = 0x05
+    UNSIGNED16 = 0x06
+    UNSIGNED32 = 0x07
+    REAL32 = 0x08
+    VISIBLE_STRING = 0x09
+    OCTET_STRING = 0x0A
+    UNICODE_STRING = 0x0B
+    DOMAIN = 0x0F
+    REAL64 = 0x11
+    INTEGER64 = 0x15
+    UNSIGNED64 = 0x1B
+    FLOAT_TYPES = (REAL32, REAL64)
+
+
+_STRUCTS = {
+    dt.BOOLEAN: struct.Struct("<?"), dt.INTEGER8: struct.Struct("<b"), dt.INTEGER16: struct.Struct("<h"),
+    dt.INTEGER32: struct.Struct("<l"), dt.INTEGER64: struct.Struct("<q"), dt.UNSIGNED8: struct.Struct("<B"),
+    dt.UNSIGNED16: struct.Struct("<H"), dt.UNSIGNED32: struct.Struct("<L"), dt.UNSIGNED64: struct.Struct("<Q"),
+    dt.REAL32: struct.Struct("<f"), dt.REAL64: struct.Struct("<d"),
+}
+
+
+class Var:
+    """One EDS variable (a VAR object, or a sub-index of an ARRAY/RECORD), as dtctune needs it.
+
+    Read straight from the EDS text in one pass (see `parse_eds`): no canopen import, so the
+    commands start fast. (A plain class: dataclasses and typing cost start-up time.)"""
+
+    __slots__ = ("index", "subindex", "name", "data_type", "access_type", "default", "min", "max",
+                 "factor", "unit", "description", "value_descriptions")
+
+    def __init__(self, index: int, subindex: int, name: str, data_type: int, access_type: str = "rw",
+                 unit: str = "", description: str = ""):
+        self.index = index
+        self.subindex = subindex
+        self.name = name
+        self.data_type = data_type
+        self.access_type = access_type
+        self.default = None
+        self.min = None
+        self.max = None
+        self.factor = 1.0
+        self.unit = unit
+        self.description = description
+        self.value_descriptions = {}
+
+    def __repr__(self) -> str:
+        return "Var(%s)" % ", ".join("%s=%r" % (k, getattr(self, k)) for k in self.__slots__)
+
+    @property
+    def readable(self) -> bool:
+        return "r" in self.access_type or self.access_type == "const"
+
+    @property
+    def writable(self) -> bool:
+        return "w" in self.access_type
+
+    def decode_raw(self, data: bytes):
+        """Bytes on the bus -> value (numbers, str for strings, bytes for domains)."""
+        if self.data_type == dt.VISIBLE_STRING:
+            return bytes(data).decode("ascii", errors="ignore").rstrip("\x00")
+        if self.data_type == dt.UNICODE_STRING:
+            return bytes(data).decode("utf_16_le", errors="ignore").rstrip("\x00")
+        st = _STRUCTS.get(self.data_type)
+        if st is None:
+            return bytes(data)
+        if len(data) < st.size:
+            raise ValueError("%d bytes, %d expected" % (len(data), st.size))
+        return st.unpack(bytes(data[:st.size]))[0]
+
+    def encode_raw(self, value) -> bytes:
+        if isinstance(value, (bytes, bytearray)):
+            return bytes(value)
+        if self.data_type == dt.VISIBLE_STRING:
+            return str(value).encode("ascii")
+        if self.data_type == dt.UNICODE_STRING:
+            return str(value).encode("utf_16_le")
+        st = _STRUCTS.get(self.data_type)
+        if st is None:
+            raise TypeError("no encoding for data type 0x%04X" % self.data_type)
+        if self.data_type not in dt.FLOAT_TYPES and self.data_type != dt.BOOLEAN:
+            value = int(value)
+        return st.pack(value)
+
 
 # Where the build puts the EDS, relative to the repository root.
 REPO_EDS = Path("build") / "host" / "drive.eds"
 
-Number = Union[int, float]
 
 _INT_RANGES = {
     dt.BOOLEAN: (0, 1),
@@ -96,12 +181,17 @@ def find_eds(explicit: Optional[str]) -> Path:
         "or pass --eds PATH" % ", ".join(str(p) for p in cands), EXIT_USAGE)
 
 
-@dataclass
 class Param:
     """One accessible value of the drive: an EDS variable (or a sub-index of an array/record)."""
 
-    name: str
-    var: cood.ODVariable
+    __slots__ = ("name", "var")
+
+    def __init__(self, name: str, var: Var):
+        self.name = name
+        self.var = var
+
+    def __repr__(self) -> str:
+        return "Param(%r, %s)" % (self.name, self.address)
 
     @property
     def index(self) -> int:
@@ -272,25 +362,31 @@ class Dictionary:
     def __init__(self, path: Path, node_id: int):
         self.path = Path(path)
         self.node_id = node_id
-        # canopen logs EDS oddities and its own aborts (e.g. on a timeout); we report in one line.
-        logging.getLogger("canopen").setLevel(logging.CRITICAL)
         try:
-            self.od = cood.import_od(str(self.path), node_id)
-        except Exception as e:  # the canopen parser raises many kinds
+            text = self.path.read_text(encoding="utf-8", errors="replace")
+        except OSError as e:
+            raise DtctuneError("cannot read EDS %s: %s" % (self.path, e.strerror or e), EXIT_USAGE) from None
+        try:
+            objects = parse_eds(text, node_id)
+        except (ValueError, KeyError) as e:
             raise DtctuneError("cannot read EDS %s: %s" % (self.path, _one_line(e)), EXIT_USAGE) from None
-        if len(self.od) == 0:
+        if not objects:
             raise DtctuneError("EDS %s describes no objects" % self.path, EXIT_USAGE)
-        _fix_limits(self.od, self.path)
+        # index -> {subindex: Var}; the indexes the EDS lists
+        self.objects: Dict[int, Dict[int, Var]] = {}
         self.params: List[Param] = []
         self._by_name: Dict[str, Param] = {}
         self._by_addr: Dict[tuple, Param] = {}
         members = []
-        for obj in self.od.values():
-            if isinstance(obj, cood.ODVariable):
-                members.append((None, obj))
+        for index in sorted(objects):
+            obj_name, is_var, subs = objects[index]
+            self.objects[index] = subs
+            if is_var:
+                if 0 in subs:
+                    members.append((None, subs[0]))
             else:
                 # sub-index 0 is the "number of entries" of an array or record
-                members.extend((obj.name, sub) for sub in obj.subindices.values() if sub.subindex != 0)
+                members.extend((obj_name, subs[k]) for k in sorted(subs) if k != 0)
         # The parameter table gives every value a unique name; a member whose name is not
         # unique on its own (e.g. of a hand-written EDS) is qualified by its object's name.
         counts: Dict[str, int] = {}
@@ -302,7 +398,15 @@ class Dictionary:
                 name = "%s.%s" % (parent, name)
             self._add(name, var)
 
-    def _add(self, name: str, var: cood.ODVariable) -> None:
+    def has_object(self, index: int) -> bool:
+        return index in self.objects
+
+    def default(self, index: int, subindex: int):
+        """The EDS DefaultValue of index:subindex (with $NODEID applied), or None."""
+        var = self.objects.get(index, {}).get(subindex)
+        return None if var is None else var.default
+
+    def _add(self, name: str, var: Var) -> None:
         p = Param(name, var)
         key = name.lower()
         if key in self._by_name:  # keep names unique: qualify the later one by its address
@@ -312,7 +416,7 @@ class Dictionary:
         self._by_name[key] = p
         self._by_addr[(var.index, var.subindex)] = p
 
-    def get_var(self, index: int, subindex: int) -> Optional[cood.ODVariable]:
+    def get_var(self, index: int, subindex: int) -> Optional[Var]:
         p = self._by_addr.get((index, subindex))
         return p.var if p else None
 
@@ -346,36 +450,106 @@ class Dictionary:
             yield p
 
 
-def _fix_limits(od, path: Path) -> None:
-    """LowLimit/HighLimit the canopen parser skipped (it reads them as integers only, so
-    `HighLimit=2000.0` of a REAL32 is lost): read them again from the EDS text."""
-    import configparser
+_SECTION = re.compile(r"([0-9A-Fa-f]{4})(?:[Ss]ub([0-9A-Fa-f]+))?")
 
-    eds = configparser.RawConfigParser(inline_comment_prefixes=(";",), strict=False)
-    eds.optionxform = str
+
+def _ini_sections(text: str) -> Dict[str, Dict[str, str]]:
+    """The sections of an INI text (as EDS files are written): {section: {key: value}}.
+    Keys keep their case; a ';' starting a line, or after blanks, starts a comment."""
+    out: Dict[str, Dict[str, str]] = {}
+    cur: Optional[Dict[str, str]] = None
+    for line in text.splitlines():
+        line = line.strip()
+        if not line or line[0] in ";#":
+            continue
+        if line[0] == "[":
+            end = line.find("]")
+            if end < 0:
+                raise ValueError("bad section line '%s'" % line)
+            cur = out.setdefault(line[1:end].strip(), {})
+            continue
+        key, sep, value = line.partition("=")
+        if not sep:
+            raise ValueError("line without '=': '%s'" % line)
+        if cur is None:
+            raise ValueError("'%s' before the first section" % line)
+        for c in (" ;", "\t;"):
+            k = value.find(c)
+            if k >= 0:
+                value = value[:k]
+        cur[key.strip()] = value.strip()
+    return out
+
+
+def _number(text: str, data_type: int, node_id: Optional[int]):
+    t = text.strip()
+    if data_type in dt.FLOAT_TYPES:
+        return float(t)
+    if "$NODEID" in t.upper():
+        t = re.sub(r"\+?\$NODEID\+?", "", t, flags=re.IGNORECASE) or "0"
+        return int(t, 0) + (node_id or 0)
+    return int(t, 0)
+
+
+def parse_eds(text: str, node_id: Optional[int]):
+    """One pass over the EDS: {index: (object name, is a VAR, {subindex: Var})}.
+    Raises ValueError / KeyError on what cannot be read."""
+    secs = _ini_sections(text)
+    objects: Dict[int, tuple] = {}
+    for name, sec in secs.items():
+        m = _SECTION.fullmatch(name)
+        if not m or m.group(2) is not None:
+            continue
+        index = int(m.group(1), 16)
+        otype = int(sec.get("ObjectType", "0x7") or "0x7", 0)
+        pname = sec.get("ParameterName", "0x%04X" % index)
+        subs: Dict[int, Var] = {}
+        if otype in (0x7, 0x2):          # VAR (DEFTYPE too)
+            subs[0] = _var(sec, index, 0, node_id)
+            objects[index] = (pname, True, subs)
+        elif otype in (0x8, 0x9):        # ARRAY, RECORD: members in [xxxxsubN]
+            objects[index] = (pname, False, subs)
+        # DOMAIN definitions etc.: not values dtctune reads
+    for name, sec in secs.items():
+        m = _SECTION.fullmatch(name)
+        if not m or m.group(2) is None:
+            continue
+        index, sub = int(m.group(1), 16), int(m.group(2), 16)
+        if index in objects and not objects[index][1]:
+            objects[index][2][sub] = _var(sec, index, sub, node_id)
+    return objects
+
+
+def _var(sec: Dict[str, str], index: int, sub: int, node_id: Optional[int]) -> Var:
+    where = "0x%04X:%d" % (index, sub)
     try:
-        eds.read(str(path), encoding="utf-8")
-    except (configparser.Error, UnicodeDecodeError, OSError):
-        return
-    for section in eds.sections():
-        m = re.fullmatch(r"([0-9A-Fa-f]{4})(?:sub([0-9A-Fa-f]+))?", section)
-        if not m:
-            continue
-        var = od.get_variable(int(m.group(1), 16), int(m.group(2), 16) if m.group(2) else 0)
-        if var is None:
-            continue
-        for key, attr in (("LowLimit", "min"), ("HighLimit", "max")):
-            if getattr(var, attr) is not None or not eds.has_option(section, key):
-                continue
-            text = eds.get(section, key).strip()
+        data_type = int(sec["DataType"], 0)
+    except KeyError:
+        raise ValueError("%s has no DataType" % where) from None
+    except ValueError:
+        raise ValueError("%s: DataType '%s' is not a number" % (where, sec["DataType"])) from None
+    var = Var(index, sub, sec.get("ParameterName", where), data_type,
+              access_type=sec.get("AccessType", "rw").strip().lower() or "rw",
+              unit=sec.get("Unit", ""), description=sec.get("Description", ""))
+    if sec.get("Factor"):
+        var.factor = float(sec["Factor"])
+    numeric = data_type in _STRUCTS
+    for key, attr in (("LowLimit", "min"), ("HighLimit", "max")):
+        if numeric and sec.get(key):
             try:
-                if var.data_type in dt.FLOAT_TYPES:
-                    value: Number = float(text)
-                else:
-                    value = int(text, 0)
+                setattr(var, attr, _number(sec[key], data_type, node_id))
             except ValueError:
-                continue
-            setattr(var, attr, value)
+                raise ValueError("%s: %s '%s' is not a number" % (where, key, sec[key])) from None
+    text = sec.get("DefaultValue")
+    if text is not None:
+        if numeric and text.strip():
+            try:
+                var.default = _number(text, data_type, node_id)
+            except ValueError:
+                var.default = None
+        elif not numeric:
+            var.default = text
+    return var
 
 
 def _one_line(e: BaseException) -> str:

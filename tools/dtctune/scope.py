@@ -12,6 +12,7 @@ from __future__ import annotations
 import csv
 import os
 import struct
+import sys
 import time
 from pathlib import Path
 from typing import List
@@ -34,32 +35,71 @@ def _p(dic: Dictionary, name: str) -> Param:
         raise DtctuneError("the EDS %s has no %s: this drive has no scope dtctune knows" % (dic.path, name)) from None
 
 
+TELEMETRY_PDO_INDEX = 0x3100
+_PREFIXES = ("tel_", "tel.", "pdo_", "pdo.")
+
+
+def _stem(name: str) -> str:
+    low = name.lower()
+    for pre in _PREFIXES:
+        if low.startswith(pre):
+            return low[len(pre):]
+    return low
+
+
+def telemetry_signals(dic: Dictionary) -> List[Param]:
+    """The signals the scope can capture: the telemetry objects 0x3000:1.. in physical units."""
+    return [q for q in dic.params if q.index == TELEMETRY_INDEX and q.subindex > 0]
+
+
+def resolve_channel(dic: Dictionary, name: str) -> Param:
+    """One channel name -> its telemetry signal (0x3000). Accepted, case-insensitive:
+    the signal's name (tel_speed_est_rpm), the same without tel_ (speed_est_rpm), the name of
+    the TPDO signal that `monitor` and `record` show for it (pdo_speed_est: the telemetry name
+    with its unit suffix dropped), or the 0x3000 subindex (2). A parameter of the same name
+    (e.g. speed_ref_rpm, 0x2000:1, the set point) is not a channel: its telemetry signal is."""
+    n = name.strip()
+    sigs = telemetry_signals(dic)
+    if n.isdigit():
+        for q in sigs:
+            if q.subindex == int(n):
+                return q
+    else:
+        low = n.lower()
+        for q in sigs:
+            if q.name.lower() == low:
+                return q
+        stem = _stem(n)
+        exact = [q for q in sigs if _stem(q.name) == stem]
+        if len(exact) == 1:
+            return exact[0]
+        # pdo_te_ref -> tel_te_ref_Nm: the telemetry name is the stem plus one unit token
+        near = [q for q in sigs if _stem(q.name).startswith(stem + "_")
+                and "_" not in _stem(q.name)[len(stem) + 1:] and "." not in _stem(q.name)[len(stem) + 1:]]
+        if len(near) == 1:
+            return near[0]
+    choices = ", ".join(q.name[4:] if q.name.lower().startswith(_PREFIXES[:2]) else q.name for q in sigs)
+    what = "'%s' is not a telemetry signal" % n
+    try:
+        p = dic.lookup(n)
+        if p.index == TELEMETRY_PDO_INDEX:
+            what = "'%s' is a TPDO signal without a scope channel" % n
+        elif p.index != TELEMETRY_INDEX:
+            what = "'%s' is a parameter (%s), not a telemetry signal" % (n, p.address)
+    except DtctuneError:
+        pass
+    raise DtctuneError("--channels: %s; valid channels (also with the tel_ prefix, as the pdo_* names "
+                       "of monitor/record, or as 0x%04X subindex numbers): %s" % (what, TELEMETRY_INDEX, choices))
+
+
 def resolve_channels(dic: Dictionary, spec: str) -> List[Param]:
-    """Channel names (tel_speed_est_rpm, speed_est_rpm) or 0x3000 subindex numbers -> telemetry params."""
+    """A comma-separated channel list -> telemetry params (see resolve_channel)."""
     names = [s.strip() for s in spec.split(",") if s.strip()]
     if not names:
         raise DtctuneError("--channels: give 1 to %d telemetry signals" % MAX_CHANNELS)
     if len(names) > MAX_CHANNELS:
         raise DtctuneError("--channels: at most %d channels, got %d" % (MAX_CHANNELS, len(names)))
-    out = []
-    for n in names:
-        p = None
-        if n.isdigit():
-            p = dic._by_addr.get((TELEMETRY_INDEX, int(n)))
-        else:
-            for cand in (n, "tel_" + n):
-                try:
-                    q = dic.lookup(cand)
-                except DtctuneError:
-                    continue
-                p = q
-                break
-        if p is None or p.index != TELEMETRY_INDEX:
-            choices = ", ".join(q.name for q in dic.params if q.index == TELEMETRY_INDEX)
-            raise DtctuneError("--channels: '%s' is not a telemetry signal (0x%04X); choose from %s"
-                               % (n, TELEMETRY_INDEX, choices))
-        out.append(p)
-    return out
+    return [resolve_channel(dic, n) for n in names]
 
 
 def decode(data: bytes, n_channels: int, samples: int) -> List[List[float]]:
@@ -110,6 +150,39 @@ def run(args, dic: Dictionary, link, out) -> int:
         what = "a speed-reference change" if args.trigger == "ref" else "a fault"
         print("scope armed: waiting up to %.0f s for %s" % (args.wait, what), file=out, flush=True)
 
+    if getattr(args, "background", False):
+        out.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid > 0:
+            print("scope: process %d finishes the capture (%s) in the background"
+                  % (pid, ", ".join(x for x in (args.png, args.csv) if x)), file=out, flush=True)
+            return 0
+        # The background process: its own session (a closing terminal does not end it), its own
+        # open lock file (flock belongs to the open file, which fork shared with the parent).
+        status = 1
+        try:
+            os.setsid()
+            link.lock.close()
+            status = _finish(args, link, out, chans, samples, pretrigger, decimation,
+                             p_cmd, p_state, p_tick, p_data)
+        except DtctuneError as e:
+            print("dtctune: error: scope (background): %s" % e, file=sys.stderr)
+            status = e.status
+        except BaseException as e:  # noqa: BLE001 - nothing may escape a forked child
+            print("dtctune: error: scope (background): %s" % e, file=sys.stderr)
+        finally:
+            try:
+                link.close()
+                out.flush()
+                sys.stderr.flush()
+            finally:
+                os._exit(status)
+    return _finish(args, link, out, chans, samples, pretrigger, decimation, p_cmd, p_state, p_tick, p_data)
+
+
+def _finish(args, link, out, chans, samples, pretrigger, decimation, p_cmd, p_state, p_tick, p_data) -> int:
+    """Wait for the capture, upload it, write the outputs."""
     t_end = time.monotonic() + args.wait + samples * decimation * TICK_S
     state = None
     while time.monotonic() < t_end:

@@ -9,7 +9,6 @@ from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence, TextIO, Tuple
 
 from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_REFUSED
-from .link import Link
 from .od import Dictionary, Param
 
 TPDO_COMM = 0x1800     # + n: communication parameters of TPDO n+1 (sub1 COB-ID, sub2 type, sub5 event timer)
@@ -54,12 +53,12 @@ def _u32(data: bytes) -> int:
     return int.from_bytes(bytes(data[:4]).ljust(4, b"\0"), "little")
 
 
-def read_layout(dic: Dictionary, link: Optional[Link]) -> List[Tpdo]:
+def read_layout(dic: Dictionary, link=None) -> List[Tpdo]:
     """The enabled TPDOs and their signals: read from the drive when `link` is given, else the EDS."""
     out: List[Tpdo] = []
     for n in range(MAX_TPDOS):
         comm, mapping = TPDO_COMM + n, TPDO_MAP + n
-        if comm not in dic.od or mapping not in dic.od:
+        if not dic.has_object(comm) or not dic.has_object(mapping):
             if n >= 4:
                 break  # the EDS lists TPDOs contiguously from 0x1800
             continue
@@ -73,12 +72,8 @@ def read_layout(dic: Dictionary, link: Optional[Link]) -> List[Tpdo]:
                     if e.status != EXIT_REFUSED:
                         raise
                     # the drive does not serve this entry: its EDS value is all there is
-            obj = dic.od[index]
-            try:
-                v = obj[sub].default
-            except KeyError:
-                return None
-            return int(v) if v is not None else None
+            v = dic.default(index, sub)
+            return int(v) if isinstance(v, (int, float)) else None
 
         cob = value(comm, 1)
         if cob is None or cob & COB_INVALID:
@@ -220,7 +215,7 @@ class Capture:
     BATCH = 256           # frames per drain call
     STOP_DRAIN_S = 10.0   # after stop(until=...), read the backlog for at most this long
 
-    def __init__(self, link: Link, tpdos: Sequence[Tpdo], source_factory=None, poll_s: float = 0.02):
+    def __init__(self, link, tpdos: Sequence[Tpdo], source_factory=None, poll_s: float = 0.02):
         self.link = link
         self.tpdos = list(tpdos)
         self.by_cob: Dict[int, Tpdo] = {t.cob_id: t for t in tpdos}
@@ -270,11 +265,7 @@ class Capture:
 
     def start(self) -> None:
         if self._factory is None:
-            # No socket of our own: take the frames from the link's receive thread.
-            self.link.listen(self.by_cob)
-            for cob in self.by_cob:
-                self.link.network.subscribe(cob, self._on_frame)
-            return
+            raise ValueError("Capture needs a source_factory (e.g. open_source)")
         self._source = self._factory(list(self.by_cob))
         self._thread = threading.Thread(target=self._run, name="dtctune-capture", daemon=True)
         self._thread.start()
@@ -317,11 +308,6 @@ class Capture:
         if self._source is not None:
             self._drops = getattr(self._source, "kernel_drops", 0)
         if self._source is None:
-            for cob in self.by_cob:
-                try:
-                    self.link.network.unsubscribe(cob, self._on_frame)
-                except (KeyError, ValueError):
-                    pass
             return
         self._stop.set()
         if self._thread is not None:
@@ -348,11 +334,14 @@ class Capture:
             return dict(self.latest)
 
 
-def no_telemetry_error(link: Link, tpdos: Sequence[Tpdo], waited_s: float) -> DtctuneError:
+def no_telemetry_error(link, tpdos: Sequence[Tpdo], waited_s: float, can_start: bool = True) -> DtctuneError:
     cobs = ", ".join("0x%03X" % t.cob_id for t in tpdos)
-    return DtctuneError("no telemetry from node %d within %.1f s (TPDOs %s): the drive sends them only "
-                        "in NMT operational; add --start to switch it there" % (link.node_id, waited_s, cobs),
-                        EXIT_NO_ANSWER)
+    if can_start:
+        why = "it was switched to NMT operational, where they are sent: is telemetry mapped and the drive running?"
+    else:
+        why = "the drive sends them only in NMT operational; drop --no-start (or add --start) to switch it there"
+    return DtctuneError("no telemetry from node %d within %.1f s (TPDOs %s): %s"
+                        % (link.node_id, waited_s, cobs, why), EXIT_NO_ANSWER)
 
 
 def columns(tpdos: Sequence[Tpdo]) -> List[Signal]:
@@ -434,7 +423,7 @@ def render_table(tpdos: Sequence[Tpdo], cap: Capture, title: str) -> str:
     return "\n".join(lines)
 
 
-def wait_first(cap: Capture, link: Link, tpdos: Sequence[Tpdo], timeout_s: float) -> None:
+def wait_first(cap: Capture, link, tpdos: Sequence[Tpdo], timeout_s: float, can_start: bool = False) -> None:
     """Wait until every TPDO was seen once, or raise the 'no telemetry' error."""
     t0 = time.monotonic()
     if not cap.wait_all_seen(timeout_s):
@@ -448,5 +437,5 @@ def wait_first(cap: Capture, link: Link, tpdos: Sequence[Tpdo], timeout_s: float
             except DtctuneError as e:
                 if "switched off" in str(e):
                     raise
-            raise no_telemetry_error(link, tpdos, waited)
+            raise no_telemetry_error(link, tpdos, waited, can_start)
         # Some TPDOs arrive, others not: report what is missing but go on with what we have.

@@ -47,6 +47,15 @@ class FakeDrive:
         self.node.add_write_callback(self._on_write)
         self.writes = []      # (index, subindex, bytes) of accepted writes
         self.stored = []      # signatures written to 0x1010 / 0x1011
+        self.nmt = []         # NMT commands addressed to us (or to all): 1 start, 2 stop, 0x80 pre-op
+        self.on_nmt = None    # called with the command byte
+        self.network.subscribe(0x000, self._on_nmt)
+
+    def _on_nmt(self, can_id, data, timestamp):
+        if len(data) >= 2 and data[1] in (0, self.node.id):
+            self.nmt.append(data[0])
+            if self.on_nmt:
+                self.on_nmt(data[0])
 
     def _on_write(self, index, subindex, od, data):
         if od.data_type in (canopen.objectdictionary.REAL32,):
@@ -129,3 +138,9 @@ def run(channel, capsys):
         return status, cap.out, cap.err
 
     return _run
+
+
+@pytest.fixture(autouse=True)
+def _lock_dir(tmp_path, monkeypatch):
+    """The SDO lock files of the tests go to the test's own directory, not /tmp."""
+    monkeypatch.setenv("DTCTUNE_LOCK_DIR", str(tmp_path))

@@ -213,3 +213,114 @@ def test_timeout_in_a_real_process_prints_exactly_one_line(tmp_path):
     assert r.stdout == ""
     line = one_error_line(r.stderr)
     assert "timeout" in line
+
+
+# ------------------------------------------------------------------ issue 12: as printed in README
+
+def test_record_without_start_switches_drive_operational(run, drive, tmp_path):
+    """`dtctune record --seconds S --csv OUT` (no --start): the fake drive sends telemetry only
+    after an NMT start, as the real one; record sends it and records from then on."""
+    out_csv = tmp_path / "rec.csv"
+    started = []
+
+    def on_nmt(cmd):
+        if cmd == 0x01 and not started:
+            started.append(drive.send_tpdos(200, 3.0))
+
+    drive.on_nmt = on_nmt
+    try:
+        status, out, err = run("record", "--seconds", "1.0", "--csv", str(out_csv), "--from-eds")
+    finally:
+        for th, stop in started:
+            stop.set()
+            th.join()
+    assert status == 0, err
+    assert drive.nmt == [0x01]
+    assert "switched it to NMT operational" in out
+    with open(out_csv) as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) > 100
+
+
+def test_record_no_start_does_not_start(run, drive, tmp_path):
+    status, _, err = run("record", "--no-start", "--seconds", "0.5", "--csv", str(tmp_path / "r.csv"),
+                         "--from-eds")
+    assert status == EXIT_NO_ANSWER
+    assert "--no-start" in one_error_line(err)
+    assert drive.nmt == []
+    assert not (tmp_path / "r.csv").exists()
+
+
+def test_record_does_not_start_when_telemetry_flows(run, drive, tmp_path):
+    th, stop = drive.send_tpdos(200, 3.0)
+    try:
+        status, out, err = run("record", "--seconds", "0.5", "--csv", str(tmp_path / "r.csv"), "--from-eds")
+    finally:
+        stop.set()
+        th.join()
+    assert status == 0, err
+    assert drive.nmt == [] and "switched" not in out
+
+
+class _Tty:
+    """A stand-in for a terminal: collects text, says it is a tty."""
+
+    def __init__(self):
+        self.parts = []
+
+    def write(self, s):
+        self.parts.append(s)
+
+    def flush(self):
+        pass
+
+    def isatty(self):
+        return True
+
+
+@pytest.mark.parametrize("tty", [False, True])
+def test_monitor_screen_codes_only_on_a_terminal(channel, drive, capsys, monkeypatch, tty):
+    monkeypatch.setenv("TERM", "xterm")
+    out = _Tty() if tty else None
+    th, stop = drive.send_tpdos(200, 3.0)
+    try:
+        status = main(["--interface", "virtual", "--channel", channel, "--eds", str(EDS), "--timeout", "0.3",
+                       "monitor", "--seconds", "0.8", "--interval", "0.2", "--from-eds"], out=out)
+    finally:
+        stop.set()
+        th.join()
+    assert status == 0
+    text = "".join(out.parts) if tty else capsys.readouterr().out
+    assert text.count("tel.vc_diff_dV") >= 2  # refreshed several times
+    if tty:
+        assert "\x1b[2J" in text
+    else:
+        assert "\x1b" not in text
+
+
+def test_monitor_piped_in_a_real_process_has_no_screen_codes(tmp_path):
+    """As `dtctune monitor > file` runs: stdout a file, not a terminal."""
+    import subprocess
+    import sys
+    dest = tmp_path / "mon.txt"
+    with open(dest, "w") as f:
+        r = subprocess.run([sys.executable, "-m", "dtctune", "--interface", "virtual", "--channel", "nobody",
+                            "--timeout", "0.2", "--eds", str(EDS), "monitor", "--no-start", "--from-eds",
+                            "--seconds", "0.5"], stdout=f, stderr=subprocess.PIPE, text=True, timeout=60,
+                           env=dict(__import__("os").environ, TERM="xterm"))
+    assert "\x1b" not in dest.read_text() and "\x1b" not in r.stderr
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["list", "--no-values"], ["--timeout", "0.2", "get", "speed.ref_rpm"],
+                                  ["--timeout", "0.2", "set", "speed.ref_rpm", "1"]])
+def test_start_up_imports_no_can_library(argv):
+    """Start-up (issue 12): --help, list, get and set on socketcan import neither python-can nor
+    canopen nor numpy/matplotlib (on this machine without kernel CAN, get/set end at the socket)."""
+    import subprocess
+    import sys
+    code = ("import sys\nfrom dtctune.cli import main\n"
+            "try:\n    main(sys.argv[1:])\nexcept SystemExit:\n    pass\n"
+            "print(*[m in sys.modules for m in ('can', 'canopen', 'numpy', 'matplotlib')], file=sys.stderr)\n")
+    r = subprocess.run([sys.executable, "-c", code, "--eds", str(EDS)] + argv, capture_output=True, text=True,
+                       timeout=60)
+    assert r.stderr.split()[-4:] == ["False"] * 4, r.stderr

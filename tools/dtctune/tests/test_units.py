@@ -118,3 +118,139 @@ def test_scope_channels_and_decoding(dic):
     assert tr[0] == [float(k) for k in range(8)] and tr[1][7] == -7.0
     with pytest.raises(DtctuneError, match="expected 64"):
         scope.decode(data[:-4], 2, samples)
+
+
+# The drive's naming (as in tools/params/parameters.toml): a parameter speed_ref_rpm (the set
+# point), telemetry signals tel_*_UNIT at 0x3000, and their TPDO copies pdo_* at 0x3100.
+DRIVE_LIKE_EDS = """
+[2000]
+ParameterName=speed
+ObjectType=0x9
+SubNumber=2
+[2000sub0]
+ParameterName=highest_subindex
+DataType=0x0005
+AccessType=const
+DefaultValue=1
+[2000sub1]
+ParameterName=speed_ref_rpm
+DataType=0x0008
+AccessType=rw
+DefaultValue=0.0
+[3000]
+ParameterName=telemetry
+ObjectType=0x9
+SubNumber=7
+[3000sub0]
+ParameterName=highest_subindex
+DataType=0x0005
+AccessType=const
+DefaultValue=6
+[3000sub1]
+ParameterName=tel_speed_ref_rpm
+DataType=0x0008
+AccessType=ro
+[3000sub2]
+ParameterName=tel_speed_est_rpm
+DataType=0x0008
+AccessType=ro
+[3000sub3]
+ParameterName=tel_te_ref_Nm
+DataType=0x0008
+AccessType=ro
+[3000sub4]
+ParameterName=tel_psi_s_Wb
+DataType=0x0008
+AccessType=ro
+[3000sub5]
+ParameterName=tel_psi_ref_Wb
+DataType=0x0008
+AccessType=ro
+[3000sub6]
+ParameterName=tel_ia_A
+DataType=0x0008
+AccessType=ro
+[3100]
+ParameterName=telemetry_pdo
+ObjectType=0x9
+SubNumber=4
+[3100sub0]
+ParameterName=highest_subindex
+DataType=0x0005
+AccessType=const
+DefaultValue=3
+[3100sub1]
+ParameterName=pdo_speed_ref
+DataType=0x0003
+AccessType=ro
+[3100sub2]
+ParameterName=pdo_psi_s
+DataType=0x0003
+AccessType=ro
+[3100sub3]
+ParameterName=pdo_seq
+DataType=0x0006
+AccessType=ro
+"""
+
+
+@pytest.fixture
+def drive_like(tmp_path):
+    p = tmp_path / "drive_like.eds"
+    p.write_text(DRIVE_LIKE_EDS)
+    return Dictionary(p, 1)
+
+
+@pytest.mark.parametrize("spec,subs", [
+    # README: the parameter's name resolves to its telemetry signal, not to the parameter
+    ("speed_ref_rpm,speed_est_rpm,te_ref_Nm,ia_A", [1, 2, 3, 6]),
+    ("tel_speed_ref_rpm,TEL_SPEED_EST_RPM", [1, 2]),
+    # the names monitor and record show (TPDO signals)
+    ("pdo_speed_ref,pdo_psi_s", [1, 4]),
+    ("speed_ref,psi_s,psi_ref", [1, 4, 5]),
+    ("6,1", [6, 1]),
+])
+def test_scope_channel_names(drive_like, spec, subs):
+    from dtctune import scope
+    assert [(c.index, c.subindex) for c in scope.resolve_channels(drive_like, spec)] == [(0x3000, s) for s in subs]
+
+
+@pytest.mark.parametrize("name,words", [
+    ("pdo_seq", "'pdo_seq' is a TPDO signal without a scope channel"),
+    ("bogus", "'bogus' is not a telemetry signal"),
+    ("psi", "'psi' is not a telemetry signal"),    # ambiguous: psi_s_Wb or psi_ref_Wb
+    ("9", "'9' is not a telemetry signal"),
+])
+def test_scope_bad_channel_lists_the_valid_ones(drive_like, name, words):
+    from dtctune import scope
+    with pytest.raises(DtctuneError) as e:
+        scope.resolve_channels(drive_like, name)
+    msg = str(e.value)
+    assert words in msg
+    assert "speed_ref_rpm, speed_est_rpm, te_ref_Nm, psi_s_Wb, psi_ref_Wb, ia_A" in msg
+
+
+def test_eds_read_once_without_canopen(tmp_path):
+    """The EDS reader needs neither canopen nor python-can (start-up), and reads each file once."""
+    import subprocess, sys
+    code = ("import sys, builtins\n"
+            "opened = []\n"
+            "real = builtins.open\n"
+            "from dtctune.od import Dictionary\n"
+            "import pathlib\n"
+            "orig = pathlib.Path.read_text\n"
+            "def rt(self, *a, **k):\n"
+            "    opened.append(str(self)); return orig(self, *a, **k)\n"
+            "pathlib.Path.read_text = rt\n"
+            "d = Dictionary(pathlib.Path(sys.argv[1]), 1)\n"
+            "assert d.lookup('rbfn.gamma_w').var.max == 1000.0, d.lookup('rbfn.gamma_w').var\n"
+            "print(len(opened), 'can' in sys.modules, 'canopen' in sys.modules)\n")
+    r = subprocess.run([sys.executable, "-c", code, str(EDS)], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["1", "False", "False"]
+
+
+def test_real32_limits_and_nodeid_defaults(dic):
+    # REAL32 limits written as floats (canopen's parser skipped them) and $NODEID defaults
+    assert dic.lookup("speed.ref_rpm").raw_limits() == (-3000.0, 3000.0)
+    assert dic.default(0x1800, 1) & 0x7FF == 0x181
