@@ -216,8 +216,13 @@ def test_basenode402_drives_the_state_machine():
             node.state = "SWITCH ON DISABLED"
             time.sleep(0.3)
             assert node.state == "SWITCH ON DISABLED"
-            node.sdo[0x6042].raw = 300
+            # dtc-sim's own reference ramp (case1.ini, to 500 rpm at 1.3 s) must be over first.
+            time.sleep(max(0.0, 1.5 - r.now()))
+            # RPDO 1 carries the controlword with the target velocity (0x60FF): set the
+            # master's copy so every controlword BaseNode402 sends carries 300 rpm.
+            node.rpdo_pointers[0x60FF].raw = 300
             node.state = "OPERATION ENABLED"
+            assert node.sdo[0x6042].raw == 300  # the vl target shows the same reference
             time.sleep(1.5)
             t_qs = r.now()
             node.state = "QUICK STOP ACTIVE"
