@@ -114,6 +114,7 @@ double board_now(const board *b);
 void board_fault(board *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 const char *board_func_name(const board *b, uint32_t addr);
 void board_request_reset(board *b, uint32_t csr_flags);
+void board_end_slice(board *b);
 void board_clock_changed(board *b); /* HCLK may have changed */
 
 /* scs.c */

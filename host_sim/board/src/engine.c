@@ -40,13 +40,18 @@ void board_fault(board *b, const char *fmt, ...) {
   snprintf(b->msg, sizeof b->msg, "%s (PC 0x%08X in %s, t=%.6f s)", text, b->pc, board_func_name(b, b->pc),
            board_now(b));
   b->fault = true;
-  uc_emu_stop(b->uc);
+  board_end_slice(b);
 }
+
+/* Stopping Unicorn from inside an MMIO callback restarts the faulting instruction (its
+ * store would be repeated), so the slice ends at the next instruction boundary instead:
+ * the code hook stops before that instruction executes. */
+void board_end_slice(board *b) { b->limit = b->cycles; }
 
 void board_request_reset(board *b, uint32_t csr_flags) {
   b->reset_request = true;
   b->reset_flags |= csr_flags;
-  uc_emu_stop(b->uc);
+  board_end_slice(b);
 }
 
 void board_clock_changed(board *b) {
@@ -178,7 +183,8 @@ static void mmio_ppb_write(uc_engine *uc, uint64_t offset, unsigned size, uint64
   board *b = u;
   scs_write(b, PPB_BASE + (uint32_t)offset, size, (uint32_t)value);
   /* an NVIC/SCB write may make an exception take effect: end the slice after this store */
-  uc_emu_stop(uc);
+  (void)uc;
+  board_end_slice(b);
 }
 
 /* ---- reset ---- */
@@ -209,9 +215,11 @@ static void system_reset(board *b, bool power_on) {
   /* RAM and peripherals back to reset values; flash (and so the NVM) is kept. */
   memset(b->sram, 0, SRAM1_SIZE + SRAM2_SIZE);
   memset(b->ccm, 0, CCM_SIZE);
+  double now = b->hclk_hz > 0 ? board_now(b) : 0.0;
   rcc_reset(b, power_on);
-  b->hclk_hz = 0;
-  board_clock_changed(b);
+  b->t_base_s = now;
+  b->cyc_base = b->cycles;
+  b->hclk_hz = rcc_hclk_hz(b);
   pwr_reset(b);
   flash_reset(b);
   gpio_reset(b);
@@ -230,6 +238,12 @@ void board_config_default(board_config *cfg) {
   cfg->hse_hz = 24e6;
 }
 
+static uint8_t *page_alloc(size_t size, int fill) {
+  uint8_t *p = aligned_alloc(4096, (size + 4095u) & ~(size_t)4095u);
+  if (p) memset(p, fill, size);
+  return p;
+}
+
 static int map(board *b, uint32_t base, uint32_t size, uint32_t perms, void *mem, char *err, size_t n) {
   uc_err e = uc_mem_map_ptr(b->uc, base, size, perms, mem);
   if (e != UC_ERR_OK) { snprintf(err, n, "cannot map 0x%08X: %s", base, uc_strerror(e)); return -1; }
@@ -242,13 +256,12 @@ board *board_open(const board_config *cfg, char *err, size_t n) {
   if (!b->cfg.console) b->cfg.console = stderr;
   if (b->cfg.hse_hz <= 0) b->cfg.hse_hz = 24e6;
   if (elf_load(cfg->elf_path, &b->elf, err, n) != 0) { free(b); return NULL; }
-  b->flash = malloc(FLASH_SIZE);
-  memset(b->flash, 0xFF, FLASH_SIZE); /* erased */
-  b->sram = calloc(1, SRAM1_SIZE + SRAM2_SIZE);
-  b->ccm = calloc(1, CCM_SIZE);
-  b->sysmem = calloc(1, SYSMEM_SIZE);
-  b->otp = malloc(OTP_SIZE);
-  memset(b->otp, 0xFF, OTP_SIZE);
+  /* Unicorn's TLB needs page-aligned host memory behind uc_mem_map_ptr */
+  b->flash = page_alloc(FLASH_SIZE, 0xFF); /* erased */
+  b->sram = page_alloc(SRAM1_SIZE + SRAM2_SIZE, 0);
+  b->ccm = page_alloc(CCM_SIZE, 0);
+  b->sysmem = page_alloc(SYSMEM_SIZE, 0);
+  b->otp = page_alloc(OTP_SIZE, 0xFF);
   for (size_t i = 0; i < b->elf.nseg; i++) {
     const elf_segment *s = &b->elf.seg[i];
     if (s->filesz == 0) continue; /* .bss and friends: zeroed by the startup code */
@@ -397,6 +410,9 @@ board_status board_run(board *b, double seconds) {
     b->recheck = false;
     uint32_t pc = reg32(b, UC_ARM_REG_PC) | 1u;
     uc_err e = uc_emu_start(b->uc, pc, 0xFFFFFFFEu, 0, 0);
+    if (getenv("DTC_BOARD_TRACE"))
+      fprintf(stderr, "slice from 0x%08X to 0x%08X: cycles %llu limit %llu err %d intno %d\n", pc,
+              reg32(b, UC_ARM_REG_PC), (unsigned long long)b->cycles, (unsigned long long)b->limit, e, b->stop_intno);
     handle_stop(b, e);
   }
 }

@@ -29,14 +29,12 @@ int semihost_call(board *b) {
   case 0x18: /* SYS_EXIT: r1 is the reason; ADP_Stopped_ApplicationExit (0x20026) is success */
     b->exited = true;
     b->exit_code = arg == 0x20026u ? 0 : 1;
-    uc_emu_stop(b->uc);
     return 0;
   case 0x20: { /* SYS_EXIT_EXTENDED: r1 -> {reason, code} */
     uint32_t blk[2] = {0, 0};
     uc_mem_read(b->uc, arg, blk, 8);
     b->exited = true;
     b->exit_code = blk[0] == 0x20026u ? (int)blk[1] : 1;
-    uc_emu_stop(b->uc);
     return 0;
   }
   }
