@@ -100,7 +100,9 @@ struct board {
   bool reset_request;
   uint32_t reset_flags; /* RCC_CSR flags to set on the pending reset */
   uint32_t resets;
-  bool recheck;         /* an MMIO write may have changed interrupt state */
+  bool trace;
+  bool poll;            /* pending but masked: the code hook watches PRIMASK/BASEPRI */
+  int poll_prio, poll_active_ep;
   scs_state scs;
   rcc_state rcc;
   pwr_state pwr;
@@ -115,6 +117,7 @@ void board_fault(board *b, const char *fmt, ...) __attribute__((format(printf, 2
 const char *board_func_name(const board *b, uint32_t addr);
 void board_request_reset(board *b, uint32_t csr_flags);
 void board_end_slice(board *b);
+void board_flash_update(board *b, uint32_t off, uint32_t len); /* shadow -> emulator */
 void board_clock_changed(board *b); /* HCLK may have changed */
 
 /* scs.c */
@@ -131,6 +134,8 @@ int exc_pending_to_take(board *b);  /* exception number that would preempt now, 
 bool exc_any_pending_enabled(const board *b);
 int exc_enter(board *b, int exc);   /* 0 ok, -1 fault raised */
 int exc_return(board *b, uint32_t exc_return_value);
+bool exc_prepare_poll(board *b);
+bool exc_poll_unmasked(board *b);
 
 /* peripherals: each returns the register value / handles a write at offset */
 void rcc_reset(board *b, bool power_on);

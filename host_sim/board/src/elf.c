@@ -63,7 +63,9 @@ int elf_load(const char *path, elf_image *img, char *err, size_t n) {
       const uint8_t *st = r + off + k * entsize;
       uint32_t name = rd32(st), value = rd32(st + 4), ssize = rd32(st + 8);
       uint8_t type = st[12] & 0xf;
-      if ((type != 1 && type != 2) || name >= strsize || rd16(st + 14) == 0) continue; /* objects and functions */
+      /* objects, functions, and linker-script symbols (NOTYPE, e.g. _estack); not $t/$d mapping symbols */
+      if (type > 2 || name >= strsize || rd16(st + 14) == 0) continue;
+      if (r[stroff + name] == '$' || r[stroff + name] == 0) continue;
       elf_symbol *e = &img->sym[img->nsym++];
       e->is_func = type == 2;
       e->addr = e->is_func ? value & ~1u : value; /* Thumb bit */

@@ -67,7 +67,7 @@ void board_clock_changed(board *b) {
 static void hook_code(uc_engine *uc, uint64_t addr, uint32_t size, void *u) {
   (void)size;
   board *b = u;
-  if (b->cycles >= b->limit) { uc_emu_stop(uc); return; }
+  if (b->cycles >= b->limit || (b->poll && exc_poll_unmasked(b))) { uc_emu_stop(uc); return; }
   b->cycles++;
   b->pc = (uint32_t)addr;
 }
@@ -171,7 +171,9 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   else if (s->base == 0x40007000u) pwr_write(b, off, v);
   else if (s->base == 0x40022000u) flash_write(b, off, v);
   else iwdg_write(b, off, v);
-  b->recheck = true;
+  /* a write may schedule an event (oscillator ready, watchdog, flash busy) or pend an
+   * interrupt: recompute the slice from the next instruction */
+  board_end_slice(b);
 }
 
 static uint64_t mmio_ppb_read(uc_engine *uc, uint64_t offset, unsigned size, void *u) {
@@ -233,6 +235,14 @@ static void system_reset(board *b, bool power_on) {
 
 /* ---- open/close ---- */
 
+void board_flash_update(board *b, uint32_t off, uint32_t len) {
+  uc_mem_write(b->uc, FLASH_BASE + off, b->flash + off, len);
+  uc_mem_write(b->uc, off, b->flash + off, len);
+  /* the emulator may hold code translated from this range */
+  uc_ctl_remove_cache(b->uc, FLASH_BASE + off, FLASH_BASE + off + len);
+  uc_ctl_remove_cache(b->uc, off, off + len);
+}
+
 void board_config_default(board_config *cfg) {
   memset(cfg, 0, sizeof *cfg);
   cfg->hse_hz = 24e6;
@@ -279,9 +289,16 @@ board *board_open(const board_config *cfg, char *err, size_t n) {
   if (e != UC_ERR_OK) { snprintf(err, n, "uc_open: %s", uc_strerror(e)); board_close(b); return NULL; }
   uc_ctl_set_cpu_model(b->uc, UC_CPU_ARM_CORTEX_M4);
   const uint32_t RX = UC_PROT_READ | UC_PROT_EXEC;
-  if (map(b, FLASH_BASE, FLASH_SIZE, RX, b->flash, err, n) ||
-      map(b, 0x00000000u, FLASH_SIZE, RX, b->flash, err, n) || /* boot alias, BOOT0=0 (RM0440 §2.6) */
-      map(b, SRAM_BASE, SRAM1_SIZE + SRAM2_SIZE, UC_PROT_ALL, b->sram, err, n) ||
+  /* Flash and its boot alias (BOOT0=0) are Unicorn-owned read-only memory: a CPU store into
+   * them reaches hook_write_prot and is dropped (with uc_mem_map_ptr the store would land).
+   * b->flash is the shadow the flash model works on; board_flash_update() mirrors it. */
+  if (uc_mem_map(b->uc, FLASH_BASE, FLASH_SIZE, RX) != UC_ERR_OK || uc_mem_map(b->uc, 0, FLASH_SIZE, RX) != UC_ERR_OK) {
+    snprintf(err, n, "cannot map the flash");
+    board_close(b);
+    return NULL;
+  }
+  board_flash_update(b, 0, FLASH_SIZE);
+  if (map(b, SRAM_BASE, SRAM1_SIZE + SRAM2_SIZE, UC_PROT_ALL, b->sram, err, n) ||
       map(b, CCM_BASE, CCM_SIZE, UC_PROT_ALL, b->ccm, err, n) ||
       map(b, CCM_ALIAS, CCM_SIZE, UC_PROT_ALL, b->ccm, err, n) ||
       map(b, SYSMEM_BASE, SYSMEM_SIZE, RX, b->sysmem, err, n) ||
@@ -297,6 +314,7 @@ board *board_open(const board_config *cfg, char *err, size_t n) {
   uc_hook_add(b->uc, &h, UC_HOOK_MEM_UNMAPPED, (void *)hook_unmapped, b, 1, 0);
   uc_hook_add(b->uc, &h, UC_HOOK_MEM_WRITE_PROT, (void *)hook_write_prot, b, 1, 0);
   b->stop_intno = -1;
+  b->trace = getenv("DTC_BOARD_TRACE") != NULL;
   system_reset(b, true);
   return b;
 }
@@ -370,7 +388,7 @@ static void handle_stop(board *b, uc_err e) {
     return;
   }
   if (e != UC_ERR_OK) { board_fault(b, "emulation error: %s", uc_strerror(e)); return; }
-  if (b->cycles >= b->limit || b->recheck) return;
+  if (b->cycles >= b->limit) return;
   /* Unicorn stops on WFI (EXCP_HLT) with PC after it. */
   uint16_t prev = 0;
   uc_mem_read(b->uc, pc - 2, &prev, 2);
@@ -405,12 +423,11 @@ board_status board_run(board *b, double seconds) {
       if (exc_any_pending_enabled(b)) b->sleeping = false; /* wakes even when masked */
       else { b->idle += next - b->cycles; b->cycles = next; continue; }
     }
-    if (exc_any_pending_enabled(b) && next > b->cycles + 64) next = b->cycles + 64; /* poll PRIMASK/BASEPRI */
+    exc_prepare_poll(b);
     b->limit = next;
-    b->recheck = false;
     uint32_t pc = reg32(b, UC_ARM_REG_PC) | 1u;
     uc_err e = uc_emu_start(b->uc, pc, 0xFFFFFFFEu, 0, 0);
-    if (getenv("DTC_BOARD_TRACE"))
+    if (b->trace) /* DTC_BOARD_TRACE=1: one line per slice, for debugging the engine */
       fprintf(stderr, "slice from 0x%08X to 0x%08X: cycles %llu limit %llu err %d intno %d\n", pc,
               reg32(b, UC_ARM_REG_PC), (unsigned long long)b->cycles, (unsigned long long)b->limit, e, b->stop_intno);
     handle_stop(b, e);

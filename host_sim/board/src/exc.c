@@ -179,3 +179,28 @@ int exc_return(board *b, uint32_t v) {
   b->pc = w[6] & ~1u;
   return 0;
 }
+
+/* While an enabled exception is pending but masked by PRIMASK/BASEPRI, the code hook checks
+ * the masks before each instruction, so the exception is taken right after the CPSIE/MSR
+ * that unmasks it (as on the core), at the cost of two register reads per instruction
+ * only in that state. Active exceptions cannot change inside a slice. */
+bool exc_prepare_poll(board *b) {
+  int e = best_pending(b);
+  b->poll = false;
+  if (!e) return false;
+  int ep = 256;
+  for (int k = 1; k < NUM_EXC; k++)
+    if (b->scs.active[k] && group(b, exc_priority(b, k)) < ep) ep = group(b, exc_priority(b, k));
+  b->poll_prio = group(b, exc_priority(b, e));
+  b->poll_active_ep = ep;
+  b->poll = b->poll_prio < ep; /* otherwise only a return can unmask it, which ends the slice */
+  return b->poll;
+}
+
+bool exc_poll_unmasked(board *b) {
+  int ep = b->poll_active_ep;
+  uint32_t basepri = reg32(b, UC_ARM_REG_BASEPRI) & 0xF0u;
+  if (basepri && group(b, (int)basepri) < ep) ep = group(b, (int)basepri);
+  if ((reg32(b, UC_ARM_REG_PRIMASK) & 1u) && ep > 0) ep = 0;
+  return b->poll_prio < ep;
+}

@@ -116,9 +116,7 @@ static void complete_op(board *b) {
     memset(b->flash + b->fl.op_off, 0xFF, b->fl.op_len);
   }
   for (uint32_t p = b->fl.op_off / PAGE; p <= (b->fl.op_off + b->fl.op_len - 1) / PAGE; p++) f->dirty[p] = 1;
-  /* the emulator may hold translated code from this range */
-  uc_ctl_remove_cache(b->uc, FLASH_BASE + b->fl.op_off, FLASH_BASE + b->fl.op_off + b->fl.op_len);
-  uc_ctl_remove_cache(b->uc, b->fl.op_off, b->fl.op_off + b->fl.op_len);
+  board_flash_update(b, b->fl.op_off, b->fl.op_len);
   if (f->cr & CR_EOPIE) f->sr |= SR_EOP; /* EOP only with EOPIE (§5.7.5) */
   f->cr &= ~CR_STRT;
   b->fl.op = OP_NONE;

@@ -19,9 +19,10 @@ void tb_exit(int code) {
   for (;;) {}
 }
 
-void Reset_Handler(void) {
-  uint32_t sp;
-  __asm__ volatile("mov %0, sp" : "=r"(sp));
+/* naked, so the SP it reports is the one the core loaded from vector 0 */
+__attribute__((naked)) void Reset_Handler(void) { __asm__ volatile("mov r0, sp\n b tb_start"); }
+
+__attribute__((used, noreturn)) void tb_start(uint32_t sp) {
   for (uint32_t *s = _sidata, *d = _sdata; d < _edata;) *d++ = *s++;
   for (uint32_t *d = _sbss; d < _ebss;) *d++ = 0;
   tb_initial_sp = sp;
