@@ -103,6 +103,17 @@ TEST(twin, systick_counts_core_clocks) {
   EXPECT_EQ(r.r[3], 1u);
 }
 
+TEST(twin, tim6_update_interrupt_period_and_urs) {
+  Outcome r = run("tim6");
+  EXPECT_EXITED(r);
+  EXPECT_EQ(r.r[0], 0u) << "UG with URS=1 must not set UIF";
+  EXPECT_EQ(r.r[1], 1u) << "UG with URS=0 sets UIF";
+  EXPECT_EQ(r.r[2], 12u);
+  // 12 handler entries: 11 updates apart, but entry 4 is the level re-entry of update 3
+  EXPECT_EQ(r.r[3], 10u * 16000u);
+  EXPECT_EQ(r.r[4], 1u);
+}
+
 TEST(twin, idle_loop_runs_fast) {
   board *b = nullptr;
   auto t0 = std::chrono::steady_clock::now();

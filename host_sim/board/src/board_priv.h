@@ -79,6 +79,13 @@ typedef struct {
   double pvu_until, rvu_until, wvu_until;
 } iwdg_state;
 
+typedef struct {
+  uint32_t cr1, cr2, dier, sr, psc, arr;
+  uint32_t psc_eff, arr_eff; /* shadow registers */
+  uint32_t cnt0;             /* counter value at cycle `base` */
+  uint64_t base, next_update;
+} tim6_state;
+
 struct board {
   board_config cfg;
   uc_engine *uc;
@@ -109,6 +116,7 @@ struct board {
   flash_state fl;
   gpio_port gpio[7];
   iwdg_state iwdg;
+  tim6_state tim6;
 };
 
 /* engine.c */
@@ -173,6 +181,12 @@ uint32_t iwdg_read(board *b, uint32_t off);
 void iwdg_write(board *b, uint32_t off, uint32_t v);
 double iwdg_next_event(board *b);
 void iwdg_event(board *b);
+
+void tim6_reset(board *b);
+uint32_t tim6_read(board *b, uint32_t off);
+void tim6_write(board *b, uint32_t off, uint32_t v);
+uint64_t tim6_next_event(board *b);
+void tim6_event(board *b);
 
 /* semihost.c: BKPT 0xAB. 0 handled, -1 fault raised. */
 int semihost_call(board *b);

@@ -1,5 +1,5 @@
 /* dtc-board: the flashable image on the emulated STM32G474.
- *   dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats]
+ *   dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats] [--peek SYM[+OFF]]...
  * runs the image until it exits through semihosting, a strictness stop, or S seconds of
  * virtual time. Exit status: the image's exit code; 1 for a strictness stop (the message
  * names the address, the PC and the function); 2 for bad usage.
@@ -13,7 +13,7 @@
 #include <time.h>
 
 static int usage(void) {
-  fprintf(stderr, "usage: dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats]\n"
+  fprintf(stderr, "usage: dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats] [--peek SYM[+OFF]]...\n"
                   "       dtc-board run SCENARIO --elf FILE [...]   (not implemented yet)\n");
   return 2;
 }
@@ -36,6 +36,8 @@ int main(int argc, char **argv) {
   double seconds = 10.0;
   const char *pins = NULL;
   int stats = 0;
+  const char *peek[16];
+  int npeek = 0;
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
     if (strcmp(a, "--stats") == 0) { stats = 1; continue; }
@@ -44,6 +46,7 @@ int main(int argc, char **argv) {
     else if (strcmp(a, "--nvm") == 0) cfg.nvm_path = argv[++i];
     else if (strcmp(a, "--seconds") == 0) seconds = atof(argv[++i]);
     else if (strcmp(a, "--pins") == 0) pins = argv[++i];
+    else if (strcmp(a, "--peek") == 0 && npeek < 16) peek[npeek++] = argv[++i];
     else return usage();
   }
   if (!cfg.elf_path) return usage();
@@ -61,6 +64,15 @@ int main(int argc, char **argv) {
             "HCLK %.3f MHz, %u resets\n", board_time_s(b), w, board_time_s(b) / (w > 0 ? w : 1e-9),
             (unsigned long long)board_instructions(b), (double)board_instructions(b) / (w > 0 ? w : 1e-9) / 1e6,
             board_core_hz(b) / 1e6, board_resets(b));
+  for (int i = 0; i < npeek; i++) { /* a 32-bit word at a symbol after the run */
+    char name[128];
+    snprintf(name, sizeof name, "%s", peek[i]);
+    char *plus = strchr(name, '+');
+    uint32_t off = 0, v = 0;
+    if (plus) { *plus = 0; off = (uint32_t)strtoul(plus + 1, NULL, 0); }
+    if (board_read_symbol(b, name, off, &v) == 0) printf("%s = 0x%08X (%u)\n", peek[i], v, v);
+    else { fprintf(stderr, "dtc-board: no symbol %s\n", name); rc = rc ? rc : 2; }
+  }
   if (pins && rc == 0) {
     pinmap_row rows[128];
     int n = pinmap_parse(pins, rows, 128, err, sizeof err);

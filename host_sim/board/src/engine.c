@@ -107,6 +107,7 @@ typedef struct {
 
 /* Modelled peripherals and their clock gates (RM0440 §7.4.16-7.4.22). */
 static const periph_slot k_slots[] = {
+  {0x40001000u, "TIM6", 4, 4},        /* APB1ENR1.TIM6EN */
   {0x40003000u, "IWDG", -1, 0},       /* clocked by LSI, no enable bit */
   {0x40007000u, "PWR", 4, 28},        /* APB1ENR1.PWREN */
   {0x40021000u, "RCC", -1, 0},
@@ -137,6 +138,7 @@ static uint32_t periph_read32(board *b, const periph_slot *s, uint32_t off) {
   if (s->base == 0x40007000u) return pwr_read(b, off);
   if (s->base == 0x40022000u) return flash_read(b, off);
   if (s->base == 0x40003000u) return iwdg_read(b, off);
+  if (s->base == 0x40001000u) return tim6_read(b, off);
   return gpio_read(b, (int)((s->base - 0x48000000u) / 0x400u), off);
 }
 
@@ -170,6 +172,7 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   } else if (s->base == 0x40021000u) rcc_write(b, off, v);
   else if (s->base == 0x40007000u) pwr_write(b, off, v);
   else if (s->base == 0x40022000u) flash_write(b, off, v);
+  else if (s->base == 0x40001000u) tim6_write(b, off, v);
   else iwdg_write(b, off, v);
   /* a write may schedule an event (oscillator ready, watchdog, flash busy) or pend an
    * interrupt: recompute the slice from the next instruction */
@@ -226,6 +229,7 @@ static void system_reset(board *b, bool power_on) {
   flash_reset(b);
   gpio_reset(b);
   iwdg_reset(b);
+  tim6_reset(b);
   scs_reset(b);
   b->sleeping = false;
   b->reset_request = false;
@@ -342,11 +346,14 @@ static void process_events(board *b) {
   rcc_event(b);
   flash_event(b);
   iwdg_event(b);
+  tim6_event(b);
 }
 
 static uint64_t next_event(board *b, double t_end) {
   uint64_t n = cycles_at(b, t_end);
   uint64_t s = scs_next_event(b);
+  if (s < n) n = s;
+  s = tim6_next_event(b);
   if (s < n) n = s;
   double t = rcc_next_event(b);
   double f = flash_next_event(b), w = iwdg_next_event(b);
