@@ -125,6 +125,7 @@ void board_fault(board *b, const char *fmt, ...) __attribute__((format(printf, 2
 const char *board_func_name(const board *b, uint32_t addr);
 void board_request_reset(board *b, uint32_t csr_flags);
 void board_end_slice(board *b);
+void board_reschedule(board *b); /* a model's next event may have moved earlier */
 void board_flash_update(board *b, uint32_t off, uint32_t len); /* shadow -> emulator */
 void board_clock_changed(board *b); /* HCLK may have changed */
 

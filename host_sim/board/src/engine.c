@@ -174,9 +174,10 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   else if (s->base == 0x40022000u) flash_write(b, off, v);
   else if (s->base == 0x40001000u) tim6_write(b, off, v);
   else iwdg_write(b, off, v);
-  /* a write may schedule an event (oscillator ready, watchdog, flash busy) or pend an
-   * interrupt: recompute the slice from the next instruction */
-  board_end_slice(b);
+  /* A write may schedule an earlier event (oscillator ready, flash busy, timer): shorten the
+   * slice to it. Interrupts pended by models end the slice themselves (scs_set_pending).
+   * Not ending every slice here keeps frequent writes (watchdog refresh) cheap. */
+  board_reschedule(b);
 }
 
 static uint64_t mmio_ppb_read(uc_engine *uc, uint64_t offset, unsigned size, void *u) {
@@ -364,6 +365,11 @@ static uint64_t next_event(board *b, double t_end) {
     if (c < n) n = c;
   }
   return n;
+}
+
+void board_reschedule(board *b) {
+  uint64_t n = next_event(b, INFINITY);
+  if (n < b->limit) b->limit = n > b->cycles ? n : b->cycles;
 }
 
 static void handle_stop(board *b, uc_err e) {

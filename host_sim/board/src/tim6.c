@@ -66,7 +66,8 @@ static void update_event(board *b, bool set_uif) {
 
 static void irq_line(board *b) {
   tim6_state *t = &b->tim6;
-  if ((t->sr & 1u) && (t->dier & 1u) && !b->scs.active[16 + TIM6_IRQ]) b->scs.pending[16 + TIM6_IRQ] = 1;
+  if ((t->sr & 1u) && (t->dier & 1u) && !b->scs.active[16 + TIM6_IRQ] && !b->scs.pending[16 + TIM6_IRQ])
+    scs_set_pending(b, 16 + TIM6_IRQ);
 }
 
 uint64_t tim6_next_event(board *b) { return b->tim6.next_update; }
