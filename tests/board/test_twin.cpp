@@ -231,6 +231,8 @@ TEST(twin, clock_mistakes_are_refused) {
     {"clock3", "VCO 360.000 MHz"},
     {"clock4", "PLLR output 172.000 MHz"},
     {"clock5", "before the source is ready"},
+    {"clock6", "above 80 MHz switch with HPRE=/2 first"},
+    {"clock7", "RM0440 asks for at least 1 us"},
   };
   for (const auto &c : cases) {
     Outcome r = run(c.img);

@@ -45,6 +45,7 @@ typedef struct {
   uint32_t smenr[7];  /* AHB1SMENR..APB2SMENR at 0x68..0x80 */
   uint32_t ccipr, bdcr, csr, crrcr, ccipr2;
   double hse_ready_t, hsi_ready_t, pll_ready_t, lsi_ready_t; /* <0: not starting */
+  double hclk_changed_t;
   uint32_t csr_flags_at_reset; /* reset flags survive a system reset (RM0440 §7.4.29) */
 } rcc_state;
 

@@ -169,11 +169,28 @@ static void write_cfgr(board *b, uint32_t v) {
   if (sw == 3 && !(r->pllcfgr & (1u << 24))) { board_fault(b, "RCC_CFGR.SW=PLL with PLLCFGR.PLLREN=0"); return; }
   /* evaluate the new HCLK before it takes effect */
   uint32_t old = r->cfgr;
+  double hclk_old = rcc_hclk_hz(b);
   r->cfgr = (v & ~0xCu) | (sw << 2);
   double hclk = rcc_hclk_hz(b);
   r->cfgr = old;
   rcc_check_clocking(b, hclk, "RCC_CFGR clock switch");
   if (b->fault) return;
+  /* RM0440 (RCC, system clock switch): going above 80 MHz needs an intermediate step with the
+   * AHB prescaler at /2 held for at least 1 us, so the regulator absorbs the load step. */
+  double now = board_now(b);
+  if (hclk > 80e6 + 1.0 && hclk > hclk_old) {
+    if (hclk_old <= 80e6 + 1.0 && ((v >> 4) & 0xFu) < 8u) {
+      board_fault(b, "RCC_CFGR: HCLK from %.3f to %.3f MHz at once; above 80 MHz switch with HPRE=/2 first",
+                  hclk_old / 1e6, hclk / 1e6);
+      return;
+    }
+    if (hclk_old > 80e6 + 1.0 && now - r->hclk_changed_t < 1e-6) {
+      board_fault(b, "RCC_CFGR: HPRE /2 -> /1 %.3f us after the switch; RM0440 asks for at least 1 us",
+                  (now - r->hclk_changed_t) * 1e6);
+      return;
+    }
+  }
+  if (hclk != hclk_old) r->hclk_changed_t = now;
   r->cfgr = (v & ~0xCu) | (sw << 2); /* SWS follows at once */
   board_clock_changed(b);
 }
