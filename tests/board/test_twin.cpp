@@ -114,6 +114,36 @@ TEST(twin, tim6_update_interrupt_period_and_urs) {
   EXPECT_EQ(r.r[4], 1u);
 }
 
+TEST(twin, hrtim_pwm_with_dead_time_and_fault) {
+  board *b = nullptr;
+  Outcome r = run("hrtim", 1.0, nullptr, &b);
+  EXPECT_EXITED(r);
+  EXPECT_EQ(r.r[0], 3u) << "OENR reads the enabled outputs";
+  EXPECT_EQ(r.r[1], 20u) << "REP interrupts";
+  // sample one 10 us period in 10 ns steps
+  double t0 = r.t + 1e-6, dt = 10e-9;
+  int high1 = 0, high2 = 0, both = 0;
+  for (int i = 0; i < 1000; i++) {
+    int a = board_hrtim_output(b, 0, 0, t0 + i * dt), c = board_hrtim_output(b, 0, 1, t0 + i * dt);
+    high1 += a == 1;
+    high2 += c == 1;
+    both += a == 1 && c == 1;
+  }
+  EXPECT_NEAR(high1, 150, 2) << "TA1: 2.5 us on minus 1 us rising dead time";
+  EXPECT_NEAR(high2, 650, 2) << "TA2: 7.5 us on minus 1 us dead time";
+  EXPECT_EQ(both, 0) << "shoot-through";
+  board_hrtim_fault(b, 2, 1);  // FLT2 is not enabled in FLTINR2: no effect
+  int on = 0;
+  for (int i = 0; i < 1000; i++) on += board_hrtim_output(b, 0, 0, t0 + i * dt) == 1;
+  EXPECT_NEAR(on, 150, 2);
+  board_hrtim_fault(b, 1, 1);  // FLT1: both outputs to their FAULT state (inactive)
+  on = 0;
+  for (int i = 0; i < 1000; i++)
+    on += (board_hrtim_output(b, 0, 0, t0 + i * dt) != 0) + (board_hrtim_output(b, 0, 1, t0 + i * dt) != 0);
+  EXPECT_EQ(on, 0);
+  board_close(b);
+}
+
 TEST(twin, idle_loop_runs_fast) {
   board *b = nullptr;
   auto t0 = std::chrono::steady_clock::now();
@@ -148,8 +178,8 @@ TEST(twin, unmapped_access_names_pc_and_function) {
 TEST(twin, unmodelled_peripheral_and_unclocked_access_stop) {
   Outcome r = run("strict2");
   ASSERT_EQ(r.status, BOARD_FAULT);
-  EXPECT_NE(r.message.find("unmodelled peripheral HRTIM_Master"), std::string::npos) << r.message;
-  EXPECT_NE(r.message.find("tb_hrtim_read"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("unmodelled peripheral FDCAN1"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("tb_fdcan_read"), std::string::npos) << r.message;
   Outcome g = run("strict3");
   ASSERT_EQ(g.status, BOARD_FAULT);
   EXPECT_NE(g.message.find("GPIOA"), std::string::npos) << g.message;

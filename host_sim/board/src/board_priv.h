@@ -87,6 +87,19 @@ typedef struct {
   uint64_t base, next_update;
 } tim6_state;
 
+typedef struct {
+  uint32_t cr, isr, dier, per, rep, cmp[4], dt, set[2], rst[2], outr, flt;
+  int sw_level[2];      /* level from software set/reset (SST/SRT), and before any event */
+  double start_t, next_rep_t;
+} hrtim_timer;
+
+typedef struct {
+  uint32_t mcr, mper, isr, oen, dllcr, fltinr1, fltinr2;
+  uint8_t faulted[12];
+  double dll_ready_t;
+  hrtim_timer t[6];
+} hrtim_state;
+
 struct board {
   board_config cfg;
   uc_engine *uc;
@@ -118,6 +131,7 @@ struct board {
   gpio_port gpio[7];
   iwdg_state iwdg;
   tim6_state tim6;
+  hrtim_state hr;
 };
 
 /* engine.c */
@@ -189,6 +203,12 @@ uint32_t tim6_read(board *b, uint32_t off);
 void tim6_write(board *b, uint32_t off, uint32_t v);
 uint64_t tim6_next_event(board *b);
 void tim6_event(board *b);
+
+void hrtim_reset(board *b);
+uint32_t hrtim_read(board *b, uint32_t off);
+void hrtim_write(board *b, uint32_t off, uint32_t v);
+double hrtim_next_event(board *b);
+void hrtim_event(board *b);
 
 /* semihost.c: BKPT 0xAB. 0 handled, -1 fault raised. */
 int semihost_call(board *b);

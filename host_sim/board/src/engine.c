@@ -110,6 +110,7 @@ static const periph_slot k_slots[] = {
   {0x40001000u, "TIM6", 4, 4},        /* APB1ENR1.TIM6EN */
   {0x40003000u, "IWDG", -1, 0},       /* clocked by LSI, no enable bit */
   {0x40007000u, "PWR", 4, 28},        /* APB1ENR1.PWREN */
+  {0x40016800u, "HRTIM", 6, 26},      /* APB2ENR.HRTIM1EN; master, timers A-F, common */
   {0x40021000u, "RCC", -1, 0},
   {0x40022000u, "FLASH", 0, 8},       /* AHB1ENR.FLASHEN (set at reset) */
   {0x48000000u, "GPIOA", 1, 0}, {0x48000400u, "GPIOB", 1, 1}, {0x48000800u, "GPIOC", 1, 2},
@@ -119,7 +120,8 @@ static const periph_slot k_slots[] = {
 
 static const periph_slot *find_slot(board *b, uint32_t addr, bool write) {
   for (size_t i = 0; i < sizeof k_slots / sizeof k_slots[0]; i++) {
-    if (addr - k_slots[i].base < 0x400u) {
+    uint32_t size = k_slots[i].base == 0x40016800u ? 0x800u : 0x400u; /* HRTIM spans 2 KiB */
+    if (addr - k_slots[i].base < size) {
       const periph_slot *s = &k_slots[i];
       if (s->enr >= 0 && !rcc_clock_enabled(b, s->enr, s->bit)) {
         board_fault(b, "%s of %s register 0x%08X while its clock is disabled in RCC", write ? "write" : "read",
@@ -139,6 +141,7 @@ static uint32_t periph_read32(board *b, const periph_slot *s, uint32_t off) {
   if (s->base == 0x40022000u) return flash_read(b, off);
   if (s->base == 0x40003000u) return iwdg_read(b, off);
   if (s->base == 0x40001000u) return tim6_read(b, off);
+  if (s->base == 0x40016800u) return hrtim_read(b, off);
   return gpio_read(b, (int)((s->base - 0x48000000u) / 0x400u), off);
 }
 
@@ -173,6 +176,7 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   else if (s->base == 0x40007000u) pwr_write(b, off, v);
   else if (s->base == 0x40022000u) flash_write(b, off, v);
   else if (s->base == 0x40001000u) tim6_write(b, off, v);
+  else if (s->base == 0x40016800u) hrtim_write(b, off, v);
   else iwdg_write(b, off, v);
   /* A write may schedule an earlier event (oscillator ready, flash busy, timer): shorten the
    * slice to it. Interrupts pended by models end the slice themselves (scs_set_pending).
@@ -231,6 +235,7 @@ static void system_reset(board *b, bool power_on) {
   gpio_reset(b);
   iwdg_reset(b);
   tim6_reset(b);
+  hrtim_reset(b);
   scs_reset(b);
   b->sleeping = false;
   b->reset_request = false;
@@ -348,6 +353,7 @@ static void process_events(board *b) {
   flash_event(b);
   iwdg_event(b);
   tim6_event(b);
+  hrtim_event(b);
 }
 
 static uint64_t next_event(board *b, double t_end) {
@@ -357,8 +363,9 @@ static uint64_t next_event(board *b, double t_end) {
   s = tim6_next_event(b);
   if (s < n) n = s;
   double t = rcc_next_event(b);
-  double f = flash_next_event(b), w = iwdg_next_event(b);
+  double f = flash_next_event(b), w = iwdg_next_event(b), h = hrtim_next_event(b);
   if (f < t) t = f;
+  if (h < t) t = h;
   if (w < t) t = w;
   if (t < INFINITY) {
     uint64_t c = cycles_at(b, t);

@@ -55,6 +55,12 @@ typedef struct {
 } board_pin;
 size_t board_pins(const board *b, board_pin *out, size_t max);
 
+/* HRTIM output `out` (0: TxI1, 1: TxI2) of timer 0-5 (A-F) at virtual time t: 0/1 pin level,
+ * -1 high impedance. For the plant binding and tests. */
+int board_hrtim_output(board *b, int timer, int out, double t);
+/* A fault input FLT1-6 becoming active (already filtered and polarity-resolved). */
+void board_hrtim_fault(board *b, int n, int active);
+
 #ifdef __cplusplus
 }
 #endif
