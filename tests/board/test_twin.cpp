@@ -144,6 +144,33 @@ TEST(twin, hrtim_pwm_with_dead_time_and_fault) {
   board_close(b);
 }
 
+TEST(twin, adc_power_up_and_injected_conversions) {
+  board_config cfg;
+  board_config_default(&cfg);
+  std::string path = image("adc");
+  cfg.elf_path = path.c_str();
+  char err[256];
+  board *b = board_open(&cfg, err, sizeof err);
+  ASSERT_NE(b, nullptr) << err;
+  board_set_adc_source(b, [](void *, int adc, int ch, double) { return 100 * adc + ch; }, nullptr);
+  ASSERT_EQ(board_run(b, 1.0), BOARD_EXITED) << board_message(b);
+  uint32_t r[4];
+  for (uint32_t i = 0; i < 4; i++) board_read_symbol(b, "tb_result", 4 * i, &r[i]);
+  EXPECT_EQ(r[1], 101u);
+  EXPECT_EQ(r[2], 105u);
+  EXPECT_EQ(r[3], 0u);
+  // (12.5 + 12.5) + (2.5 + 12.5) ADC clocks at 8 MHz = 80 core clocks at 16 MHz, plus polling
+  EXPECT_GE(r[0], 80u);
+  EXPECT_LE(r[0], 100u);
+  board_close(b);
+  Outcome u = run("adc1");
+  ASSERT_EQ(u.status, BOARD_FAULT);
+  EXPECT_NE(u.message.find("without a calibration"), std::string::npos) << u.message;
+  Outcome d = run("adc2");
+  ASSERT_EQ(d.status, BOARD_FAULT);
+  EXPECT_NE(d.message.find("DEEPPWD=1"), std::string::npos) << d.message;
+}
+
 TEST(twin, idle_loop_runs_fast) {
   board *b = nullptr;
   auto t0 = std::chrono::steady_clock::now();

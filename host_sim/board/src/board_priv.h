@@ -100,6 +100,19 @@ typedef struct {
   hrtim_timer t[6];
 } hrtim_state;
 
+typedef struct {
+  uint32_t isr, ier, cr, cfgr, cfgr2, smpr[2], tr[3], jsqr, jdr[4], difsel, calfact;
+  bool calibrated;
+  double vreg_t, cal_done_t, rdy_t, jdone_t; /* ADVREGEN time; events, <0: none */
+} adc_unit;
+
+typedef struct {
+  adc_unit u[2];
+  uint32_t ccr;
+  board_adc_source source;
+  void *ctx;
+} adc_state;
+
 struct board {
   board_config cfg;
   uc_engine *uc;
@@ -132,6 +145,7 @@ struct board {
   iwdg_state iwdg;
   tim6_state tim6;
   hrtim_state hr;
+  adc_state adc;
 };
 
 /* engine.c */
@@ -209,6 +223,12 @@ uint32_t hrtim_read(board *b, uint32_t off);
 void hrtim_write(board *b, uint32_t off, uint32_t v);
 double hrtim_next_event(board *b);
 void hrtim_event(board *b);
+
+void adc_reset(board *b);
+uint32_t adc_read(board *b, uint32_t off);
+void adc_write(board *b, uint32_t off, uint32_t v);
+double adc_next_event(board *b);
+void adc_event(board *b);
 
 /* semihost.c: BKPT 0xAB. 0 handled, -1 fault raised. */
 int semihost_call(board *b);

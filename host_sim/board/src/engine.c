@@ -116,6 +116,7 @@ static const periph_slot k_slots[] = {
   {0x48000000u, "GPIOA", 1, 0}, {0x48000400u, "GPIOB", 1, 1}, {0x48000800u, "GPIOC", 1, 2},
   {0x48000C00u, "GPIOD", 1, 3}, {0x48001000u, "GPIOE", 1, 4}, {0x48001400u, "GPIOF", 1, 5},
   {0x48001800u, "GPIOG", 1, 6},
+  {0x50000000u, "ADC12", 1, 13},      /* AHB2ENR.ADC12EN: ADC1, ADC2 and their common registers */
 };
 
 static const periph_slot *find_slot(board *b, uint32_t addr, bool write) {
@@ -142,6 +143,7 @@ static uint32_t periph_read32(board *b, const periph_slot *s, uint32_t off) {
   if (s->base == 0x40003000u) return iwdg_read(b, off);
   if (s->base == 0x40001000u) return tim6_read(b, off);
   if (s->base == 0x40016800u) return hrtim_read(b, off);
+  if (s->base == 0x50000000u) return adc_read(b, off);
   return gpio_read(b, (int)((s->base - 0x48000000u) / 0x400u), off);
 }
 
@@ -165,7 +167,7 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   if (!s) return;
   uint32_t off = (addr - s->base) & ~3u;
   uint32_t v = (uint32_t)value;
-  if (s->base >= 0x48000000u) { /* GPIO: byte, half-word and word access (RM0440 §9.4) */
+  if (s->base >= 0x48000000u && s->base < 0x50000000u) { /* GPIO: byte, half-word and word access (RM0440 §9.4) */
     unsigned sh = (addr & 3u) * 8u;
     uint32_t mask = size >= 4 ? 0xFFFFFFFFu : ((1u << (size * 8)) - 1u) << sh;
     gpio_write(b, (int)((s->base - 0x48000000u) / 0x400u), off, v << sh, mask);
@@ -177,6 +179,7 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   else if (s->base == 0x40022000u) flash_write(b, off, v);
   else if (s->base == 0x40001000u) tim6_write(b, off, v);
   else if (s->base == 0x40016800u) hrtim_write(b, off, v);
+  else if (s->base == 0x50000000u) adc_write(b, off, v);
   else iwdg_write(b, off, v);
   /* A write may schedule an earlier event (oscillator ready, flash busy, timer): shorten the
    * slice to it. Interrupts pended by models end the slice themselves (scs_set_pending).
@@ -236,6 +239,7 @@ static void system_reset(board *b, bool power_on) {
   iwdg_reset(b);
   tim6_reset(b);
   hrtim_reset(b);
+  adc_reset(b);
   scs_reset(b);
   b->sleeping = false;
   b->reset_request = false;
@@ -354,6 +358,7 @@ static void process_events(board *b) {
   iwdg_event(b);
   tim6_event(b);
   hrtim_event(b);
+  adc_event(b);
 }
 
 static uint64_t next_event(board *b, double t_end) {
@@ -365,6 +370,8 @@ static uint64_t next_event(board *b, double t_end) {
   double t = rcc_next_event(b);
   double f = flash_next_event(b), w = iwdg_next_event(b), h = hrtim_next_event(b);
   if (f < t) t = f;
+  if (h < t) t = h;
+  h = adc_next_event(b);
   if (h < t) t = h;
   if (w < t) t = w;
   if (t < INFINITY) {

@@ -58,6 +58,10 @@ size_t board_pins(const board *b, board_pin *out, size_t max);
 /* HRTIM output `out` (0: TxI1, 1: TxI2) of timer 0-5 (A-F) at virtual time t: 0/1 pin level,
  * -1 high impedance. For the plant binding and tests. */
 int board_hrtim_output(board *b, int timer, int out, double t);
+/* The value an ADC converts: adc 1 or 2, channel 0-18, at virtual time t; a 12-bit code. */
+typedef int (*board_adc_source)(void *ctx, int adc, int channel, double t);
+void board_set_adc_source(board *b, board_adc_source fn, void *ctx);
+
 /* A fault input FLT1-6 becoming active (already filtered and polarity-resolved). */
 void board_hrtim_fault(board *b, int n, int active);
 
