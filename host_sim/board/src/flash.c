@@ -137,7 +137,8 @@ static void write_cr(board *b, uint32_t v) {
   }
   if (v & (CR_OPTSTRT | CR_FSTPG)) { board_fault(b, "FLASH_CR: option-byte and fast programming are not modelled"); return; }
   if (b->fl.op != OP_NONE) complete_op(b); /* the CPU stalls on a busy flash */
-  f->cr = v & 0xFF07BFFFu;
+  /* OPTLOCK is cleared only by the OPTKEYR sequence, LOCK only by KEYR: software can set them */
+  f->cr = (v & 0x3F07BFFFu) | (v & (CR_LOCK | CR_OPTLOCK)) | (f->cr & CR_OPTLOCK);
   if (v & CR_STRT) {
     uint32_t ops = (v & CR_PER ? 1u : 0u) + (v & (CR_MER1 | CR_MER2) ? 1u : 0u) + (v & CR_PG ? 1u : 0u);
     if (ops != 1 || (v & CR_PG) || (f->sr & SR_ERRS)) { f->sr |= SR_PGSERR; f->cr &= ~CR_STRT; return; }
