@@ -304,6 +304,13 @@ TEST(twin, gpio_configuration_against_a_board_table) {
   EXPECT_EXITED(r);
   EXPECT_EQ(r.r[0], 1u) << "PA9 output high read back through IDR";
   EXPECT_EQ(r.r[1], 1u) << "PC13 pull-up";
+  EXPECT_EQ(r.r[2], (1u << 16) | (1u << 8)) << "LCKR: LCKK set after the key sequence";
+  Outcome locked = run("gpio1");
+  ASSERT_EQ(locked.status, BOARD_FAULT);
+  EXPECT_NE(locked.message.find("locked by LCKR"), std::string::npos) << locked.message;
+  Outcome key = run("gpio2");
+  ASSERT_EQ(key.status, BOARD_FAULT);
+  EXPECT_NE(key.message.find("without VECTKEY"), std::string::npos) << key.message;
   board_pin pins[7 * 16];
   size_t np = board_pins(b, pins, 7 * 16);
   auto check = [&](const char *table) {
