@@ -272,6 +272,7 @@ TEST(twin, iwdg_expiry_resets_and_sets_iwdgrstf) {
   EXPECT_TRUE(r.r[0] & (1u << 26)) << "PINRSTF";
   EXPECT_FALSE(r.r[0] & (1u << 27)) << "BORRSTF was cleared by RMVF before the watchdog reset";
   EXPECT_NEAR(r.t, 0.1, 0.005);
+  EXPECT_EQ(r.r[2], 0u) << "SRAM not reset by the watchdog reset";
 }
 
 TEST(twin, pll_to_170_mhz_with_boost_and_wait_states) {
