@@ -144,6 +144,24 @@ TEST(twin, hrtim_pwm_with_dead_time_and_fault) {
   board_close(b);
 }
 
+TEST(twin, hrtim_master_sources_and_preload) {
+  board *b = nullptr;
+  Outcome r = run("hrtim_mst", 1.0, nullptr, &b);
+  EXPECT_EXITED(r);
+  EXPECT_EQ(r.r[0], 12u);
+  EXPECT_EQ(r.r[1], 6u) << "master REP every 20 us while timer A counted 12 periods of 10 us";
+  EXPECT_EQ(r.r[2], 120u) << "CMP1 reads the preload register";
+  double t0 = r.t + 1e-6, dt = 10e-9;
+  int a = 0, bb = 0;
+  for (int i = 0; i < 2000; i++) {
+    a += board_hrtim_output(b, 0, 0, t0 + i * dt) == 1;
+    bb += board_hrtim_output(b, 1, 0, t0 + i * dt) == 1;
+  }
+  EXPECT_NEAR(a, 1500, 3) << "TA1 at 75 % once the preloaded CMP1 is active";
+  EXPECT_NEAR(bb, 500, 3) << "TB1 set by MSTPER, reset by MSTCMP1: 25 % of 20 us";
+  board_close(b);
+}
+
 TEST(twin, adc_power_up_and_injected_conversions) {
   board_config cfg;
   board_config_default(&cfg);

@@ -89,15 +89,18 @@ typedef struct {
 
 typedef struct {
   uint32_t cr, isr, dier, per, rep, cmp[4], dt, set[2], rst[2], outr, flt;
+  uint32_t pre_per, pre_cmp[4], pre_rep; /* preload registers (PREEN) */
+  bool preload_pending;
   int sw_level[2];      /* level from software set/reset (SST/SRT), and before any event */
+  double sw_t[2];       /* time of the last SST/SRT */
   double start_t, next_rep_t;
 } hrtim_timer;
 
 typedef struct {
-  uint32_t mcr, mper, isr, oen, dllcr, fltinr1, fltinr2;
+  uint32_t mcr, isr, oen, dllcr, fltinr1, fltinr2;
   uint8_t faulted[12];
   double dll_ready_t;
-  hrtim_timer t[6];
+  hrtim_timer t[7];     /* A-F, then the master timer */
 } hrtim_state;
 
 typedef struct {

@@ -45,10 +45,11 @@ void IRQ1_Handler(void) WEAK;
 void IRQ2_Handler(void) WEAK;
 void TIM6_Handler(void) WEAK;
 void HRTIM_TIMA_Handler(void) WEAK;
+void HRTIM_Master_Handler(void) WEAK;
 
 __attribute__((section(".isr_vector"), used)) void (*const tb_vectors[16 + 102])(void) = {
   (void (*)(void))_estack, Reset_Handler, NMI_Handler, HardFault_Handler,
   [4 ... 13] = Default_Handler, [14] = PendSV_Handler, [15] = SysTick_Handler,
-  [16] = IRQ0_Handler, [17] = IRQ1_Handler, [18] = IRQ2_Handler, [19 ... 69] = Default_Handler, [16 + 54] = TIM6_Handler, [71 ... 83] = Default_Handler, [16 + 68] = HRTIM_TIMA_Handler,
+  [16] = IRQ0_Handler, [17] = IRQ1_Handler, [18] = IRQ2_Handler, [19 ... 69] = Default_Handler, [16 + 54] = TIM6_Handler, [71 ... 82] = Default_Handler, [16 + 67] = HRTIM_Master_Handler, [16 + 68] = HRTIM_TIMA_Handler,
   [85 ... 117] = Default_Handler,
 };
