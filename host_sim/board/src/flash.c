@@ -1,0 +1,253 @@
+/* Flash interface, RM0440 §5: wait states against HCLK (§5.3.3), the KEYR unlock sequence
+ * and its lock-out (§5.3.5), double-word programming (§5.3.7) and page/bank erase (§5.3.6)
+ * with the status flags, in dual-bank mode (OPTR.DBANK=1, the factory setting: two banks of
+ * 128 pages of 2 KiB).
+ *
+ * NVM persistence: every 2 KiB page the firmware erases or programs is marked dirty and
+ * saved to --nvm FILE (after each completed operation and at reset/close); at start-up the
+ * saved pages are laid over the freshly loaded ELF. So whatever pages the firmware uses as
+ * NVM persist, without the twin knowing which ones they are. File: "DTCNVM01", then
+ * records {uint32 LE global page index 0..255, 2048 bytes}. */
+#include "board_priv.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PAGE 2048u
+#define BANK_SIZE (256u * 1024u)
+#define KEY1 0x45670123u
+#define KEY2 0xCDEF89ABu
+#define T_PROG_S 82e-6   /* double-word programming time, order of the datasheet's typical */
+#define T_ERASE_S 22e-3  /* page erase */
+#define T_MASS_S 23e-3
+
+#define SR_EOP (1u << 0)
+#define SR_OPERR (1u << 1)
+#define SR_PROGERR (1u << 3)
+#define SR_WRPERR (1u << 4)
+#define SR_PGAERR (1u << 5)
+#define SR_SIZERR (1u << 6)
+#define SR_PGSERR (1u << 7)
+#define SR_MISSERR (1u << 8)
+#define SR_FASTERR (1u << 9)
+#define SR_ERRS (SR_PROGERR | SR_WRPERR | SR_PGAERR | SR_SIZERR | SR_PGSERR | SR_MISSERR | SR_FASTERR)
+#define SR_BSY (1u << 16)
+#define CR_PG (1u << 0)
+#define CR_PER (1u << 1)
+#define CR_MER1 (1u << 2)
+#define CR_BKER (1u << 11)
+#define CR_MER2 (1u << 15)
+#define CR_STRT (1u << 16)
+#define CR_OPTSTRT (1u << 17)
+#define CR_FSTPG (1u << 18)
+#define CR_EOPIE (1u << 24)
+#define CR_OPTLOCK (1u << 30)
+#define CR_LOCK (1u << 31)
+
+/* pending operation completed at busy_until */
+enum { OP_NONE, OP_PROG, OP_ERASE, OP_MASS };
+
+void flash_reset(board *b) {
+  flash_state *f = &b->fl;
+  uint8_t dirty[256];
+  memcpy(dirty, f->dirty, sizeof dirty); /* persistence bookkeeping survives resets */
+  memset(f, 0, sizeof *f);
+  memcpy(f->dirty, dirty, sizeof dirty);
+  f->acr = 0x00040600u; /* SVD: 0x00040601; RM0440 §5.7.1 gives LATENCY=0 at reset (HSI16 needs 0 WS) */
+  f->cr = CR_LOCK | CR_OPTLOCK;
+  f->busy_until = -1;
+  b->fl.op = OP_NONE;
+}
+
+/* RM0440 §5.3.3 Table 29: HCLK limit per wait state. */
+double flash_max_hclk(const board *b, uint32_t lat) {
+  double step, top;
+  if (pwr_range(b) == 2) {
+    static const double r2[3] = {12e6, 24e6, 26e6};
+    return lat >= 2 ? r2[2] : r2[lat];
+  }
+  if (pwr_boost(b)) { step = 34e6; top = 170e6; }
+  else { step = 30e6; top = 150e6; }
+  double m = step * (double)(lat + 1u);
+  return m > top ? top : m;
+}
+
+static void bus_error(board *b) {
+  /* an imprecise bus error: BusFault if enabled, else escalated to HardFault (B1.5.13) */
+  b->scs.cfsr |= 1u << 10; /* BFSR.IMPRECISERR */
+  if (b->scs.shcsr & (1u << 17)) scs_set_pending(b, 5);
+  else { b->scs.hfsr |= 1u << 30; scs_set_pending(b, 3); }
+}
+
+uint32_t flash_read(board *b, uint32_t off) {
+  flash_state *f = &b->fl;
+  double now = board_now(b);
+  switch (off) {
+  case 0x00: return f->acr;
+  case 0x10: return f->sr | (f->busy_until >= now ? SR_BSY : 0u);
+  case 0x14: return f->cr;
+  case 0x18: return f->eccr;
+  case 0x20: return 0xFFEFF8AAu; /* OPTR factory value: RDP level 0, DBANK=1, nBOOT0=1 */
+  case 0x24: case 0x44: return 0xFFFF0000u;
+  case 0x28: case 0x48: return 0;
+  case 0x2C: case 0x30: case 0x4C: case 0x50: return 0x000000FFu; /* WRP areas empty (start > end) */
+  case 0x70: return 0xFFF0FF00u;
+  case 0x74: return 0xFFFFFF00u;
+  case 0x04: case 0x08: case 0x0C: return 0;
+  }
+  board_fault(b, "read of reserved FLASH offset 0x%02X", off);
+  return 0;
+}
+
+static void start_op(board *b, int op, uint32_t off, uint32_t len, double dt) {
+  b->fl.op = op;
+  b->fl.op_off = off;
+  b->fl.op_len = len;
+  b->fl.busy_until = board_now(b) + dt;
+}
+
+static void complete_op(board *b) {
+  flash_state *f = &b->fl;
+  if (b->fl.op == OP_NONE) return;
+  if (b->fl.op == OP_PROG) {
+    memcpy(b->flash + b->fl.op_off, &b->fl.op_w0, 4);
+    memcpy(b->flash + b->fl.op_off + 4, &b->fl.op_w1, 4);
+  } else {
+    memset(b->flash + b->fl.op_off, 0xFF, b->fl.op_len);
+  }
+  for (uint32_t p = b->fl.op_off / PAGE; p <= (b->fl.op_off + b->fl.op_len - 1) / PAGE; p++) f->dirty[p] = 1;
+  board_flash_update(b, b->fl.op_off, b->fl.op_len);
+  if (f->cr & CR_EOPIE) f->sr |= SR_EOP; /* EOP only with EOPIE (§5.7.5) */
+  f->cr &= ~CR_STRT;
+  b->fl.op = OP_NONE;
+  f->busy_until = -1;
+  if (b->cfg.nvm_path) flash_nvm_save(b);
+}
+
+double flash_next_event(board *b) { return b->fl.op != OP_NONE ? b->fl.busy_until : INFINITY; }
+void flash_event(board *b) {
+  if (b->fl.op != OP_NONE && board_now(b) >= b->fl.busy_until) complete_op(b);
+}
+
+static void write_cr(board *b, uint32_t v) {
+  flash_state *f = &b->fl;
+  if (f->cr & CR_LOCK) {
+    board_fault(b, "FLASH_CR 0x%08X written while LOCK=1: the write is ignored by the hardware (RM0440 §5.3.5)", v);
+    return;
+  }
+  if (v & (CR_OPTSTRT | CR_FSTPG)) { board_fault(b, "FLASH_CR: option-byte and fast programming are not modelled"); return; }
+  if (b->fl.op != OP_NONE) complete_op(b); /* the CPU stalls on a busy flash */
+  /* OPTLOCK is cleared only by the OPTKEYR sequence, LOCK only by KEYR: software can set them */
+  f->cr = (v & 0x3F07BFFFu) | (v & (CR_LOCK | CR_OPTLOCK)) | (f->cr & CR_OPTLOCK);
+  if (v & CR_STRT) {
+    uint32_t ops = (v & CR_PER ? 1u : 0u) + (v & (CR_MER1 | CR_MER2) ? 1u : 0u) + (v & CR_PG ? 1u : 0u);
+    if (ops != 1 || (v & CR_PG) || (f->sr & SR_ERRS)) { f->sr |= SR_PGSERR; f->cr &= ~CR_STRT; return; }
+    if (v & CR_PER) {
+      uint32_t page = (v >> 3) & 0x7Fu, bank = (v & CR_BKER) ? 1u : 0u;
+      start_op(b, OP_ERASE, bank * BANK_SIZE + page * PAGE, PAGE, T_ERASE_S);
+    } else {
+      uint32_t from = (v & CR_MER1) ? 0u : BANK_SIZE, to = (v & CR_MER2) ? 2u * BANK_SIZE : BANK_SIZE;
+      start_op(b, OP_MASS, from, to - from, T_MASS_S);
+    }
+  }
+}
+
+void flash_write(board *b, uint32_t off, uint32_t v) {
+  flash_state *f = &b->fl;
+  switch (off) {
+  case 0x00: {
+    uint32_t lat = v & 0xFu;
+    if (v & ~0x00047F0Fu) { board_fault(b, "FLASH_ACR 0x%08X writes reserved bits", v); return; }
+    double hclk = rcc_hclk_hz(b);
+    if (hclk > flash_max_hclk(b, lat) + 1.0) {
+      board_fault(b, "FLASH_ACR.LATENCY=%u is too few wait states for HCLK %.3f MHz (RM0440 §5.3.3)", lat, hclk / 1e6);
+      return;
+    }
+    f->acr = v & ~0x1800u; /* ICRST/DCRST are pulses */
+    return;
+  }
+  case 0x04: return; /* PDKEYR */
+  case 0x08:        /* KEYR: KEY1 then KEY2 unlocks CR; anything else locks it out until reset */
+    if (f->key_locked_out || !(f->cr & CR_LOCK) || v != (f->key_stage ? KEY2 : KEY1)) {
+      f->key_locked_out = true;
+      f->key_stage = 0;
+      bus_error(b);
+      return;
+    }
+    if (f->key_stage == 0) f->key_stage = 1;
+    else { f->key_stage = 0; f->cr &= ~CR_LOCK; }
+    return;
+  case 0x0C: board_fault(b, "FLASH_OPTKEYR: option-byte programming is not modelled"); return;
+  case 0x10: f->sr &= ~(v & (SR_EOP | SR_OPERR | SR_ERRS | (1u << 14) | (1u << 15))); return;
+  case 0x14: write_cr(b, v); return;
+  case 0x18: f->eccr &= ~(v & 0xC0000000u); return;
+  }
+  board_fault(b, "write 0x%08X to FLASH offset 0x%02X (reserved or option bytes, not modelled)", v, off);
+}
+
+/* A CPU store into the flash array (the bus never writes flash directly). */
+void flash_mem_write(board *b, uint32_t addr, unsigned size, uint32_t v) {
+  flash_state *f = &b->fl;
+  uint32_t off = addr - FLASH_BASE;
+  if (b->fl.op != OP_NONE) complete_op(b); /* stall until not busy */
+  if (!(f->cr & CR_PG) || (f->cr & (CR_PER | CR_MER1 | CR_MER2))) {
+    f->sr |= SR_PGSERR;
+    f->pg_half = false;
+    return;
+  }
+  if (size != 4) { f->sr |= SR_SIZERR; f->pg_half = false; return; }
+  if (!f->pg_half) {
+    if (f->sr & SR_ERRS) { f->sr |= SR_PGSERR; return; } /* errors of a previous operation not cleared */
+    if (off & 7u) { f->sr |= SR_PGAERR; return; }
+    f->pg_half = true;
+    f->pg_addr = off;
+    f->pg_word0 = v;
+    return;
+  }
+  f->pg_half = false;
+  if (off != f->pg_addr + 4u) { f->sr |= SR_PGAERR; return; }
+  uint32_t cur0, cur1;
+  memcpy(&cur0, b->flash + f->pg_addr, 4);
+  memcpy(&cur1, b->flash + f->pg_addr + 4, 4);
+  bool zeros = f->pg_word0 == 0 && v == 0;
+  if ((cur0 != 0xFFFFFFFFu || cur1 != 0xFFFFFFFFu) && !zeros) { f->sr |= SR_PROGERR; return; }
+  b->fl.op_w0 = f->pg_word0;
+  b->fl.op_w1 = v;
+  start_op(b, OP_PROG, f->pg_addr, 8, T_PROG_S);
+}
+
+int flash_nvm_load(board *b, char *err, size_t n) {
+  FILE *fp = fopen(b->cfg.nvm_path, "rb");
+  if (!fp) return 0; /* a new file: the flash is what the ELF says */
+  char magic[8];
+  if (fread(magic, 1, 8, fp) != 8 || memcmp(magic, "DTCNVM01", 8) != 0) {
+    fclose(fp);
+    snprintf(err, n, "%s: not an NVM file of dtc-board (no DTCNVM01 header)", b->cfg.nvm_path);
+    return -1;
+  }
+  uint8_t rec[4 + PAGE];
+  while (fread(rec, 1, sizeof rec, fp) == sizeof rec) {
+    uint32_t page = (uint32_t)rec[0] | (uint32_t)rec[1] << 8 | (uint32_t)rec[2] << 16 | (uint32_t)rec[3] << 24;
+    if (page >= 256) { fclose(fp); snprintf(err, n, "%s: page %u out of range", b->cfg.nvm_path, page); return -1; }
+    memcpy(b->flash + page * PAGE, rec + 4, PAGE);
+    b->fl.dirty[page] = 1;
+  }
+  fclose(fp);
+  return 0;
+}
+
+int flash_nvm_save(board *b) {
+  char tmp[4096];
+  snprintf(tmp, sizeof tmp, "%s.tmp", b->cfg.nvm_path);
+  FILE *fp = fopen(tmp, "wb");
+  if (!fp) return -1;
+  fwrite("DTCNVM01", 1, 8, fp);
+  for (uint32_t p = 0; p < 256; p++) {
+    if (!b->fl.dirty[p]) continue;
+    uint8_t idx[4] = {(uint8_t)p, (uint8_t)(p >> 8), 0, 0};
+    fwrite(idx, 1, 4, fp);
+    fwrite(b->flash + p * PAGE, 1, PAGE, fp);
+  }
+  int bad = fclose(fp) != 0;
+  return bad ? -1 : rename(tmp, b->cfg.nvm_path);
+}

@@ -1,0 +1,144 @@
+/* GPIO ports A-G, RM0440 §9.4: configuration registers (recorded per pin so the firmware's
+ * pin map can be checked against docs/board.md), ODR/BSRR/BRR, IDR and the LCKR lock. */
+#include "board_priv.h"
+#include <string.h>
+
+static const uint32_t k_moder_reset[7] = {0xABFFFFFFu, 0xFFFFFEBFu, 0xFFFFFFFFu, 0xFFFFFFFFu,
+                                          0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu};
+
+void gpio_reset(board *b) {
+  for (int i = 0; i < 7; i++) {
+    gpio_port *p = &b->gpio[i];
+    memset(p, 0, sizeof *p);
+    p->moder = k_moder_reset[i];
+  }
+  b->gpio[0].ospeedr = 0x0C000000u; b->gpio[0].pupdr = 0x64000000u; /* SWD pins */
+  b->gpio[1].ospeedr = 0x000000C0u; b->gpio[1].pupdr = 0x00000100u;
+}
+
+static uint32_t idr(const gpio_port *p) {
+  uint32_t v = 0;
+  for (int pin = 0; pin < 16; pin++) {
+    uint32_t mode = (p->moder >> (2 * pin)) & 3u, pull = (p->pupdr >> (2 * pin)) & 3u;
+    uint32_t bit = 1u << pin;
+    if (mode == 1u || mode == 2u) v |= p->odr & bit & (mode == 1u ? bit : 0u);
+    else if (mode == 0u) v |= (p->idr_in & bit) | (pull == 1u ? bit : 0u);
+  }
+  return v;
+}
+
+uint32_t gpio_read(board *b, int port, uint32_t off) {
+  gpio_port *p = &b->gpio[port];
+  switch (off) {
+  case 0x00: return p->moder;
+  case 0x04: return p->otyper;
+  case 0x08: return p->ospeedr;
+  case 0x0C: return p->pupdr;
+  case 0x10: return idr(p);
+  case 0x14: return p->odr;
+  case 0x18: return 0; /* BSRR is write-only */
+  case 0x1C:
+    if (p->lck_seq == 3) p->lck_seq = 4;
+    return p->lckr;
+  case 0x20: return p->afr[0];
+  case 0x24: return p->afr[1];
+  case 0x28: return 0;
+  }
+  board_fault(b, "read of reserved GPIO%c offset 0x%02X", 'A' + port, off);
+  return 0;
+}
+
+/* Lock per pin (LCKR[15:0] once LCKK is set); `bits_per_pin` maps a register's field. */
+static uint32_t locked_mask(const gpio_port *p, int bits_per_pin, int first_pin) {
+  if (!(p->lckr & (1u << 16))) return 0;
+  uint32_t m = 0;
+  for (int i = 0; i < 32 / bits_per_pin; i++)
+    if (p->lckr & (1u << (first_pin + i))) m |= ((1u << bits_per_pin) - 1u) << (i * bits_per_pin);
+  return m;
+}
+
+static void config_write(board *b, int port, const char *name, uint32_t *reg, uint32_t v, uint32_t mask,
+                         int bits_per_pin, int first_pin) {
+  gpio_port *p = &b->gpio[port];
+  uint32_t nv = (*reg & ~mask) | (v & mask);
+  uint32_t lk = locked_mask(p, bits_per_pin, first_pin);
+  if ((nv ^ *reg) & lk) {
+    board_fault(b, "GPIO%c_%s write changes pins locked by LCKR (RM0440 §9.4.8)", 'A' + port, name);
+    return;
+  }
+  *reg = nv;
+}
+
+static void mark_changes(board *b, int port) {
+  gpio_port *p = &b->gpio[port];
+  for (int pin = 0; pin < 16; pin++) {
+    uint32_t mode = (p->moder >> (2 * pin)) & 3u, rmode = (k_moder_reset[port] >> (2 * pin)) & 3u;
+    uint32_t af = (p->afr[pin / 8] >> (4 * (pin % 8))) & 0xFu;
+    if (mode != rmode || af != 0u) p->changed |= 1u << pin;
+  }
+}
+
+void gpio_write(board *b, int port, uint32_t off, uint32_t v, uint32_t mask) {
+  gpio_port *p = &b->gpio[port];
+  switch (off) {
+  case 0x00: config_write(b, port, "MODER", &p->moder, v, mask, 2, 0); break;
+  case 0x04:
+    if (v & mask & 0xFFFF0000u) { board_fault(b, "GPIO%c_OTYPER bits 31:16 are reserved", 'A' + port); return; }
+    config_write(b, port, "OTYPER", &p->otyper, v, mask, 1, 0);
+    break;
+  case 0x08: config_write(b, port, "OSPEEDR", &p->ospeedr, v, mask, 2, 0); break;
+  case 0x0C: {
+    for (int pin = 0; pin < 16; pin++)
+      if ((mask >> (2 * pin) & 3u) == 3u && ((v >> (2 * pin)) & 3u) == 3u) {
+        board_fault(b, "GPIO%c_PUPDR pin %d = 11 is reserved (RM0440 §9.4.4)", 'A' + port, pin);
+        return;
+      }
+    config_write(b, port, "PUPDR", &p->pupdr, v, mask, 2, 0);
+    break;
+  }
+  case 0x10: board_fault(b, "write to read-only GPIO%c_IDR", 'A' + port); return;
+  case 0x14:
+    if (v & mask & 0xFFFF0000u) { board_fault(b, "GPIO%c_ODR bits 31:16 are reserved", 'A' + port); return; }
+    p->odr = (p->odr & ~mask) | (v & mask);
+    break;
+  case 0x18: { /* BSRR: set has priority over reset (§9.4.7) */
+    uint32_t w = v & mask;
+    p->odr = (p->odr & ~(w >> 16)) | (w & 0xFFFFu);
+    break;
+  }
+  case 0x1C: { /* LCKR key sequence: 1+pattern, 0+pattern, 1+pattern, read (§9.4.8) */
+    if (mask != 0xFFFFFFFFu) { board_fault(b, "GPIO%c_LCKR needs a 32-bit write", 'A' + port); return; }
+    if (p->lckr & (1u << 16)) return; /* locked until reset */
+    uint32_t k = v & (1u << 16), pat = v & 0xFFFFu;
+    if (p->lck_seq == 0 && k) { p->lck_seq = 1; p->lckr = pat; }
+    else if (p->lck_seq == 1 && !k && pat == p->lckr) p->lck_seq = 2;
+    else if (p->lck_seq == 2 && k && pat == p->lckr) { p->lck_seq = 3; p->lckr = pat | (1u << 16); }
+    else { p->lck_seq = 0; p->lckr = 0; }
+    break;
+  }
+  case 0x20: config_write(b, port, "AFRL", &p->afr[0], v, mask, 4, 0); break;
+  case 0x24: config_write(b, port, "AFRH", &p->afr[1], v, mask, 4, 8); break;
+  case 0x28:
+    if (v & mask & 0xFFFF0000u) { board_fault(b, "GPIO%c_BRR bits 31:16 are reserved", 'A' + port); return; }
+    p->odr &= ~(v & mask);
+    break;
+  default: board_fault(b, "write to reserved GPIO%c offset 0x%02X", 'A' + port, off); return;
+  }
+  mark_changes(b, port);
+}
+
+size_t board_pins(const board *b, board_pin *out, size_t max) {
+  size_t n = 0;
+  for (int port = 0; port < 7; port++)
+    for (int pin = 0; pin < 16; pin++) {
+      const gpio_port *p = &b->gpio[port];
+      if (n >= max) return n;
+      board_pin *o = &out[n++];
+      o->port = (char)('A' + port);
+      o->pin = pin;
+      o->mode = (int)((p->moder >> (2 * pin)) & 3u);
+      o->af = (int)((p->afr[pin / 8] >> (4 * (pin % 8))) & 0xFu);
+      o->changed = (p->changed >> pin) & 1u;
+    }
+  return n;
+}
