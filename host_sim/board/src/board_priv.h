@@ -5,6 +5,7 @@
 #include <stdbool.h>
 #include "board_twin/board.h"
 #include "board_twin/elf.h"
+#include "fdcan_model.h"
 
 /* Memory map, RM0440 §2.2 (Figure 3, Table 4). */
 #define FLASH_BASE 0x08000000u
@@ -107,6 +108,7 @@ struct board {
   flash_state fl;
   gpio_port gpio[7];
   iwdg_state iwdg;
+  fdcan_state fdcan;
 };
 
 /* engine.c */

@@ -109,6 +109,8 @@ static const periph_slot k_slots[] = {
   {0x48000000u, "GPIOA", 1, 0}, {0x48000400u, "GPIOB", 1, 1}, {0x48000800u, "GPIOC", 1, 2},
   {0x48000C00u, "GPIOD", 1, 3}, {0x48001000u, "GPIOE", 1, 4}, {0x48001400u, "GPIOF", 1, 5},
   {0x48001800u, "GPIOG", 1, 6},
+  {0x40006400u, "FDCAN1", 4, 25},     /* APB1ENR1.FDCANEN (fdcan.c) */
+  {0x4000A400u, "SRAMCAN", 4, 25},    /* FDCAN message RAM, same clock gate */
 };
 
 static const periph_slot *find_slot(board *b, uint32_t addr, bool write) {
@@ -132,6 +134,8 @@ static uint32_t periph_read32(board *b, const periph_slot *s, uint32_t off) {
   if (s->base == 0x40007000u) return pwr_read(b, off);
   if (s->base == 0x40022000u) return flash_read(b, off);
   if (s->base == 0x40003000u) return iwdg_read(b, off);
+  if (s->base == 0x40006400u) return fdcan_read(b, off);
+  if (s->base == 0x4000A400u) return fdcan_ram_read(b, off);
   return gpio_read(b, (int)((s->base - 0x48000000u) / 0x400u), off);
 }
 
@@ -165,6 +169,8 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   } else if (s->base == 0x40021000u) rcc_write(b, off, v);
   else if (s->base == 0x40007000u) pwr_write(b, off, v);
   else if (s->base == 0x40022000u) flash_write(b, off, v);
+  else if (s->base == 0x40006400u) fdcan_write(b, off, v);
+  else if (s->base == 0x4000A400u) fdcan_ram_write(b, off, v);
   else iwdg_write(b, off, v);
   b->recheck = true;
 }
@@ -216,6 +222,7 @@ static void system_reset(board *b, bool power_on) {
   flash_reset(b);
   gpio_reset(b);
   iwdg_reset(b);
+  fdcan_reset(b);
   scs_reset(b);
   b->sleeping = false;
   b->reset_request = false;
@@ -311,6 +318,7 @@ static void process_events(board *b) {
   rcc_event(b);
   flash_event(b);
   iwdg_event(b);
+  fdcan_event(b);
 }
 
 static uint64_t next_event(board *b, double t_end) {
@@ -321,6 +329,8 @@ static uint64_t next_event(board *b, double t_end) {
   double f = flash_next_event(b), w = iwdg_next_event(b);
   if (f < t) t = f;
   if (w < t) t = w;
+  double c = fdcan_next_event(b);
+  if (c < t) t = c;
   if (t < INFINITY) {
     uint64_t c = cycles_at(b, t);
     if (c < n) n = c;
