@@ -117,6 +117,7 @@ void board_fault(board *b, const char *fmt, ...) __attribute__((format(printf, 2
 const char *board_func_name(const board *b, uint32_t addr);
 void board_request_reset(board *b, uint32_t csr_flags);
 void board_clock_changed(board *b); /* HCLK may have changed */
+void board_end_slice(board *b);     /* stop before the next instruction (safe in MMIO callbacks) */
 
 /* scs.c */
 void scs_reset(board *b);

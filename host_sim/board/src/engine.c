@@ -43,6 +43,11 @@ void board_fault(board *b, const char *fmt, ...) {
   uc_emu_stop(b->uc);
 }
 
+/* End the current slice before the next instruction. Not uc_emu_stop() from inside an MMIO
+ * callback: Unicorn 2.0.1 then reports the PC of the access itself, so the store ran again in
+ * the next slice, forever (the first CPACR write at reset never got past). */
+void board_end_slice(board *b) { b->limit = b->cycles; }
+
 void board_request_reset(board *b, uint32_t csr_flags) {
   b->reset_request = true;
   b->reset_flags |= csr_flags;
@@ -52,7 +57,7 @@ void board_request_reset(board *b, uint32_t csr_flags) {
 void board_clock_changed(board *b) {
   double hz = rcc_hclk_hz(b);
   if (hz == b->hclk_hz) return;
-  b->t_base_s = board_now(b);
+  if (b->hclk_hz > 0) b->t_base_s = board_now(b); /* at reset hclk_hz is 0: time stays where it was */
   b->cyc_base = b->cycles;
   b->hclk_hz = hz;
 }
@@ -182,9 +187,10 @@ static uint64_t mmio_ppb_read(uc_engine *uc, uint64_t offset, unsigned size, voi
 
 static void mmio_ppb_write(uc_engine *uc, uint64_t offset, unsigned size, uint64_t value, void *u) {
   board *b = u;
+  (void)uc;
   scs_write(b, PPB_BASE + (uint32_t)offset, size, (uint32_t)value);
   /* an NVIC/SCB write may make an exception take effect: end the slice after this store */
-  uc_emu_stop(uc);
+  board_end_slice(b);
 }
 
 /* ---- reset ---- */

@@ -422,7 +422,7 @@ static bool read_only(board *b, const char *reg, uint32_t v) {
 
 void fdcan_write(board *b, uint32_t off, uint32_t v) {
   fdcan_state *f = &b->fdcan;
-  uc_emu_stop(b->uc); /* the bus schedule may change (INIT, a Tx request): end the slice after this store */
+  board_end_slice(b); /* the bus schedule may change (INIT, a Tx request): end the slice after this store */
   switch (off) {
   case 0x000: read_only(b, "CREL", v); return;
   case 0x004: read_only(b, "ENDN", v); return;

@@ -73,7 +73,7 @@ void scs_event(board *b) {
 /* Pend from a peripheral model: end the slice so the exception is taken promptly. */
 void scs_set_pending(board *b, int exc) {
   b->scs.pending[exc] = 1;
-  uc_emu_stop(b->uc);
+  board_end_slice(b);
 }
 
 /* ---- DWT CYCCNT (counts while DEMCR.TRCENA and DWT_CTRL.CYCCNTENA) ---- */
