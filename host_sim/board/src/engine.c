@@ -178,6 +178,9 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   else if (s->base == 0x4000A400u) fdcan_ram_write(b, off, v);
   else iwdg_write(b, off, v);
   b->recheck = true;
+  /* a write may start something with a deadline (an oscillator, a PLL lock, a CAN frame):
+   * end the slice so the next one is bounded by the new event */
+  board_end_slice(b);
 }
 
 static uint64_t mmio_ppb_read(uc_engine *uc, uint64_t offset, unsigned size, void *u) {

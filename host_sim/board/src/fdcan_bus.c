@@ -284,7 +284,12 @@ static void receive(board *b, const hal_can_frame *fr) {
 
 /* ---- the bus ---- */
 
-static bool can_transmit(const fdcan_state *f) { return !(f->cccr & (CCCR_MON | CCCR_ASM)); }
+/* Restricted operation (ASM) and bus monitoring (MON) send nothing, except in internal loop
+ * back (TEST.LBCK with MON), RM0440 "Test modes". */
+static bool can_transmit(const fdcan_state *f) {
+  if (f->cccr & CCCR_ASM) return false;
+  return !(f->cccr & CCCR_MON) || (f->test & TEST_LBCK);
+}
 
 static bool bus_busy(const fdcan_state *f) { return f->tx_cur >= 0 || f->rx_cur; }
 
