@@ -182,6 +182,60 @@ TEST(FdcanDriver, InjectedFrameReceivedAndEchoed)
     EXPECT_EQ(t.sym("g_test_rx"), 1u);
 }
 
+// A backend that stamps every frame with the twin's emulated time when the transmission ends.
+namespace {
+struct Stamped {
+    board *b = nullptr;
+    std::vector<std::pair<double, hal_can_frame>> sent;
+    hal_host_can_loopback q{};
+};
+int stamped_send(void *ctx, const hal_can_frame *f)
+{
+    auto *s = static_cast<Stamped *>(ctx);
+    s->sent.emplace_back(board_time_s(s->b), *f);
+    return HAL_OK;
+}
+int stamped_recv(void *ctx, hal_can_frame *f)
+{
+    return hal_host_can_loopback_take(&static_cast<Stamped *>(ctx)->q, f) == HAL_OK ? HAL_OK : HAL_EAGAIN;
+}
+} // namespace
+
+TEST(FdcanDriver, FramesTakeTheirBitTimeOnTheBus)
+{
+    Twin t(image("can_drv_500000.elf"), false);
+    Stamped s;
+    s.b = t.b;
+    hal_host_can_backend be{};
+    be.ctx = &s;
+    be.send = stamped_send;
+    be.recv = stamped_recv; // frames "to the drive" are queued in s.q.from_drive
+    board_can_attach(t.b, &be, 500000u);
+    ASSERT_EQ(t.run(kBoot), BOARD_TIME_UP) << board_message(t.b);
+    ASSERT_EQ(s.sent.size(), 1u);
+    double t0 = board_time_s(t.b);
+    hal_can_frame in{};
+    in.id = 0x601;
+    in.dlc = 8;
+    for (int i = 0; i < 8; i++)
+        in.data[i] = (uint8_t)(0x10 * i);
+    // the loopback's from_drive ring is what stamped_recv drains
+    s.q.from_drive.frame[0] = in;
+    s.q.from_drive.head = 0;
+    s.q.from_drive.count = 1;
+    ASSERT_EQ(t.run(0.005), BOARD_TIME_UP) << board_message(t.b);
+    ASSERT_EQ(s.sent.size(), 2u);
+    EXPECT_EQ(s.sent[1].second.id, 0x581u);
+    // in: an 8-byte frame, at least 108 bits + 3 intermission = 222 us at 500 kbit/s, then the
+    // echo of the same length (the image answers within a few microseconds); stuff bits add up
+    // to about 20 %; the backend is looked at once per shortest frame (47 bits), so the frame
+    // in starts up to 94 us after it was queued
+    double dt = s.sent[1].first - t0;
+    EXPECT_GT(dt, 2 * 111 / 500e3) << dt;
+    EXPECT_LT(dt, 2 * 135 / 500e3 + 47 / 500e3 + 30e-6) << dt;
+    std::printf("[ timing   ] frame in + echo out: %.1f us of emulated time\n", dt * 1e6);
+}
+
 TEST(FdcanDriver, FiltersRejectForeignIds)
 {
     // The driver's filters: NMT 0x000 and SYNC 0x080 (dual), 0x200-0x57F, 0x600-0x67F, 0x700-0x77F;

@@ -1,11 +1,16 @@
 /* dtc-board: the flashable image on the emulated STM32G474.
  *   dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats]
+ *                  [--can IFACE [--can-bitrate BPS]] [--realtime]
  * runs the image until it exits through semihosting, a strictness stop, or S seconds of
- * virtual time. Exit status: the image's exit code; 1 for a strictness stop (the message
+ * virtual time. --can bridges FDCAN1 to a SocketCAN interface (frames out at the emulated
+ * time their transmission ends, frames in through the image's filters); --can-bitrate is the
+ * bus's rate (a node joining at another rate stops the run); --realtime holds virtual time
+ * back to wall-clock time (a tool on the bus sees the image at its real pace). Exit status: the image's exit code; 1 for a strictness stop (the message
  * names the address, the PC and the function); 2 for bad usage.
  *   dtc-board run SCENARIO --elf FILE ...  (the plant binding: not yet, see README) */
 #define _POSIX_C_SOURCE 200809L
 #include "board_twin/board.h"
+#include "board_twin/can.h"
 #include "board_twin/pinmap.h"
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +19,7 @@
 
 static int usage(void) {
   fprintf(stderr, "usage: dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats]\n"
+                  "                      [--can IFACE [--can-bitrate BPS]] [--realtime]\n"
                   "       dtc-board run SCENARIO --elf FILE [...]   (not implemented yet)\n");
   return 2;
 }
@@ -35,23 +41,54 @@ int main(int argc, char **argv) {
   board_config_default(&cfg);
   double seconds = 10.0;
   const char *pins = NULL;
-  int stats = 0;
+  int stats = 0, realtime = 0;
+  const char *can_iface = NULL;
+  long can_bitrate = 0;
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
     if (strcmp(a, "--stats") == 0) { stats = 1; continue; }
+    if (strcmp(a, "--realtime") == 0) { realtime = 1; continue; }
     if (i + 1 >= argc) return usage();
     if (strcmp(a, "--elf") == 0) cfg.elf_path = argv[++i];
     else if (strcmp(a, "--nvm") == 0) cfg.nvm_path = argv[++i];
     else if (strcmp(a, "--seconds") == 0) seconds = atof(argv[++i]);
     else if (strcmp(a, "--pins") == 0) pins = argv[++i];
+    else if (strcmp(a, "--can") == 0) can_iface = argv[++i];
+    else if (strcmp(a, "--can-bitrate") == 0) can_bitrate = atol(argv[++i]);
     else return usage();
   }
   if (!cfg.elf_path) return usage();
   char err[512];
   board *b = board_open(&cfg, err, sizeof err);
   if (!b) { fprintf(stderr, "dtc-board: %s\n", err); return 2; }
+  hal_host_can_backend can = {0};
+  if (can_iface) {
+    int e = hal_host_socketcan_open(can_iface, &can);
+    if (e != 0) {
+      fprintf(stderr, "dtc-board: --can %s: %s%s\n", can_iface, strerror(-e),
+              e == -97 ? " (this kernel has no CAN: run under User-Mode Linux, tests/can/uml/run_in_uml.sh)" : "");
+      board_close(b);
+      return 2;
+    }
+    board_can_attach(b, &can, can_bitrate > 0 ? (uint32_t)can_bitrate : 0u);
+  }
   double w0 = wall();
-  board_status st = board_run(b, seconds);
+  board_status st;
+  if (realtime) { /* 1 ms of virtual time at a time, never ahead of the wall clock */
+    st = BOARD_TIME_UP;
+    double t0 = board_time_s(b);
+    while (st == BOARD_TIME_UP && board_time_s(b) - t0 < seconds - 1e-12) {
+      double left = seconds - (board_time_s(b) - t0);
+      st = board_run(b, left < 1e-3 ? left : 1e-3);
+      double ahead = (board_time_s(b) - t0) - (wall() - w0);
+      if (ahead > 0) {
+        struct timespec ts = {(time_t)ahead, (long)((ahead - (double)(time_t)ahead) * 1e9)};
+        nanosleep(&ts, NULL);
+      }
+    }
+  } else {
+    st = board_run(b, seconds);
+  }
   double w = wall() - w0;
   int rc = 0;
   if (st == BOARD_FAULT) { fprintf(stderr, "dtc-board: %s\n", board_message(b)); rc = 1; }
@@ -73,5 +110,6 @@ int main(int argc, char **argv) {
     }
   }
   board_close(b);
+  if (can_iface) hal_host_socketcan_close(&can);
   return rc;
 }
