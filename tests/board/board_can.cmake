@@ -58,3 +58,13 @@ add_dependencies(board_test_fdcan board_can_images dtc-board)
 dtc_warnings(board_test_fdcan)
 gtest_discover_tests(board_test_fdcan TEST_PREFIX "board." DISCOVERY_TIMEOUT 60
                      WORKING_DIRECTORY ${CMAKE_BINARY_DIR} PROPERTIES LABELS board)
+
+# The same image on real SocketCAN: dtc-board exec --can vcan0, inside User-Mode Linux where
+# the host kernel has no CAN (tests/can/uml/run_in_uml.sh runs directly where vcan exists).
+if(NOT DTC_SANITIZE)
+  add_test(NAME board.can_socketcan_uml
+           COMMAND ${CMAKE_SOURCE_DIR}/tests/can/uml/run_in_uml.sh --timeout 120 --
+                   ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/test_can_socketcan.py
+                   $<TARGET_FILE:dtc-board> ${BCAN_OUT}/can_drv_500000.elf)
+  set_tests_properties(board.can_socketcan_uml PROPERTIES LABELS board TIMEOUT 240 RUN_SERIAL TRUE)
+endif()
