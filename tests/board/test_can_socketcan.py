@@ -53,7 +53,7 @@ def main():
     sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
     sock.bind(("vcan0",))
     proc = subprocess.Popen([exe, "exec", "--elf", elf, "--can", "vcan0", "--can-bitrate", "500000",
-                             "--realtime", "--seconds", "6", "--stats"])
+                             "--realtime", "--seconds", "2.5", "--stats"])
     fails = []
     try:
         got = recv(sock, 0x181, 5.0)

@@ -417,6 +417,58 @@ bool param_table(uint32_t *device_type, uint32_t *node)
 
 } // namespace
 
+// The firmware's own drive and CANopen code (target libraries) with the port's HAL, without
+// the control tick: boot-up, SDO upload of 0x1000, SDO download of 0x1017 and the heartbeat.
+TEST(FirmwareCanopen, BootUpSdoAndHeartbeat)
+{
+    std::string elf = image("canopen_image.elf");
+    if (!std::ifstream(elf).good())
+        GTEST_SKIP() << elf << " not built: build the stm32g4 preset, then re-run cmake --preset host";
+    uint32_t device_type = 0, node = 0;
+    ASSERT_TRUE(param_table(&device_type, &node)) << "tools/params/parameters.toml: device_type / default_node_id";
+    Twin t(elf);
+    ASSERT_EQ(t.run(0.2), BOARD_TIME_UP) << board_message(t.b) << t.output();
+    auto frames = t.take();
+    ASSERT_FALSE(frames.empty()) << "nothing from the firmware";
+    EXPECT_EQ(frames[0].id, 0x700 + node) << "the first frame is the boot-up";
+    EXPECT_EQ(frames[0].dlc, 1u);
+    EXPECT_EQ(frames[0].data[0], 0u);
+    expect_timing(t.status(), 500000.0);
+
+    t.inject((uint16_t)(0x600 + node), {0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0});
+    ASSERT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+    frames = t.take();
+    ASSERT_EQ(frames.size(), 1u);
+    const hal_can_frame &f = frames[0];
+    EXPECT_EQ(f.id, 0x580 + node);
+    ASSERT_EQ(f.dlc, 8u);
+    EXPECT_EQ(f.data[0], 0x43u) << "expedited upload, 4 bytes";
+    EXPECT_EQ(f.data[1] | (f.data[2] << 8), 0x1000);
+    EXPECT_EQ(f.data[3], 0u);
+    uint32_t v = (uint32_t)f.data[4] | ((uint32_t)f.data[5] << 8) | ((uint32_t)f.data[6] << 16) |
+                 ((uint32_t)f.data[7] << 24);
+    EXPECT_EQ(v, device_type) << "0x1000 against parameters.toml";
+    std::printf("[ canopen  ] node %u: 0x1000 device type 0x%08X read over SDO on the twin\n", node, v);
+
+    // heartbeat producer time 0x1017 = 100 ms, then heartbeats in pre-operational (0x7F)
+    t.inject((uint16_t)(0x600 + node), {0x2B, 0x17, 0x10, 0x00, 100, 0, 0, 0});
+    ASSERT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+    int confirmed = 0, beats = 0;
+    for (auto &r : t.take()) {
+        if (r.id == 0x580 + node && r.data[0] == 0x60u && r.data[1] == 0x17u && r.data[2] == 0x10u)
+            confirmed++;
+        else if (r.id == 0x700 + node && r.dlc == 1 && r.data[0] == 0x7F)
+            beats++; // the firmware may beat at once with the new period
+    }
+    EXPECT_EQ(confirmed, 1) << "download of 0x1017 confirmed";
+    ASSERT_EQ(t.run(0.35), BOARD_TIME_UP) << board_message(t.b);
+    for (auto &h : t.take())
+        if (h.id == 0x700 + node && h.dlc == 1 && h.data[0] == 0x7F)
+            beats++;
+    EXPECT_GE(beats, 3) << "heartbeats every 100 ms over 370 ms";
+    EXPECT_LE(beats, 5);
+}
+
 TEST(RealImage, BootUpAndSdoUploadOfDeviceType)
 {
     std::string elf = std::string(DTC_SOURCE_DIR) + "/build/stm32g4/dtc-fw.elf";
