@@ -96,3 +96,12 @@ if(NOT DTC_SANITIZE)
                    $<TARGET_FILE:dtc-board> ${BCAN_OUT}/can_drv_500000.elf)
   set_tests_properties(board.can_socketcan_uml PROPERTIES LABELS board TIMEOUT 240 RUN_SERIAL TRUE)
 endif()
+
+# A dtctune session against the twin (the real drive + CANopen firmware image) over SocketCAN:
+# get, set, read back, save, power-cycle (a new dtc-board on the same --nvm file), get.
+# Needs the venv (tools/setup_venv.sh, run first here) and the CANopen image.
+if(NOT DTC_SANITIZE AND BCAN_HAVE_FW)
+  add_test(NAME board.twin_dtctune_uml
+           COMMAND sh -c "${CMAKE_SOURCE_DIR}/tools/setup_venv.sh >/dev/null && exec ${CMAKE_SOURCE_DIR}/tests/can/uml/run_in_uml.sh --timeout 200 -- ${CMAKE_SOURCE_DIR}/.venv/bin/python ${CMAKE_CURRENT_SOURCE_DIR}/test_twin_dtctune.py $<TARGET_FILE:dtc-board> ${BCAN_OUT}/canopen_image.elf ${CMAKE_BINARY_DIR}/drive.eds ${CMAKE_CURRENT_BINARY_DIR}/twin-tune")
+  set_tests_properties(board.twin_dtctune_uml PROPERTIES LABELS board TIMEOUT 300 RUN_SERIAL TRUE)
+endif()

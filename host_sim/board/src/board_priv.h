@@ -109,6 +109,11 @@ struct board {
   gpio_port gpio[7];
   iwdg_state iwdg;
   fdcan_state fdcan;
+  /* Unicorn 2.0.1 performs a store into read-only memory after the MEM_WRITE_PROT hook returned
+   * true: the flash bytes a CPU store overwrote are put back before the next instruction */
+  bool flash_undo;
+  uint32_t flash_undo_off, flash_undo_len;
+  uint8_t flash_undo_bytes[8];
 };
 
 /* engine.c */

@@ -5,17 +5,23 @@
  * virtual time. --can bridges FDCAN1 to a SocketCAN interface (frames out at the emulated
  * time their transmission ends, frames in through the image's filters); --can-bitrate is the
  * bus's rate (a node joining at another rate stops the run); --realtime holds virtual time
- * back to wall-clock time (a tool on the bus sees the image at its real pace). Exit status: the image's exit code; 1 for a strictness stop (the message
+ * back to wall-clock time (a tool on the bus sees the image at its real pace); SIGINT or SIGTERM
+ * then ends the run like a power-off (the --nvm file is written, exit status 0). Exit status: the image's exit code; 1 for a strictness stop (the message
  * names the address, the PC and the function); 2 for bad usage.
  *   dtc-board run SCENARIO --elf FILE ...  (the plant binding: not yet, see README) */
 #define _POSIX_C_SOURCE 200809L
 #include "board_twin/board.h"
 #include "board_twin/can.h"
 #include "board_twin/pinmap.h"
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+/* SIGINT/SIGTERM end a --realtime run between slices: a clean power-off, the NVM file written. */
+static volatile sig_atomic_t g_stop;
+static void on_signal(int sig) { (void)sig; g_stop = 1; }
 
 static int usage(void) {
   fprintf(stderr, "usage: dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats]\n"
@@ -75,9 +81,14 @@ int main(int argc, char **argv) {
   double w0 = wall();
   board_status st;
   if (realtime) { /* 1 ms of virtual time at a time, never ahead of the wall clock */
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
     st = BOARD_TIME_UP;
     double t0 = board_time_s(b);
-    while (st == BOARD_TIME_UP && board_time_s(b) - t0 < seconds - 1e-12) {
+    while (st == BOARD_TIME_UP && !g_stop && board_time_s(b) - t0 < seconds - 1e-12) {
       double left = seconds - (board_time_s(b) - t0);
       st = board_run(b, left < 1e-3 ? left : 1e-3);
       double ahead = (board_time_s(b) - t0) - (wall() - w0);

@@ -67,6 +67,10 @@ void board_clock_changed(board *b) {
 static void hook_code(uc_engine *uc, uint64_t addr, uint32_t size, void *u) {
   (void)size;
   board *b = u;
+  if (b->flash_undo) { /* see hook_write_prot */
+    memcpy(b->flash + b->flash_undo_off, b->flash_undo_bytes, b->flash_undo_len);
+    b->flash_undo = false;
+  }
   if (b->cycles >= b->limit) { uc_emu_stop(uc); return; }
   b->cycles++;
   b->pc = (uint32_t)addr;
@@ -92,8 +96,16 @@ static bool hook_write_prot(uc_engine *uc, uc_mem_type type, uint64_t addr, int 
   board *b = u;
   uint32_t a = (uint32_t)addr;
   if (a >= FLASH_BASE && a - FLASH_BASE < FLASH_SIZE) {
+    uint32_t off = a - FLASH_BASE, len = (unsigned)size <= 8u ? (uint32_t)size : 8u;
+    if (off + len > FLASH_SIZE) len = FLASH_SIZE - off;
+    /* Unicorn still performs the store after this hook: keep the bytes to put back */
+    memcpy(b->flash_undo_bytes, b->flash + off, len);
+    b->flash_undo_off = off;
+    b->flash_undo_len = len;
+    b->flash_undo = true;
     flash_mem_write(b, a, (unsigned)size, (uint32_t)value); /* the flash interface decides */
-    return true;                                             /* the store itself is dropped */
+    board_end_slice(b); /* a program operation may have started: its end is a new event */
+    return true;        /* the store itself is dropped */
   }
   board_fault(b, "write to read-only memory at 0x%08X (boot alias, system memory or OTP)", a);
   return false;
@@ -395,6 +407,10 @@ board_status board_run(board *b, double seconds) {
       b->rcc.csr |= flags;
       b->resets++;
       continue;
+    }
+    if (b->flash_undo) { /* a store ended the last slice: its bytes back before any event */
+      memcpy(b->flash + b->flash_undo_off, b->flash_undo_bytes, b->flash_undo_len);
+      b->flash_undo = false;
     }
     process_events(b);
     if (b->fault || b->reset_request) continue;
