@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -401,17 +400,34 @@ std::string slurp(const std::string &path)
     return s.str();
 }
 
-// device_type (0x1000) default and default_node_id from the parameter table.
+// device_type (0x1000) default and default_node_id from the parameter table (plain string
+// scanning: std::regex trips a GCC 12 false positive under the sanitizer build).
+std::string value_after(const std::string &text, size_t from, const std::string &key)
+{
+    size_t k = text.find(key, from);
+    if (k == std::string::npos)
+        return "";
+    size_t eq = text.find('=', k);
+    size_t eol = text.find('\n', eq);
+    if (eq == std::string::npos)
+        return "";
+    std::string v = text.substr(eq + 1, eol == std::string::npos ? std::string::npos : eol - eq - 1);
+    size_t a = v.find_first_not_of(" \t"), b = v.find_last_not_of(" \t\r");
+    return a == std::string::npos ? "" : v.substr(a, b - a + 1);
+}
+
 bool param_table(uint32_t *device_type, uint32_t *node)
 {
     std::string toml = slurp(std::string(DTC_SOURCE_DIR) + "/tools/params/parameters.toml");
-    std::smatch m;
-    if (!std::regex_search(toml, m, std::regex(R"(default_node_id\s*=\s*(\d+))")))
+    std::string n = value_after(toml, 0, "default_node_id");
+    size_t idx = toml.find("index = 0x1000\n");
+    if (n.empty() || idx == std::string::npos)
         return false;
-    *node = (uint32_t)std::stoul(m[1]);
-    if (!std::regex_search(toml, m, std::regex(R"(index\s*=\s*0x1000\s*\n(?:[^\[\n]*\n)*?default\s*=\s*(0x[0-9A-Fa-f]+|\d+))")))
+    std::string d = value_after(toml, idx, "\ndefault");
+    if (d.empty())
         return false;
-    *device_type = (uint32_t)std::stoul(m[1], nullptr, 0);
+    *node = (uint32_t)std::stoul(n, nullptr, 0);
+    *device_type = (uint32_t)std::stoul(d, nullptr, 0);
     return true;
 }
 

@@ -109,6 +109,17 @@ int main(int argc, char **argv) {
             "HCLK %.3f MHz, %u resets\n", board_time_s(b), w, board_time_s(b) / (w > 0 ? w : 1e-9),
             (unsigned long long)board_instructions(b), (double)board_instructions(b) / (w > 0 ? w : 1e-9) / 1e6,
             board_core_hz(b) / 1e6, board_resets(b));
+  if (stats) {
+    board_can_status cs;
+    board_can_get_status(b, &cs);
+    if (cs.on_bus || cs.tx_frames || cs.tx_errors || cs.bus_offs)
+      fprintf(stderr, "dtc-board: FDCAN1 %.0f bit/s (kernel %.3f MHz %s / %u / NBRP %u, %u tq), sample point %.1f %%;"
+              " %llu frames out, %llu in, %llu filtered, %llu lost, %llu transmit errors, %llu bus-off\n",
+              cs.timing.bitrate, cs.timing.kernel_hz / 1e6, cs.timing.kernel_src, cs.timing.ckdiv, cs.timing.prescaler,
+              cs.timing.ntq, 100.0 * cs.timing.sample_point, (unsigned long long)cs.tx_frames,
+              (unsigned long long)cs.rx_frames, (unsigned long long)cs.rx_rejected, (unsigned long long)cs.rx_lost,
+              (unsigned long long)cs.tx_errors, (unsigned long long)cs.bus_offs);
+  }
   if (pins && rc == 0) {
     pinmap_row rows[128];
     int n = pinmap_parse(pins, rows, 128, err, sizeof err);
