@@ -335,6 +335,24 @@ TEST(FdcanDriver, BusAtAnotherBitRateStopsTheRun)
     EXPECT_NE(msg.find("250000 bit/s"), std::string::npos) << msg;
 }
 
+extern "C" unsigned can_frame_bits(uint16_t id, bool rtr, unsigned dlc, const uint8_t *data);
+
+TEST(FdcanModel, FrameLengthOnTheWire)
+{
+    // id 0, data frame, DLC 0: SOF..DLC are 19 dominant bits and the CRC-15 of zeros is 0, so 34
+    // dominant bits carry 6 stuff bits (after every 5); + CRC delimiter, ACK slot and delimiter,
+    // EOF (7), intermission (3) = 53
+    uint8_t none[8] = {0};
+    EXPECT_EQ(can_frame_bits(0x000, false, 0, none), 53u);
+    // the DLC counts, not the bytes: a remote frame carries no data field
+    uint8_t ff[8] = {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF};
+    EXPECT_EQ(can_frame_bits(0x123, true, 8, ff), can_frame_bits(0x123, true, 8, none));
+    // 8 data bytes add at least 64 bits, and stuffing adds at most one bit per four after the first five
+    unsigned n8 = can_frame_bits(0x555, false, 8, ff), n0 = can_frame_bits(0x555, false, 0, ff);
+    EXPECT_GE(n8, n0 + 64u);
+    EXPECT_LE(n8, 44u + 64u + (34u + 64u - 1u) / 4u + 3u);
+}
+
 TEST(FdcanModel, LoopbackRegisterChecks)
 {
     Twin t(image("can_model_0.elf"));
