@@ -111,9 +111,9 @@ struct board {
   fdcan_state fdcan;
   /* Unicorn 2.0.1 performs a store into read-only memory after the MEM_WRITE_PROT hook returned
    * true: the flash bytes a CPU store overwrote are put back before the next instruction */
-  bool flash_undo;
-  uint32_t flash_undo_off, flash_undo_len;
-  uint8_t flash_undo_bytes[8];
+  unsigned flash_undo;              /* stores waiting to be undone (STRD/STM: several per instruction) */
+  uint32_t flash_undo_off[4], flash_undo_len[4];
+  uint8_t flash_undo_bytes[4][8];
 };
 
 /* engine.c */

@@ -64,13 +64,18 @@ void board_clock_changed(board *b) {
 
 /* ---- Unicorn callbacks ---- */
 
+/* Put back the flash bytes of the CPU stores Unicorn performed after hook_write_prot. */
+static void flash_undo(board *b) {
+  while (b->flash_undo) {
+    unsigned i = --b->flash_undo;
+    memcpy(b->flash + b->flash_undo_off[i], b->flash_undo_bytes[i], b->flash_undo_len[i]);
+  }
+}
+
 static void hook_code(uc_engine *uc, uint64_t addr, uint32_t size, void *u) {
   (void)size;
   board *b = u;
-  if (b->flash_undo) { /* see hook_write_prot */
-    memcpy(b->flash + b->flash_undo_off, b->flash_undo_bytes, b->flash_undo_len);
-    b->flash_undo = false;
-  }
+  if (b->flash_undo) flash_undo(b); /* see hook_write_prot */
   if (b->cycles >= b->limit) { uc_emu_stop(uc); return; }
   b->cycles++;
   b->pc = (uint32_t)addr;
@@ -99,10 +104,15 @@ static bool hook_write_prot(uc_engine *uc, uc_mem_type type, uint64_t addr, int 
     uint32_t off = a - FLASH_BASE, len = (unsigned)size <= 8u ? (uint32_t)size : 8u;
     if (off + len > FLASH_SIZE) len = FLASH_SIZE - off;
     /* Unicorn still performs the store after this hook: keep the bytes to put back */
-    memcpy(b->flash_undo_bytes, b->flash + off, len);
-    b->flash_undo_off = off;
-    b->flash_undo_len = len;
-    b->flash_undo = true;
+    if (b->flash_undo < 4u) {
+      unsigned i = b->flash_undo++;
+      memcpy(b->flash_undo_bytes[i], b->flash + off, len);
+      b->flash_undo_off[i] = off;
+      b->flash_undo_len[i] = len;
+    } else {
+      board_fault(b, "more than 4 stores into the flash array by one instruction at 0x%08X", a);
+      return false;
+    }
     flash_mem_write(b, a, (unsigned)size, (uint32_t)value); /* the flash interface decides */
     board_end_slice(b); /* a program operation may have started: its end is a new event */
     return true;        /* the store itself is dropped */
@@ -350,8 +360,8 @@ static uint64_t next_event(board *b, double t_end) {
   double f = flash_next_event(b), w = iwdg_next_event(b);
   if (f < t) t = f;
   if (w < t) t = w;
-  double c = fdcan_next_event(b);
-  if (c < t) t = c;
+  double can_t = fdcan_next_event(b);
+  if (can_t < t) t = can_t;
   if (t < INFINITY) {
     uint64_t c = cycles_at(b, t);
     if (c < n) n = c;
@@ -408,10 +418,7 @@ board_status board_run(board *b, double seconds) {
       b->resets++;
       continue;
     }
-    if (b->flash_undo) { /* a store ended the last slice: its bytes back before any event */
-      memcpy(b->flash + b->flash_undo_off, b->flash_undo_bytes, b->flash_undo_len);
-      b->flash_undo = false;
-    }
+    if (b->flash_undo) flash_undo(b); /* a store ended the last slice: its bytes back before any event */
     process_events(b);
     if (b->fault || b->reset_request) continue;
     int exc = exc_pending_to_take(b);
