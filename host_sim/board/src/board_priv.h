@@ -5,6 +5,7 @@
 #include <stdbool.h>
 #include "board_twin/board.h"
 #include "board_twin/elf.h"
+#include "fdcan_model.h"
 
 /* Memory map, RM0440 §2.2 (Figure 3, Table 4). */
 #define FLASH_BASE 0x08000000u
@@ -149,6 +150,7 @@ struct board {
   tim6_state tim6;
   hrtim_state hr;
   adc_state adc;
+  fdcan_state fdcan;
 };
 
 /* engine.c */

@@ -57,7 +57,7 @@ void board_request_reset(board *b, uint32_t csr_flags) {
 void board_clock_changed(board *b) {
   double hz = rcc_hclk_hz(b);
   if (hz == b->hclk_hz) return;
-  b->t_base_s = board_now(b);
+  if (b->hclk_hz > 0) b->t_base_s = board_now(b); /* at reset hclk_hz is 0: time stays where it was */
   b->cyc_base = b->cycles;
   b->hclk_hz = hz;
 }
@@ -117,6 +117,8 @@ static const periph_slot k_slots[] = {
   {0x48000C00u, "GPIOD", 1, 3}, {0x48001000u, "GPIOE", 1, 4}, {0x48001400u, "GPIOF", 1, 5},
   {0x48001800u, "GPIOG", 1, 6},
   {0x50000000u, "ADC12", 1, 13},      /* AHB2ENR.ADC12EN: ADC1, ADC2 and their common registers */
+  {0x40006400u, "FDCAN1", 4, 25},     /* APB1ENR1.FDCANEN (fdcan.c) */
+  {0x4000A400u, "SRAMCAN", 4, 25},    /* FDCAN message RAM, same clock gate */
 };
 
 static const periph_slot *find_slot(board *b, uint32_t addr, bool write) {
@@ -144,6 +146,8 @@ static uint32_t periph_read32(board *b, const periph_slot *s, uint32_t off) {
   if (s->base == 0x40001000u) return tim6_read(b, off);
   if (s->base == 0x40016800u) return hrtim_read(b, off);
   if (s->base == 0x50000000u) return adc_read(b, off);
+  if (s->base == 0x40006400u) return fdcan_read(b, off);
+  if (s->base == 0x4000A400u) return fdcan_ram_read(b, off);
   return gpio_read(b, (int)((s->base - 0x48000000u) / 0x400u), off);
 }
 
@@ -180,6 +184,8 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   else if (s->base == 0x40001000u) tim6_write(b, off, v);
   else if (s->base == 0x40016800u) hrtim_write(b, off, v);
   else if (s->base == 0x50000000u) adc_write(b, off, v);
+  else if (s->base == 0x40006400u) fdcan_write(b, off, v);
+  else if (s->base == 0x4000A400u) fdcan_ram_write(b, off, v);
   else iwdg_write(b, off, v);
   /* A write may schedule an earlier event (oscillator ready, flash busy, timer): shorten the
    * slice to it. Interrupts pended by models end the slice themselves (scs_set_pending).
@@ -194,6 +200,7 @@ static uint64_t mmio_ppb_read(uc_engine *uc, uint64_t offset, unsigned size, voi
 
 static void mmio_ppb_write(uc_engine *uc, uint64_t offset, unsigned size, uint64_t value, void *u) {
   board *b = u;
+  (void)uc;
   scs_write(b, PPB_BASE + (uint32_t)offset, size, (uint32_t)value);
   /* an NVIC/SCB write may make an exception take effect: end the slice after this store */
   (void)uc;
@@ -240,6 +247,7 @@ static void system_reset(board *b, bool power_on) {
   tim6_reset(b);
   hrtim_reset(b);
   adc_reset(b);
+  fdcan_reset(b);
   scs_reset(b);
   b->sleeping = false;
   b->reset_request = false;
@@ -359,6 +367,7 @@ static void process_events(board *b) {
   tim6_event(b);
   hrtim_event(b);
   adc_event(b);
+  fdcan_event(b);
 }
 
 static uint64_t next_event(board *b, double t_end) {
@@ -374,6 +383,8 @@ static uint64_t next_event(board *b, double t_end) {
   h = adc_next_event(b);
   if (h < t) t = h;
   if (w < t) t = w;
+  double can_t = fdcan_next_event(b);
+  if (can_t < t) t = can_t;
   if (t < INFINITY) {
     uint64_t c = cycles_at(b, t);
     if (c < n) n = c;
