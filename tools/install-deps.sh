@@ -3,7 +3,7 @@
 # Safe to run again: it installs only what is missing and reuses the venv.
 #   Debian packages: compilers and libraries for the host SIL and the target,
 #   QEMU (PIL), User-Mode Linux and can-utils (real SocketCAN in the tests),
-#   Unicorn (the emulated board, dtc-board).
+#   Unicorn (the emulated board, dtc-board), OpenOCD (flashing).
 #   Python venv at .venv with dtctune and its pinned PyPI dependencies (tools/setup_venv.sh).
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -11,7 +11,7 @@ repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 packages=(build-essential cmake ninja-build pkg-config python3 python3-venv python3-pip
           googletest libgtest-dev libeigen3-dev libinih-dev libcjson-dev
           gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm
-          user-mode-linux kmod can-utils iproute2 libunicorn-dev)
+          user-mode-linux kmod can-utils iproute2 libunicorn-dev openocd)
 
 missing=()
 for p in "${packages[@]}"; do

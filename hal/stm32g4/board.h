@@ -1,26 +1,63 @@
 /**
  * @file board.h
- * @brief What the STM32G474 startup code needs from the board binding.
- * Private to hal/stm32g4.
+ * @brief What the STM32G474 startup code (and a debugger) needs from the board
+ *        binding, plus the board's own diagnostics. Private to hal/stm32g4.
+ *
+ * The pin map, analog scaling and interrupt priorities are in docs/board.md.
  */
 #ifndef HAL_STM32G4_BOARD_H
 #define HAL_STM32G4_BOARD_H
 
-/** System clock after board_init(), Hz: HSI16 -> PLL (M 4, N 85, R 2). */
+#include <stdint.h>
+
+/** System clock after board_init(), Hz: HSE 24 MHz -> PLL (M 6, N 85, R 2). */
 #define BOARD_SYSCLK_HZ 170000000u
 
+/** HSE crystal of the NUCLEO-G474RE (X3, ST-LINK MCO not used), Hz. */
+#define BOARD_HSE_HZ 24000000u
+
+/** Dead time inserted on each complementary pair (S1/S3, S2/S4), ns. Range 100..10000. */
+#define BOARD_DEAD_TIME_NS 1000u
+
 /**
- * Bring the chip to its run configuration: 170 MHz from the PLL (range 1
- * boost mode, 4 flash wait states, caches and prefetch on), fault exceptions
- * enabled, DWT cycle counter and the 1 ms SysTick started. The gate outputs
- * stay off. Context: reset handler, once, after .data/.bss are set up.
+ * Delay between the outer switches (S1, S4) and the inner switches (S2, S3)
+ * going off after a hardware fault, ns (see docs/board.md, "Fault").
+ */
+#define BOARD_FAULT_INNER_DELAY_NS 1000u
+
+/** Board fault bits recorded by the binding (board_faults()). */
+enum board_fault {
+    BOARD_FAULT_HSE = 1u << 0,        /**< HSE did not start: running from HSI16 -> PLL */
+    BOARD_FAULT_PLL = 1u << 1,        /**< PLL did not lock: running from HSI16 at 16 MHz */
+    BOARD_FAULT_ADC_CAL = 1u << 2,    /**< ADC regulator, calibration or enable timed out */
+    BOARD_FAULT_ADC_OFFSET = 1u << 3, /**< current offset at start-up outside +-5 % of mid-scale */
+    BOARD_FAULT_ADC_RANGE = 1u << 4,  /**< a conversion was saturated (code <= 2 or >= 4093) */
+    BOARD_FAULT_HRTIM = 1u << 5,      /**< HRTIM fault input tripped (desat/over-current) */
+    BOARD_FAULT_CAN_BUSOFF = 1u << 6, /**< FDCAN1 went bus-off (recovered automatically) */
+    BOARD_FAULT_NVM = 1u << 7,        /**< flash erase/program error, or single-bank flash (seen at boot) */
+    BOARD_FAULT_WDG_RESET = 1u << 8,  /**< the last reset came from the independent watchdog */
+    BOARD_FAULT_PN_STEP = 1u << 9,    /**< an actuation asked for a direct P<->N step (O inserted) */
+    BOARD_FAULT_BOOT0_PIN = 1u << 10, /**< option bytes still boot from the PB8/BOOT0 pin (CAN RX!) */
+};
+
+/**
+ * Bring the chip to its run configuration: 170 MHz from HSE via the PLL
+ * (range 1 boost mode, 4 flash wait states, caches and prefetch on; HSI16 as
+ * the PLL source if HSE does not start), fault exceptions enabled, DWT cycle
+ * counter and 1 ms SysTick, GPIO per docs/board.md, HRTIM outputs configured
+ * but disabled, the HRTIM fault input armed. The gate outputs stay off.
+ * Context: reset handler, once, after .data/.bss are set up.
  */
 void board_init(void);
 
 /**
- * Force the safe state: all gate outputs off. Safe to call from any context,
- * including fault handlers (touches no RAM state beyond one flag).
+ * Force the safe state: all twelve HRTIM outputs disabled (outer switches
+ * first, then the inner ones). Safe to call from any context, including
+ * fault handlers (touches no RAM state beyond one flag).
  */
 void board_safe_state(void);
+
+/** @return the board_fault bits recorded since reset. Context: ANY. */
+uint32_t board_faults(void);
 
 #endif /* HAL_STM32G4_BOARD_H */

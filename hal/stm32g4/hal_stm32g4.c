@@ -1,23 +1,23 @@
 /**
  * @file hal_stm32g4.c
- * @brief Minimal binding of hal/hal.h for an STM32G474 at 170 MHz.
+ * @brief Binding of hal/hal.h for the NUCLEO-G474RE control card driving a
+ *        three-level NPC power stage (STM32G474RE at 170 MHz).
  *
- * What is real: clocks (HSI16 -> PLL -> 170 MHz), the DWT cycle counter, the
- * 1 ms SysTick, the control-tick interrupt (TIM6 at the requested period),
- * the one-read-per-tick sample discipline, actuation checking and double
- * buffering, the independent watchdog, reading the NVM area of flash.
- *
- * What is a placeholder, each marked "PORT:" below, for the full board port:
- *  - ADC: the injected conversions (ADC1/ADC2, triggered by the HRTIM at the
- *    period start) are not configured, so every sample is refused (HAL_EAGAIN)
- *    and the firmware stays in its safe state; the code that reads the
- *    injected data registers and scales them is in place behind
- *    BOARD_ADC_PORTED.
- *  - HRTIM: the 12 gate outputs are not driven; hal_gate_enable(true) is
- *    refused (the gates stay off) and the latched actuation is not output.
- *  - Fault input: HRTIM fault lines not wired; reads inactive.
- *  - FDCAN: classic frames are not ported; open/send return HAL_EIO.
- *  - Flash programming for NVM writes: returns HAL_EIO.
+ * Everything the contract asks for is real on this board:
+ *  - clock: HSE 24 MHz -> PLL -> 170 MHz, HSI16 fall-back (RM0440 7.2, 6.1.5);
+ *  - gates: HRTIM timers A..F, two complementary outputs each = the 12
+ *    switches, hardware dead time, preloaded compare/set/reset programs
+ *    transferred at the period start (RM0440 27.3);
+ *  - fault: the gate drivers' active-low fault line on HRTIM FLT3 (PB10);
+ *  - sampling: ADC1 + ADC2 injected simultaneous conversions triggered by
+ *    the HRTIM master at a fixed instant of the period; their end-of-sequence
+ *    interrupt is the control tick (RM0440 21.4);
+ *  - CAN: FDCAN1 classic CAN, fixed message RAM layout (RM0440 44.3);
+ *  - NVM: two 2 KiB flash pages of bank 2 (RM0440 5.3);
+ *  - watchdog: IWDG refreshed only when both the tick and the background have
+ *    proven alive (RM0440 41.3).
+ * Pin map, analog scaling, priorities, the HRTIM scheme and the fault
+ * sequence are documented for the hardware engineer in docs/board.md.
  *
  * The board is a singleton, so its state is one file-level struct; the
  * portable firmware keeps no such state (the rule applies to firmware/).
@@ -27,55 +27,165 @@
 
 #include "board.h"
 #include "hal/hal.h"
+#include "npc_plan.h"
 #include "stm32g474_regs.h"
 
-/* Set to 1 by the ADC port, once ADC1/ADC2 injected groups are configured. */
-#define BOARD_ADC_PORTED 0
+/* ------------------------------------------------------------ board facts */
 
-/* Sensor scaling of the power board (docs/motor-10hp.json, "drive"). */
-#define BOARD_ADC_FULL_CODE 4095.0f   /* 12-bit converter */
-#define BOARD_I_FULL_SCALE_A 150.0f   /* currents: code 0 = -150 A, 4095 = +150 A */
-#define BOARD_V_FULL_SCALE_V 500.0f   /* capacitor voltages: 0..500 V */
+/* Sensor scaling of the power board (docs/motor-10hp.json "drive", docs/board.md). */
+#define BOARD_ADC_FULL_CODE 4095.0f /* 12-bit converter, 0..3.3 V */
+#define BOARD_I_FULL_SCALE_A 150.0f /* currents: code 0 = -150 A, 4095 = +150 A */
+#define BOARD_V_FULL_SCALE_V 500.0f /* capacitor voltages: code 0 = 0 V, 4095 = 500 V */
+#define BOARD_ADC_MID_CODE 2048u
+#define BOARD_ADC_SAT_LOW 2u     /* codes at or beyond these are saturated */
+#define BOARD_ADC_SAT_HIGH 4093u
+#define BOARD_OFFSET_TOL_CODE 205u /* +-5 % of full scale accepted as a current offset */
+#define BOARD_OFFSET_SAMPLES 64u
 
-/* Interrupt priorities (4 bits, 0 = most urgent). */
-#define PRIO_CONTROL_TICK 0u
-#define PRIO_SYSTICK 15u
+/* Interrupt priorities (4 bits, 0 = most urgent), docs/board.md. */
+#define PRIO_HRTIM_FAULT 0u  /* runs once per trip: inner switches off */
+#define PRIO_CONTROL_TICK 1u /* ADC1/2 end of injected sequence: the 200 us tick */
+#define PRIO_SYSTICK 15u     /* 1 ms time base; CAN and flash are polled in the background */
 
-/* Bounded waits on hardware flags: about 1 ms at 170 MHz and never forever. */
-#define WAIT_LOOPS 200000u
+/* Sampling instant and switching keep-out, ns after the period start. */
+#define BOARD_SAMPLE_DELAY_NS 4000u  /* after the period-start edges and their dead time */
+#define BOARD_KEEPOUT_END_NS 7000u   /* sampling (3 x 0.87 us) is over by then */
+#define BOARD_MIN_PULSE_NS 2000u     /* shortest second-vector pulse at the period end */
+#define BOARD_START_EVENT_COUNTS 3u  /* CMP2: period-start event, 3 counts after roll-over */
+
+/* Bounded waits on hardware flags. */
+#define WAIT_LOOPS 200000u         /* about 1..6 ms depending on the bus */
+#define WAIT_HSE_LOOPS 400000u     /* HSE start-up: a few ms at 16 MHz */
+#define WAIT_FLASH_LOOPS 20000000u /* page erase: 40 ms max (datasheet), generous */
+#define CAN_BUSOFF_RETRY_MS 100u
+
+/* HRTIM outputs in OENR/ODISR: per leg, timer A-type = S1 (out 1) / S3
+ * (out 2), timer B-type = S2 (out 1) / S4 (out 2). Outer switches S1, S4:
+ * TA1 TB2 TC1 TD2 TE1 TF2; inner switches S2, S3: TA2 TB1 TC2 TD1 TE2 TF1. */
+#define HRTIM_OUT_OUTER 0x999u
+#define HRTIM_OUT_INNER 0x666u
 
 /* NVM area, from stm32g474.ld. */
 extern const uint8_t __nvm_start[];
 extern const uint8_t __nvm_size[];
+#define NVM_PAGE_SIZE 2048u
+#define FLASH_BANK2_START 0x08040000u
 
 /* Start of the vector table, from stm32g474.ld. */
 extern const uint32_t __isr_vector_start[];
 
+/* ------------------------------------------------------------- pin map */
+
+/* One GPIO the firmware configures; docs/board.md has the same table
+ * (tools/svd/check_regs.py --board compares the two). */
 typedef struct {
-    uint32_t sysclk_hz;          /* 170 MHz, or 16 MHz if the PLL failed to lock */
-    hal_tick_handler handler;    /* control-tick callback */
+    uint32_t port_base;
+    uint8_t pin;
+    uint8_t mode; /* GPIO_MODE_* */
+    uint8_t af;   /* alternate function when mode == GPIO_MODE_AF */
+    uint8_t pupd; /* 0 none, 1 pull-up, 2 pull-down */
+} board_pin;
+
+#define PIN_AF(port, pin, af, pupd) {port, pin, GPIO_MODE_AF, af, pupd}
+#define PIN_ANALOG(port, pin) {port, pin, GPIO_MODE_ANALOG, 0u, 0u}
+
+static const board_pin g_pins[] = {
+    /* HRTIM gate outputs (pull-downs hold the drivers off while the pins float). */
+    PIN_AF(GPIOA_BASE, 8u, 13u, 2u),  /* CHA1 leg a S1 */
+    PIN_AF(GPIOA_BASE, 9u, 13u, 2u),  /* CHA2 leg a S3 */
+    PIN_AF(GPIOA_BASE, 10u, 13u, 2u), /* CHB1 leg a S2 */
+    PIN_AF(GPIOA_BASE, 11u, 13u, 2u), /* CHB2 leg a S4 */
+    PIN_AF(GPIOB_BASE, 12u, 13u, 2u), /* CHC1 leg b S1 */
+    PIN_AF(GPIOB_BASE, 13u, 13u, 2u), /* CHC2 leg b S3 */
+    PIN_AF(GPIOB_BASE, 14u, 13u, 2u), /* CHD1 leg b S2 */
+    PIN_AF(GPIOB_BASE, 15u, 13u, 2u), /* CHD2 leg b S4 */
+    PIN_AF(GPIOC_BASE, 8u, 3u, 2u),   /* CHE1 leg c S1 */
+    PIN_AF(GPIOC_BASE, 9u, 3u, 2u),   /* CHE2 leg c S3 */
+    PIN_AF(GPIOC_BASE, 6u, 13u, 2u),  /* CHF1 leg c S2 */
+    PIN_AF(GPIOC_BASE, 7u, 13u, 2u),  /* CHF2 leg c S4 */
+    /* Gate-driver fault line, active low, open drain: pull-up. */
+    PIN_AF(GPIOB_BASE, 10u, 13u, 1u), /* HRTIM_FLT3 */
+    /* FDCAN1 to the transceiver. */
+    PIN_AF(GPIOB_BASE, 8u, 9u, 1u), /* FDCAN1_RX */
+    PIN_AF(GPIOB_BASE, 9u, 9u, 0u), /* FDCAN1_TX */
+    /* Analog inputs. */
+    PIN_ANALOG(GPIOA_BASE, 0u), /* ADC1_IN1 ia */
+    PIN_ANALOG(GPIOA_BASE, 1u), /* ADC2_IN2 ib */
+    PIN_ANALOG(GPIOB_BASE, 1u), /* ADC1_IN12 ic */
+    PIN_ANALOG(GPIOC_BASE, 0u), /* ADC1_IN6 vc1 */
+    PIN_ANALOG(GPIOC_BASE, 1u), /* ADC2_IN7 vc2 */
+};
+
+/* ADC channels: ADC1 ranks [ia, ic, vc1], ADC2 ranks [ib, vc2, vc2]. */
+#define ADC1_CH_IA 1u
+#define ADC1_CH_IC 12u
+#define ADC1_CH_VC1 6u
+#define ADC2_CH_IB 2u
+#define ADC2_CH_VC2 7u
+
+/* ------------------------------------------------------------- state */
+
+typedef struct {
+    uint32_t sysclk_hz;       /* 170 MHz, or 16 MHz if the PLL failed to lock */
+    volatile uint32_t faults; /* board_fault bits */
+    hal_tick_handler handler; /* control-tick callback */
     void *ctx;
     bool tick_running;
-    volatile uint32_t millis;    /* written by SysTick only */
-    hal_sample sample;           /* this tick's sample, written by the tick ISR */
-    bool sample_fresh;           /* cleared by the one allowed read */
-    uint32_t seq;                /* tick sequence number */
-    hal_actuation pending;       /* written during tick k, applied from period k+1 */
-    hal_actuation applied;       /* what the HRTIM outputs during this period */
+    volatile uint32_t millis; /* written by SysTick only */
+    hal_sample sample;        /* this tick's sample, written by the tick ISR */
+    bool sample_fresh;        /* cleared by the one allowed read */
+    bool adc_ok;              /* calibration and offsets valid */
+    uint32_t seq;             /* tick sequence number */
+    float offset_code[3];     /* current-sensor zero, ADC codes (ia, ib, ic) */
+    /* HRTIM timing, counts of the timer clock */
+    uint32_t per_counts;
+    uint32_t keepout_counts;
+    uint32_t min_pulse_counts;
+    uint8_t last_leg[3];      /* leg state at the end of the last latched period */
+    uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     volatile bool gates_on;
+    volatile bool fault_latched; /* set by the HRTIM fault ISR, reported once */
+    uint32_t fault_trips;
+    /* watchdog */
+    bool wdg_started;
+    volatile bool wdg_tick_alive; /* set by the tick ISR */
+    /* CAN */
+    bool can_open;
+    uint32_t can_busoff_ms;
+    bool can_busoff;
+    uint32_t can_busoff_count;
+    uint32_t can_rx_lost;
 } board_state;
 
 static board_state g_board;
 
-/* ----------------------------------------------------------- helpers */
+/* ------------------------------------------------------------ helpers */
 
-static bool wait_set(volatile uint32_t *reg, uint32_t mask, uint32_t value)
+static bool wait_set(volatile uint32_t *reg, uint32_t mask, uint32_t value, uint32_t loops)
 {
-    for (uint32_t n = 0u; n < WAIT_LOOPS; n++) {
+    for (uint32_t n = 0u; n < loops; n++) {
         if ((*reg & mask) == value)
             return true;
     }
     return false;
+}
+
+/* Busy wait of at least @p ns, from the DWT cycle counter (bounded by itself). */
+static void delay_ns(uint32_t ns)
+{
+    uint32_t hz = g_board.sysclk_hz != 0u ? g_board.sysclk_hz : 16000000u;
+    uint32_t cycles = (uint32_t)(((uint64_t)ns * hz + 999999999u) / 1000000000u);
+    uint32_t t0 = DWT_CYCCNT;
+    /* If the counter does not run (no DEMCR), fall back to a loop of the same length. */
+    for (uint32_t n = 0u; n < cycles; n++) {
+        if (DWT_CYCCNT - t0 >= cycles)
+            break;
+    }
+}
+
+static uint32_t ns_to_counts(uint32_t ns, uint32_t count_hz)
+{
+    return (uint32_t)(((uint64_t)ns * count_hz + 500000000u) / 1000000000u);
 }
 
 static void nvic_enable(uint32_t irq, uint32_t prio)
@@ -91,50 +201,402 @@ static void nvic_disable(uint32_t irq)
     __asm volatile("dsb\n\tisb" ::: "memory");
 }
 
-/* HSI16 / M 4 * N 85 / R 2 = 170 MHz (RM0440 7.2.4: VCO 340 MHz within 96..344). */
-static bool clock_init_170mhz(void)
+static bool in_interrupt(void)
 {
+    uint32_t ipsr;
+    __asm volatile("mrs %0, ipsr" : "=r"(ipsr));
+    return (ipsr & 0x1FFu) != 0u;
+}
+
+uint32_t board_faults(void) { return g_board.faults; }
+
+/* --------------------------------------------------------------- clock */
+
+/*
+ * RM0440 order of operations (6.1.5 range 1 boost, 5.3.3 wait states, 7.2.4
+ * PLL, 7.2.7 clock switch): PWR clock on; 4 wait states before the clock
+ * rises; AHB / 2 while switching above 80 MHz; R1MODE = 0 (boost); HSE on
+ * (bounded wait); PLL from HSE (or HSI16) to 340 MHz VCO / 2; switch; after
+ * at least 1 us AHB back to / 1. APB1/APB2 stay / 1 (PCLK = 170 MHz).
+ */
+static void clock_init_170mhz(void)
+{
+    g_board.sysclk_hz = 16000000u; /* HSI16 after reset */
+
     RCC_APB1ENR1 |= RCC_APB1ENR1_PWREN;
     (void)RCC_APB1ENR1; /* read back: the clock is on before PWR is touched */
+    RCC_AHB1ENR |= RCC_AHB1ENR_FLASHEN;
 
-    /* Range 1 boost mode is required above 150 MHz (RM0440 6.1.5). */
+    /* Voltage scaling range 1 (reset value; made explicit), then boost. */
+    PWR_CR1 = (PWR_CR1 & ~PWR_CR1_VOS_MASK) | PWR_CR1_VOS_RANGE1;
+    (void)wait_set(&PWR_SR2, PWR_SR2_VOSF, 0u, WAIT_LOOPS);
+
+    FLASH_ACR = (FLASH_ACR & ~FLASH_ACR_LATENCY_MASK) | FLASH_ACR_LATENCY_4WS | FLASH_ACR_PRFTEN |
+                FLASH_ACR_ICEN | FLASH_ACR_DCEN;
+    if (!wait_set(&FLASH_ACR, FLASH_ACR_LATENCY_MASK, FLASH_ACR_LATENCY_4WS, WAIT_LOOPS)) {
+        g_board.faults |= BOARD_FAULT_PLL; /* cannot raise the clock safely */
+        return;
+    }
+
+    /* AHB / 2 first, then range 1 boost (RM0440 6.1.5: the core current steps in halves). */
+    RCC_CFGR = (RCC_CFGR & ~(RCC_CFGR_HPRE_MASK | RCC_CFGR_PPRE1_MASK | RCC_CFGR_PPRE2_MASK)) |
+               RCC_CFGR_HPRE_DIV2;
     PWR_CR5 &= ~PWR_CR5_R1MODE;
 
-    /* 4 wait states at 170 MHz in boost mode (RM0440 table 9), set before the
-     * clock rises; prefetch and caches on. */
-    FLASH_ACR = (FLASH_ACR & ~FLASH_ACR_LATENCY_MASK) | 4u | FLASH_ACR_PRFTEN | FLASH_ACR_ICEN |
-                FLASH_ACR_DCEN;
-    if (!wait_set(&FLASH_ACR, FLASH_ACR_LATENCY_MASK, 4u))
-        return false;
-
+    /* HSE: 24 MHz crystal; bounded start-up, clean fall-back to HSI16. */
+    uint32_t pllsrc = RCC_PLLCFGR_PLLSRC_HSE;
+    uint32_t pllm = 6u; /* 24 MHz / 6 = 4 MHz VCO input */
+    RCC_CR |= RCC_CR_HSEON;
+    if (!wait_set(&RCC_CR, RCC_CR_HSERDY, RCC_CR_HSERDY, WAIT_HSE_LOOPS)) {
+        RCC_CR &= ~RCC_CR_HSEON;
+        g_board.faults |= BOARD_FAULT_HSE;
+        pllsrc = RCC_PLLCFGR_PLLSRC_HSI16;
+        pllm = 4u; /* 16 MHz / 4 = 4 MHz */
+    }
     RCC_CR |= RCC_CR_HSION;
-    if (!wait_set(&RCC_CR, RCC_CR_HSIRDY, RCC_CR_HSIRDY))
-        return false;
+    if (!wait_set(&RCC_CR, RCC_CR_HSIRDY, RCC_CR_HSIRDY, WAIT_LOOPS)) {
+        g_board.faults |= BOARD_FAULT_PLL;
+        return;
+    }
 
     RCC_CR &= ~RCC_CR_PLLON;
-    if (!wait_set(&RCC_CR, RCC_CR_PLLRDY, 0u))
-        return false;
-    RCC_PLLCFGR = RCC_PLLCFGR_PLLSRC_HSI16 | ((4u - 1u) << RCC_PLLCFGR_PLLM_SHIFT) |
-                  (85u << RCC_PLLCFGR_PLLN_SHIFT) | RCC_PLLCFGR_PLLREN | (0u << RCC_PLLCFGR_PLLR_SHIFT);
-    RCC_CR |= RCC_CR_PLLON;
-    if (!wait_set(&RCC_CR, RCC_CR_PLLRDY, RCC_CR_PLLRDY))
-        return false;
-
-    /* Going above 80 MHz: switch with AHB / 2, then back to / 1 after at
-     * least 1 us (RM0440 7.2.7), so the core current steps in two halves. */
-    RCC_CFGR = (RCC_CFGR & ~(RCC_CFGR_HPRE_MASK | RCC_CFGR_SW_MASK | RCC_CFGR_PPRE1_MASK |
-                             RCC_CFGR_PPRE2_MASK)) |
-               RCC_CFGR_HPRE_DIV2 | RCC_CFGR_SW_PLL;
-    if (!wait_set(&RCC_CFGR, RCC_CFGR_SWS_MASK, RCC_CFGR_SWS_PLL))
-        return false;
-    for (volatile uint32_t n = 0u; n < 200u; n++) {
-        /* >= 1 us at 85 MHz: each pass is several cycles */
+    if (!wait_set(&RCC_CR, RCC_CR_PLLRDY, 0u, WAIT_LOOPS)) {
+        g_board.faults |= BOARD_FAULT_PLL;
+        return;
     }
+    /* 4 MHz x N 85 = 340 MHz VCO (96..344), / R 2 = 170 MHz. */
+    RCC_PLLCFGR = pllsrc | ((pllm - 1u) << RCC_PLLCFGR_PLLM_SHIFT) | (85u << RCC_PLLCFGR_PLLN_SHIFT) |
+                  RCC_PLLCFGR_PLLREN | (0u << RCC_PLLCFGR_PLLR_SHIFT);
+    RCC_CR |= RCC_CR_PLLON;
+    if (!wait_set(&RCC_CR, RCC_CR_PLLRDY, RCC_CR_PLLRDY, WAIT_LOOPS)) {
+        RCC_CR &= ~RCC_CR_PLLON;
+        RCC_CFGR &= ~RCC_CFGR_HPRE_MASK; /* stay on HSI16, AHB / 1 */
+        g_board.faults |= BOARD_FAULT_PLL;
+        return;
+    }
+
+    RCC_CFGR = (RCC_CFGR & ~RCC_CFGR_SW_MASK) | RCC_CFGR_SW_PLL;
+    if (!wait_set(&RCC_CFGR, RCC_CFGR_SWS_MASK, RCC_CFGR_SWS_PLL, WAIT_LOOPS)) {
+        RCC_CFGR = (RCC_CFGR & ~(RCC_CFGR_SW_MASK | RCC_CFGR_HPRE_MASK)) | RCC_CFGR_SW_HSI16;
+        g_board.faults |= BOARD_FAULT_PLL;
+        return;
+    }
+    g_board.sysclk_hz = BOARD_SYSCLK_HZ / 2u;
+    delay_ns(1000u); /* >= 1 us at AHB / 2 (RM0440 7.2.7) */
     RCC_CFGR &= ~RCC_CFGR_HPRE_MASK;
+    g_board.sysclk_hz = BOARD_SYSCLK_HZ;
+
+    /* Clock security: an HSE failure now raises NMI -> Default_Handler -> safe state. */
+    if ((g_board.faults & BOARD_FAULT_HSE) == 0u)
+        RCC_CR |= RCC_CR_CSSON;
+}
+
+/* ---------------------------------------------------------------- GPIO */
+
+static void gpio_init(void)
+{
+    RCC_AHB2ENR |= RCC_AHB2ENR_GPIOAEN | RCC_AHB2ENR_GPIOBEN | RCC_AHB2ENR_GPIOCEN;
+    (void)RCC_AHB2ENR;
+    for (size_t i = 0u; i < sizeof g_pins / sizeof g_pins[0]; i++) {
+        const board_pin *p = &g_pins[i];
+        uint32_t b = p->port_base;
+        uint32_t pin = p->pin;
+        /* Pull and speed first, then the AF number, then the mode (RM0440 9.3.2). */
+        GPIO_REG(b, GPIO_PUPDR_OFS) =
+            (GPIO_REG(b, GPIO_PUPDR_OFS) & ~(3u << (2u * pin))) | ((uint32_t)p->pupd << (2u * pin));
+        if (p->mode == GPIO_MODE_AF) {
+            GPIO_REG(b, GPIO_OSPEEDR_OFS) |= 2u << (2u * pin); /* high speed: clean gate edges */
+            uint32_t ofs = pin < 8u ? GPIO_AFRL_OFS : GPIO_AFRH_OFS;
+            uint32_t sh = 4u * (pin & 7u);
+            GPIO_REG(b, ofs) = (GPIO_REG(b, ofs) & ~(GPIO_AFR_MASK0 << sh)) | ((uint32_t)p->af << sh);
+        }
+        GPIO_REG(b, GPIO_MODER_OFS) = (GPIO_REG(b, GPIO_MODER_OFS) & ~(GPIO_MODER_MASK0 << (2u * pin))) |
+                                      ((uint32_t)p->mode << (2u * pin));
+    }
+}
+
+/* --------------------------------------------------------------- HRTIM */
+
+/* Outputs off, outer switches first (RM0440 27.3.15: ODISR takes an output
+ * to its idle level, inactive here, without waiting for the period). */
+static void hrtim_outputs_off(void)
+{
+    HRTIM_ODISR = HRTIM_OUT_OUTER;
+    delay_ns(BOARD_FAULT_INNER_DELAY_NS);
+    HRTIM_ODISR = HRTIM_OUT_INNER;
+}
+
+/*
+ * Static part of the HRTIM, done at reset with the outputs disabled:
+ * output idle/fault states, dead time, fault input FLT3 (RM0440 27.3.15-17).
+ * The outputs are in their idle (inactive, low) level until OENR.
+ */
+static void hrtim_init_static(void)
+{
+    RCC_APB2ENR |= RCC_APB2ENR_HRTIM1EN;
+    (void)RCC_APB2ENR;
+    HRTIM_ODISR = HRTIM_OUT_ALL;
+
+    /* Dead time: tDTG = 2^DTPRSC x tHRTIM / 8 (RM0440, HRTIM dead-time
+     * generator), 9-bit count. Prescalers below 3 (finer than tHRTIM) use the
+     * high-resolution delay line, which needs the DLL; this port runs the
+     * HRTIM in low resolution, so the search starts at DTPRSC = 3 (5.88 ns). */
+    uint32_t dt_prsc = 3u;
+    uint32_t dt_counts = 0u;
+    for (dt_prsc = 3u; dt_prsc < 8u; dt_prsc++) {
+        uint64_t tdtg_hz = ((uint64_t)g_board.sysclk_hz * 8u) >> dt_prsc;
+        dt_counts = (uint32_t)(((uint64_t)BOARD_DEAD_TIME_NS * tdtg_hz + 999999999u) / 1000000000u);
+        if (dt_counts <= 511u)
+            break;
+    }
+    uint32_t dtr = (dt_counts << HRTIM_DTxR_DTR_SHIFT) | (dt_prsc << HRTIM_DTxR_DTPRSC_SHIFT) |
+                   (dt_counts << HRTIM_DTxR_DTF_SHIFT);
+
+    for (uint32_t t = 0u; t < 6u; t++) {
+        /* Fault states, NPC order: the outer switch of each pair goes to its
+         * inactive level in hardware; the inner one keeps its waveform until
+         * the fault interrupt disables it BOARD_FAULT_INNER_DELAY_NS later. */
+        bool pair_s1_s3 = (t % 2u) == 0u; /* A, C, E: out1 = S1 (outer), out2 = S3 (inner) */
+        uint32_t fault = pair_s1_s3 ? (HRTIM_OUTxR_FAULT1_INACTIVE | HRTIM_OUTxR_FAULT2_NONE)
+                                    : (HRTIM_OUTxR_FAULT1_NONE | HRTIM_OUTxR_FAULT2_INACTIVE);
+        /* Complementary pair with dead time on both edges; POL = 0 (active
+         * high), idle level inactive (IDLES = 0). */
+        HRTIM_TIM_REG(t, HRTIM_OUTxR_OFS) = HRTIM_OUTxR_DTEN | fault;
+        HRTIM_TIM_REG(t, HRTIM_DTxR_OFS) = dtr;
+        HRTIM_TIM_REG(t, HRTIM_FLTxR_OFS) = HRTIM_FLTxR_FLT3EN | HRTIM_FLTxR_FLTLCK;
+    }
+}
+
+/* Arm the fault input once PB10 is in its HRTIM alternate function (in
+ * analog mode the input would read low = fault). */
+static void hrtim_arm_fault(void)
+{
+    /* FLT3 = PB10 pin, active low, no digital filter: the fastest response
+     * (a few tHRTIM of input synchronisation). The comparators on the power
+     * board filter the desaturation glitches. Locked until reset. */
+    /* Polarity, source and filter may change only while FLT3E = 0, so: configure,
+     * enable, then lock (RM0440, HRTIM chapter, HRTIM_FLTINR1 description). */
+    HRTIM_FLTINR1 = (HRTIM_FLTINR1 & ~(0xFFu << 16)) | (0u << HRTIM_FLTINR1_FLT3F_SHIFT);
+    HRTIM_FLTINR1 |= HRTIM_FLTINR1_FLT3E;
+    HRTIM_FLTINR1 |= HRTIM_FLTINR1_FLT3LCK;
+    HRTIM_ICR = HRTIM_ICR_FLT3C;
+    HRTIM_IER |= HRTIM_IER_FLT3IE;
+    nvic_enable(IRQN_HRTIM1_FLT, PRIO_HRTIM_FAULT);
+}
+
+/** HRTIM fault interrupt: the outer switches are already off in hardware;
+ * after BOARD_FAULT_INNER_DELAY_NS the inner ones follow. Context: interrupt,
+ * most urgent. */
+void HRTIM1_FLT_IRQHandler(void)
+{
+    delay_ns(BOARD_FAULT_INNER_DELAY_NS);
+    HRTIM_ODISR = HRTIM_OUT_ALL;
+    /* One interrupt per trip: a line held low must not starve the tick.
+     * hal_gate_enable(true) re-arms it once the line is high again. */
+    HRTIM_IER &= ~HRTIM_IER_FLT3IE;
+    HRTIM_ICR = HRTIM_ICR_FLT3C;
+    g_board.gates_on = false;
+    g_board.fault_latched = true;
+    g_board.fault_trips++;
+    g_board.faults |= BOARD_FAULT_HRTIM;
+}
+
+/*
+ * Dynamic part: the period. Master and timers A..F share prescaler and
+ * period and are started by one MCR write, so their counters are aligned.
+ * Every timer register written by hal_actuate is preloaded (PREEN) and
+ * transferred at the roll-over (TxREPU with REP = 0, RM0440 27.3.8).
+ * Master compare 1 is the ADC trigger (ADC trigger 2, RM0440 27.3.19).
+ */
+static int hrtim_start(uint32_t period_us)
+{
+    /* fCOUNTER = fHRTIM x 32 / 2^CKPSC; CKPSC >= 5 (low resolution, no DLL needed). */
+    uint32_t ckpsc = 5u;
+    uint32_t count_hz = g_board.sysclk_hz;
+    uint32_t per = (uint32_t)(((uint64_t)period_us * count_hz) / 1000000u);
+    while (per > 0xFFDFu && ckpsc < 7u) {
+        ckpsc++;
+        count_hz /= 2u;
+        per /= 2u;
+    }
+    if (per > 0xFFDFu || per < 64u)
+        return HAL_EINVAL;
+    g_board.per_counts = per;
+    g_board.keepout_counts = ns_to_counts(BOARD_KEEPOUT_END_NS, count_hz);
+    g_board.min_pulse_counts = ns_to_counts(BOARD_MIN_PULSE_NS, count_hz);
+
+    HRTIM_MCR = (ckpsc << HRTIM_MCR_CK_PSC_SHIFT) | HRTIM_MCR_CONT | HRTIM_MCR_PREEN | HRTIM_MCR_MREPU;
+    HRTIM_MPER = per;
+    HRTIM_MREP = 0u;
+    HRTIM_MCMP1R = ns_to_counts(BOARD_SAMPLE_DELAY_NS, count_hz);
+
+    for (uint32_t t = 0u; t < 6u; t++) {
+        HRTIM_TIM_REG(t, HRTIM_TIMxCR_OFS) =
+            (ckpsc << HRTIM_TIMxCR_CK_PSC_SHIFT) | HRTIM_TIMxCR_CONT | HRTIM_TIMxCR_PREEN | HRTIM_TIMxCR_TREPU;
+        HRTIM_TIM_REG(t, HRTIM_PERxR_OFS) = per;
+        HRTIM_TIM_REG(t, HRTIM_REPxR_OFS) = 0u;
+        HRTIM_TIM_REG(t, HRTIM_CMP1xR_OFS) = per / 2u;
+        HRTIM_TIM_REG(t, HRTIM_CMP2xR_OFS) = BOARD_START_EVENT_COUNTS;
+        /* Every leg starts clamped to the neutral point (O): S1/S3 pair
+         * output 1 low (S3 on), S2/S4 pair output 1 high (S2 on). */
+        bool pair_s1_s3 = (t % 2u) == 0u;
+        HRTIM_TIM_REG(t, HRTIM_SETx1R_OFS) = pair_s1_s3 ? 0u : HRTIM_SET_CMP2;
+        HRTIM_TIM_REG(t, HRTIM_RSTx1R_OFS) = pair_s1_s3 ? HRTIM_RST_CMP2 : 0u;
+    }
+    for (uint32_t leg = 0u; leg < 3u; leg++)
+        g_board.last_leg[leg] = (uint8_t)HAL_LEG_O;
+
+    HRTIM_ADC2R = HRTIM_ADC2R_AD2MC1;
+    HRTIM_MICR = HRTIM_MICR_MCMP1C;
+    HRTIM_CR2 = HRTIM_CR2_SWU_ALL; /* preload -> active now, before the counters run */
+    HRTIM_MCR |= HRTIM_MCR_MCEN | HRTIM_MCR_TACEN | HRTIM_MCR_TBCEN | HRTIM_MCR_TCCEN | HRTIM_MCR_TDCEN |
+                 HRTIM_MCR_TECEN | HRTIM_MCR_TFCEN;
+    return HAL_OK;
+}
+
+static void hrtim_stop(void)
+{
+    hrtim_outputs_off();
+    HRTIM_MCR &= ~(HRTIM_MCR_MCEN | HRTIM_MCR_TACEN | HRTIM_MCR_TBCEN | HRTIM_MCR_TCCEN | HRTIM_MCR_TDCEN |
+                   HRTIM_MCR_TECEN | HRTIM_MCR_TFCEN);
+}
+
+/* ----------------------------------------------------------------- ADC */
+
+static bool adc_power_up(uint32_t base)
+{
+    /* Exit deep power-down, start the regulator, wait tADCVREG_STUP (20 us,
+     * datasheet), calibrate single-ended (RM0440 21.4.6, 21.4.8). */
+    ADC_REG(base, ADC_CR_OFS) = 0u; /* DEEPPWD = 0 */
+    ADC_REG(base, ADC_CR_OFS) = ADC_CR_ADVREGEN;
+    delay_ns(20000u);
+    ADC_REG(base, ADC_CR_OFS) = ADC_CR_ADVREGEN | ADC_CR_ADCAL; /* ADCALDIF = 0: single-ended */
+    if (!wait_set(&ADC_REG(base, ADC_CR_OFS), ADC_CR_ADCAL, 0u, WAIT_LOOPS))
+        return false;
+    delay_ns(1000u); /* 4 ADC clocks between ADCAL = 0 and ADEN = 1 */
+    ADC_REG(base, ADC_ISR_OFS) = ADC_ISR_ADRDY;
+    ADC_REG(base, ADC_CR_OFS) = ADC_CR_ADVREGEN | ADC_CR_ADEN;
+    if (!wait_set(&ADC_REG(base, ADC_ISR_OFS), ADC_ISR_ADRDY, ADC_ISR_ADRDY, WAIT_LOOPS))
+        return false;
+    ADC_REG(base, ADC_ISR_OFS) = ADC_ISR_ADRDY;
     return true;
 }
 
-/* --------------------------------------------------------- board_init */
+static uint32_t smp_bits(uint32_t ch) { return ADC_SMP_24C5 << (ADC_SMPR_BITS * (ch % 10u)); }
+
+static void adc_set_sampling(uint32_t base, uint32_t ch)
+{
+    uint32_t ofs = ch < 10u ? ADC_SMPR1_OFS : ADC_SMPR2_OFS;
+    uint32_t sh = ADC_SMPR_BITS * (ch % 10u);
+    ADC_REG(base, ofs) = (ADC_REG(base, ofs) & ~(7u << sh)) | smp_bits(ch);
+}
+
+/*
+ * ADC1 (master) + ADC2 (slave), dual injected simultaneous mode, 3 ranks
+ * each, triggered by HRTIM ADC trigger 2 (master compare 1) on the rising
+ * edge; clock HCLK / 4 = 42.5 MHz, synchronous with the HRTIM, so the
+ * sampling instant has no jitter (RM0440 21.4.3, 21.4.31). 24.5 + 12.5 ADC
+ * cycles = 0.87 us per rank. ia and ib are sampled at the same instant, ic
+ * and vc2 one rank (0.87 us) later.
+ */
+static bool adc_init(void)
+{
+    RCC_CCIPR = (RCC_CCIPR & ~RCC_CCIPR_ADC12SEL_MASK) | RCC_CCIPR_ADC12SEL_SYSCLK;
+    RCC_AHB2ENR |= RCC_AHB2ENR_ADC12EN;
+    (void)RCC_AHB2ENR;
+    /* Clock mode and dual mode may be written only while both ADCs are
+     * disabled (RM0440, ADC chapter, ADC_CCR description). */
+    ADC12_CCR = (ADC12_CCR & ~(ADC12_CCR_CKMODE_MASK | ADC12_CCR_DUAL_MASK)) | ADC12_CCR_CKMODE_HCLK_DIV4 |
+                ADC12_CCR_DUAL_INJ_SIMULT;
+
+    if (!adc_power_up(ADC1_BASE) || !adc_power_up(ADC2_BASE))
+        return false;
+
+    ADC_REG(ADC1_BASE, ADC_CFGR_OFS) |= ADC_CFGR_JQDIS;
+    ADC_REG(ADC2_BASE, ADC_CFGR_OFS) |= ADC_CFGR_JQDIS;
+    adc_set_sampling(ADC1_BASE, ADC1_CH_IA);
+    adc_set_sampling(ADC1_BASE, ADC1_CH_IC);
+    adc_set_sampling(ADC1_BASE, ADC1_CH_VC1);
+    adc_set_sampling(ADC2_BASE, ADC2_CH_IB);
+    adc_set_sampling(ADC2_BASE, ADC2_CH_VC2);
+
+    ADC_REG(ADC1_BASE, ADC_JSQR_OFS) = (2u << ADC_JSQR_JL_SHIFT) | (ADC_JEXTSEL_HRTIM_TRG2 << ADC_JSQR_JEXTSEL_SHIFT) |
+                                      ADC_JSQR_JEXTEN_RISING | (ADC1_CH_IA << ADC_JSQR_JSQ1_SHIFT) |
+                                      (ADC1_CH_IC << ADC_JSQR_JSQ2_SHIFT) | (ADC1_CH_VC1 << ADC_JSQR_JSQ3_SHIFT);
+    /* The slave follows the master's trigger: its own trigger stays off. */
+    ADC_REG(ADC2_BASE, ADC_JSQR_OFS) = (2u << ADC_JSQR_JL_SHIFT) | (ADC2_CH_IB << ADC_JSQR_JSQ1_SHIFT) |
+                                      (ADC2_CH_VC2 << ADC_JSQR_JSQ2_SHIFT) | (ADC2_CH_VC2 << ADC_JSQR_JSQ3_SHIFT);
+
+    ADC_REG(ADC1_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    ADC_REG(ADC2_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTART; /* the master starts both */
+    return true;
+}
+
+/* Stop the injected conversions and disable both ADCs (JADSTP, then ADDIS,
+ * RM0440, ADC chapter, "Stopping an ongoing conversion" / "ADC on-off
+ * control"), so a later adc_init() finds them disabled as it must. */
+static void adc_stop(void)
+{
+    ADC_REG(ADC1_BASE, ADC_IER_OFS) = 0u;
+    if ((ADC_REG(ADC1_BASE, ADC_CR_OFS) & ADC_CR_JADSTART) != 0u) {
+        ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTP;
+        (void)wait_set(&ADC_REG(ADC1_BASE, ADC_CR_OFS), ADC_CR_JADSTART, 0u, WAIT_LOOPS);
+    }
+    const uint32_t bases[2] = {ADC1_BASE, ADC2_BASE};
+    for (unsigned k = 0u; k < 2u; k++) {
+        if ((ADC_REG(bases[k], ADC_CR_OFS) & ADC_CR_ADEN) != 0u) {
+            ADC_REG(bases[k], ADC_CR_OFS) |= ADC_CR_ADDIS;
+            (void)wait_set(&ADC_REG(bases[k], ADC_CR_OFS), ADC_CR_ADEN, 0u, WAIT_LOOPS);
+        }
+    }
+}
+
+/* Read the six injected results; @return false if one was saturated. */
+static bool adc_read_codes(uint32_t code[6])
+{
+    code[0] = ADC_JDR(ADC1_BASE, 0u) & 0xFFFu; /* ia */
+    code[1] = ADC_JDR(ADC2_BASE, 0u) & 0xFFFu; /* ib */
+    code[2] = ADC_JDR(ADC1_BASE, 1u) & 0xFFFu; /* ic */
+    code[3] = ADC_JDR(ADC1_BASE, 2u) & 0xFFFu; /* vc1 */
+    code[4] = ADC_JDR(ADC2_BASE, 1u) & 0xFFFu; /* vc2 */
+    code[5] = ADC_JDR(ADC2_BASE, 2u) & 0xFFFu; /* vc2, second sample */
+    ADC_REG(ADC1_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    ADC_REG(ADC2_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    bool ok = true;
+    for (unsigned k = 0u; k < 6u; k++) {
+        if (k != 3u && k != 4u && k != 5u && (code[k] <= BOARD_ADC_SAT_LOW || code[k] >= BOARD_ADC_SAT_HIGH))
+            ok = false; /* a current at the rail: the sensor or the converter is saturated */
+        if ((k >= 3u) && code[k] >= BOARD_ADC_SAT_HIGH)
+            ok = false; /* a capacitor voltage at full scale (0 V is a valid reading) */
+    }
+    return ok;
+}
+
+/* Current offsets with the gates off: average BOARD_OFFSET_SAMPLES periods. */
+static bool adc_calibrate_offsets(void)
+{
+    uint32_t sum[3] = {0u, 0u, 0u};
+    for (uint32_t n = 0u; n < BOARD_OFFSET_SAMPLES; n++) {
+        if (!wait_set(&ADC_REG(ADC1_BASE, ADC_ISR_OFS), ADC_ISR_JEOS, ADC_ISR_JEOS, WAIT_LOOPS))
+            return false;
+        uint32_t code[6];
+        (void)adc_read_codes(code);
+        for (unsigned k = 0u; k < 3u; k++)
+            sum[k] += code[k];
+    }
+    bool ok = true;
+    for (unsigned k = 0u; k < 3u; k++) {
+        uint32_t mean = (sum[k] + BOARD_OFFSET_SAMPLES / 2u) / BOARD_OFFSET_SAMPLES;
+        uint32_t dev = mean > BOARD_ADC_MID_CODE ? mean - BOARD_ADC_MID_CODE : BOARD_ADC_MID_CODE - mean;
+        if (dev > BOARD_OFFSET_TOL_CODE)
+            ok = false;
+        g_board.offset_code[k] = (float)sum[k] / (float)BOARD_OFFSET_SAMPLES;
+    }
+    return ok;
+}
+
+/* ------------------------------------------------------------ board_init */
 
 void board_init(void)
 {
@@ -144,12 +606,26 @@ void board_init(void)
     SCB_SHCSR |= SCB_SHCSR_MEMFAULTENA | SCB_SHCSR_BUSFAULTENA | SCB_SHCSR_USGFAULTENA;
     SCB_CCR |= SCB_CCR_DIV_0_TRP;
 
-    board_safe_state();
-    g_board.sysclk_hz = clock_init_170mhz() ? BOARD_SYSCLK_HZ : 16000000u;
+    if ((RCC_CSR & RCC_CSR_IWDGRSTF) != 0u)
+        g_board.faults |= BOARD_FAULT_WDG_RESET;
+    /* Option bytes this board depends on (docs/board.md, NUCLEO caveats):
+     * boot not taken from PB8 (= CAN RX), flash in dual-bank mode. */
+    if ((FLASH_OPTR & FLASH_OPTR_NSWBOOT0) != 0u)
+        g_board.faults |= BOARD_FAULT_BOOT0_PIN;
+    if ((FLASH_OPTR & FLASH_OPTR_DBANK) == 0u)
+        g_board.faults |= BOARD_FAULT_NVM;
 
     DEMCR |= DEMCR_TRCENA;
     DWT_CYCCNT = 0u;
     DWT_CTRL |= DWT_CTRL_CYCCNTENA;
+
+    clock_init_170mhz();
+
+    /* HRTIM before the pins: the outputs are disabled (idle, low) when the
+     * pins switch from analog to the HRTIM alternate function. */
+    hrtim_init_static();
+    gpio_init();
+    hrtim_arm_fault();
 
     /* SysTick: 1 ms, least urgent interrupt. */
     SCB_SHPR3 = (SCB_SHPR3 & 0x00FFFFFFu) | ((PRIO_SYSTICK << NVIC_PRIO_SHIFT) << 24);
@@ -160,8 +636,15 @@ void board_init(void)
 
 void board_safe_state(void)
 {
-    /* PORT: disable all twelve HRTIM outputs (HRTIM_ODISR) and drop the
-     * gate-driver enable pin here; until the HRTIM port no output is driven. */
+    /* Before board_init the HRTIM is not clocked and the pins are still
+     * analog (gate drivers held off by the pull-downs): nothing to do. */
+    if ((RCC_APB2ENR & RCC_APB2ENR_HRTIM1EN) != 0u) {
+        HRTIM_ODISR = HRTIM_OUT_OUTER;
+        for (volatile uint32_t n = 0u; n < 60u; n++) {
+            /* >= 1 us at 170 MHz without relying on any RAM state */
+        }
+        HRTIM_ODISR = HRTIM_OUT_INNER;
+    }
     g_board.gates_on = false;
 }
 
@@ -170,58 +653,49 @@ void SysTick_Handler(void) { g_board.millis++; }
 
 /* ------------------------------------------------------- control tick */
 
-/* Scale raw converter codes to engineering units (ADC1: ia, ib, vc1;
- * ADC2: ic, vc2), the same scaling the plant model's ADC uses. */
-static void sample_from_codes(const uint32_t code[5], hal_sample *out)
-{
-    const float i_scale = 2.0f * BOARD_I_FULL_SCALE_A / BOARD_ADC_FULL_CODE;
-    const float v_scale = BOARD_V_FULL_SCALE_V / BOARD_ADC_FULL_CODE;
-    out->ia_A = (float)code[0] * i_scale - BOARD_I_FULL_SCALE_A;
-    out->ib_A = (float)code[1] * i_scale - BOARD_I_FULL_SCALE_A;
-    out->ic_A = (float)code[3] * i_scale - BOARD_I_FULL_SCALE_A;
-    out->vc1_V = (float)code[2] * v_scale;
-    out->vc2_V = (float)code[4] * v_scale;
-}
-
 static void sample_latch(void)
 {
+    uint32_t code[6];
+    bool in_range = adc_read_codes(code);
     g_board.seq++;
-    if (BOARD_ADC_PORTED) {
-        /* PORT: the HRTIM triggers both injected sequences at the period start;
-         * by the time this interrupt runs they have converted (JEOS set). */
-        uint32_t code[5];
-        code[0] = ADC_JDR(ADC1_BASE, 0u) & 0xFFFu;
-        code[1] = ADC_JDR(ADC1_BASE, 1u) & 0xFFFu;
-        code[2] = ADC_JDR(ADC1_BASE, 2u) & 0xFFFu;
-        code[3] = ADC_JDR(ADC2_BASE, 0u) & 0xFFFu;
-        code[4] = ADC_JDR(ADC2_BASE, 1u) & 0xFFFu;
-        sample_from_codes(code, &g_board.sample);
-        g_board.sample.speed_meas_rad_s = 0.0f;
-        g_board.sample.speed_meas_valid = false; /* no speed sensor on the board */
-        g_board.sample.seq = g_board.seq;
-        g_board.sample_fresh = true;
-    } else {
-        /* PORT: no ADC yet, so there is no measurement to give: refuse it. */
+    if (!in_range)
+        g_board.faults |= BOARD_FAULT_ADC_RANGE;
+    if (!g_board.adc_ok || !in_range) {
+        /* No trustworthy measurement: refuse it (the control core then sees a
+         * stale sample and goes to its safe state). */
         g_board.sample_fresh = false;
+        return;
     }
+    const float i_scale = 2.0f * BOARD_I_FULL_SCALE_A / BOARD_ADC_FULL_CODE;
+    const float v_scale = BOARD_V_FULL_SCALE_V / BOARD_ADC_FULL_CODE;
+    hal_sample *s = &g_board.sample;
+    s->ia_A = ((float)code[0] - g_board.offset_code[0]) * i_scale;
+    s->ib_A = ((float)code[1] - g_board.offset_code[1]) * i_scale;
+    s->ic_A = ((float)code[2] - g_board.offset_code[2]) * i_scale;
+    s->vc1_V = (float)code[3] * v_scale;
+    s->vc2_V = 0.5f * (float)(code[4] + code[5]) * v_scale;
+    s->speed_meas_rad_s = 0.0f;
+    s->speed_meas_valid = false; /* no speed sensor on the board */
+    s->seq = g_board.seq;
+    g_board.sample_fresh = true;
 }
 
 bool hal_tick_missed(void)
 {
-    /* UIF set again while the handler still runs: the next period has begun. */
-    return (TIM6_SR & TIM_SR_UIF) != 0u;
+    /* Master compare 1 (the next sampling trigger) came again while the
+     * handler still runs: the next tick is already due. */
+    return (HRTIM_MISR & HRTIM_MISR_MCMP1) != 0u;
 }
 
-/** TIM6 update: start of a control period. Context: interrupt, most urgent. */
-void TIM6_DAC_IRQHandler(void)
+/** ADC1/ADC2 end of the injected sequence: the control tick, synchronised to
+ * the PWM. Context: interrupt, PRIO_CONTROL_TICK. */
+void ADC1_2_IRQHandler(void)
 {
-    TIM6_SR = ~TIM_SR_UIF; /* rc_w0: clears only UIF */
-
-    /* The period has started: what was latched during the last tick applies now.
-     * PORT: the HRTIM preload transfer does this in hardware at the period start. */
-    g_board.applied = g_board.pending;
-
+    HRTIM_MICR = HRTIM_MICR_MCMP1C;
+    if ((ADC_REG(ADC1_BASE, ADC_ISR_OFS) & ADC_ISR_JEOS) == 0u)
+        return; /* spurious */
     sample_latch();
+    g_board.wdg_tick_alive = true;
     if (g_board.handler != NULL)
         g_board.handler(g_board.ctx);
 }
@@ -236,36 +710,38 @@ int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us)
     g_board.handler = handler;
     g_board.ctx = ctx;
 
-    RCC_APB1ENR1 |= RCC_APB1ENR1_TIM6EN;
-    (void)RCC_APB1ENR1;
+    /* Gates off during the offset calibration. */
+    hrtim_outputs_off();
+    g_board.gates_on = false;
+    g_board.adc_ok = false;
+    if (!adc_init()) {
+        adc_stop();
+        g_board.faults |= BOARD_FAULT_ADC_CAL;
+        return HAL_EIO;
+    }
+    int rc = hrtim_start(period_us);
+    if (rc != HAL_OK) {
+        adc_stop();
+        return rc;
+    }
+    if (adc_calibrate_offsets())
+        g_board.adc_ok = true;
+    else
+        g_board.faults |= BOARD_FAULT_ADC_OFFSET; /* samples refused: the drive stays safe */
 
-    /* TIM6 runs from the APB1 timer clock (= SYSCLK with APB1 / 1). Pick the
-     * smallest prescaler that fits 16 bits and divides the period exactly. */
-    uint32_t counts = (g_board.sysclk_hz / 1000000u) * period_us;
-    uint32_t div = 1u;
-    while (counts / div > 65536u || counts % div != 0u)
-        div++;
-
-    TIM6_CR1 = TIM_CR1_URS;
-    TIM6_PSC = div - 1u;
-    TIM6_ARR = counts / div - 1u;
-    TIM6_CNT = 0u;
-    TIM6_EGR = TIM_EGR_UG; /* load PSC now; URS keeps this from interrupting */
-    TIM6_SR = 0u;
-    TIM6_DIER = TIM_DIER_UIE;
-    nvic_enable(IRQN_TIM6_DAC, PRIO_CONTROL_TICK);
+    ADC_REG(ADC1_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    ADC_REG(ADC1_BASE, ADC_IER_OFS) = ADC_IER_JEOSIE;
     g_board.tick_running = true;
-    TIM6_CR1 = TIM_CR1_URS | TIM_CR1_ARPE | TIM_CR1_CEN;
+    nvic_enable(IRQN_ADC1_2, PRIO_CONTROL_TICK);
     return HAL_OK;
 }
 
 void hal_tick_stop(void)
 {
     hal_gate_enable(false);
-    TIM6_CR1 &= ~TIM_CR1_CEN;
-    TIM6_DIER = 0u;
-    nvic_disable(IRQN_TIM6_DAC);
-    TIM6_SR = 0u;
+    nvic_disable(IRQN_ADC1_2);
+    adc_stop();
+    hrtim_stop();
     g_board.tick_running = false;
 }
 
@@ -282,6 +758,12 @@ int hal_sample_read(hal_sample *out)
     return HAL_OK;
 }
 
+/* The planner's event bits are the HRTIM's CMP2/CMP1 set/reset bits. */
+_Static_assert(NPC_EV_START == HRTIM_SET_CMP2 && NPC_EV_START == HRTIM_RST_CMP2, "CMP2 event bit");
+_Static_assert(NPC_EV_T == HRTIM_SET_CMP1 && NPC_EV_T == HRTIM_RST_CMP1, "CMP1 event bit");
+_Static_assert(NPC_P == (unsigned)HAL_LEG_P && NPC_O == (unsigned)HAL_LEG_O && NPC_N == (unsigned)HAL_LEG_N,
+               "leg states");
+
 int hal_actuate(const hal_actuation *act)
 {
     if (act == NULL)
@@ -294,33 +776,72 @@ int hal_actuate(const hal_actuation *act)
     }
     if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */
         return HAL_EINVAL;
-    /* PORT: write the HRTIM timers' compare (duty split) and output set/reset
-     * sources into their preload registers here; the master period event
-     * transfers them at the start of the next period. */
-    g_board.pending = *act;
+    if (g_board.per_counts == 0u)
+        return HAL_OK; /* tick not started: nothing to program */
+
+    const npc_timing tm = {g_board.per_counts, g_board.keepout_counts, g_board.min_pulse_counts};
+    uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
+
+    /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
+     * while the six programmes are written, so a period never starts with
+     * half of them. */
+    HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
+    for (uint32_t leg = 0u; leg < 3u; leg++) {
+        npc_leg_plan plan;
+        npc_plan_leg(&tm, g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg], t0, &plan);
+        if (plan.fixups != 0u) {
+            g_board.pn_fixups += plan.fixups;
+            g_board.faults |= BOARD_FAULT_PN_STEP;
+        }
+        for (uint32_t k = 0u; k < 2u; k++) {
+            uint32_t tim = 2u * leg + k; /* A/B: leg a, C/D: leg b, E/F: leg c */
+            HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = plan.set[k];
+            HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = plan.rst[k];
+            if (plan.t != 0u && plan.t != tm.per)
+                HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = plan.t;
+        }
+        g_board.last_leg[leg] = plan.end;
+    }
+    HRTIM_CR1 &= ~HRTIM_CR1_UDIS_ALL;
     return HAL_OK;
 }
 
 /* ------------------------------------------------------ gates and faults */
 
+static bool fault_pin_active(void) { return (GPIO_REG(GPIOB_BASE, GPIO_IDR_OFS) & (1u << 10)) == 0u; }
+
 void hal_gate_enable(bool enable)
 {
     if (!enable) {
-        board_safe_state();
+        if ((HRTIM_OENR & HRTIM_OUT_ALL) != 0u)
+            hrtim_outputs_off(); /* the 1 us outer-first sequence only when something is on */
+        g_board.gates_on = false;
         return;
     }
-    /* PORT: enable the HRTIM outputs (HRTIM_OENR) and the gate-driver enable
-     * pin, then set gates_on. Until the HRTIM port the request is refused and
-     * hal_gate_enabled() keeps reporting the truth: off. */
+    /* Refused (gates stay off) without a running tick, a valid calibration,
+     * or while the fault line is low. */
+    if (!g_board.tick_running || !g_board.adc_ok || fault_pin_active() || g_board.fault_latched)
+        return;
+    HRTIM_ICR = HRTIM_ICR_FLT3C;
+    HRTIM_IER |= HRTIM_IER_FLT3IE;
+    HRTIM_OENR = HRTIM_OUT_ALL;
+    /* Reading OENR gives the outputs' enable status (RM0440, HRTIM chapter, HRTIM_OENR description). */
+    g_board.gates_on = (HRTIM_OENR & HRTIM_OUT_ALL) == HRTIM_OUT_ALL;
+    if ((HRTIM_ISR & HRTIM_ISR_FLT3) != 0u) /* tripped meanwhile */
+        g_board.gates_on = false;
 }
 
 bool hal_gate_enabled(void) { return g_board.gates_on; }
 
 bool hal_fault_input_active(void)
 {
-    /* PORT: return the HRTIM fault-input flags (desaturation, over-current
-     * comparator). With no output driven there is nothing to protect yet. */
-    return false;
+    /* The pin's level, or a trip not yet reported: a glitch shorter than one
+     * tick is still seen once by the control core (CTL_FAULT_HW). */
+    bool pin = fault_pin_active();
+    bool latched = g_board.fault_latched;
+    if (latched && !pin)
+        g_board.fault_latched = false;
+    return pin || latched;
 }
 
 /* ------------------------------------------------------------------ time */
@@ -333,28 +854,167 @@ uint32_t hal_millis(void) { return g_board.millis; }
 
 /* ------------------------------------------------------------------- CAN */
 
+/*
+ * Nominal bit timing from the FDCAN kernel clock (PCLK1 = SYSCLK): the
+ * prescaler and number of time quanta (8..80) whose sample point is closest
+ * to 87.5 % (CiA 301 recommendation), SJW = phase segment 2 (RM0440, FDCAN chapter, FDCAN_NBTP description).
+ */
+static bool can_bit_timing(uint32_t clk_hz, uint32_t bitrate, uint32_t *nbtp)
+{
+    uint32_t best_err = 1000u, best = 0u;
+    for (uint32_t brp = 1u; brp <= 32u; brp++) {
+        if (clk_hz % (brp * bitrate) != 0u)
+            continue;
+        uint32_t ntq = clk_hz / (brp * bitrate);
+        if (ntq < 8u || ntq > 80u)
+            continue;
+        uint32_t sp_tq = (ntq * 875u + 500u) / 1000u; /* sync + tseg1 */
+        uint32_t tseg1 = sp_tq - 1u;
+        uint32_t tseg2 = ntq - sp_tq;
+        if (tseg2 < 2u || tseg1 > 256u || tseg2 > 128u)
+            continue;
+        uint32_t sp = sp_tq * 1000u / ntq;
+        uint32_t err = sp > 875u ? sp - 875u : 875u - sp;
+        if (err < best_err) {
+            best_err = err;
+            best = ((tseg2 - 1u) << FDCAN_NBTP_NSJW_SHIFT) | ((brp - 1u) << FDCAN_NBTP_NBRP_SHIFT) |
+                   ((tseg1 - 1u) << FDCAN_NBTP_NTSEG1_SHIFT) | ((tseg2 - 1u) << FDCAN_NBTP_NTSEG2_SHIFT);
+        }
+    }
+    *nbtp = best;
+    return best_err < 1000u;
+}
+
+/* Standard filter element (RM0440, FDCAN chapter, "Standard message ID filter element"):
+ * SFT range (0) or dual (1), SFEC 1 = store in Rx FIFO 0. */
+static uint32_t can_filter(uint32_t type, uint32_t id1, uint32_t id2)
+{
+    return (type << 30) | (1u << 27) | (id1 << 16) | id2;
+}
+
 int hal_can_open(uint32_t bitrate_bps)
 {
     if (bitrate_bps != 125000u && bitrate_bps != 250000u && bitrate_bps != 500000u &&
         bitrate_bps != 1000000u)
         return HAL_EINVAL;
-    /* PORT: FDCAN1 in classic mode (bit timing from the 170 MHz kernel clock,
-     * message RAM filters and FIFOs). Not ported yet. */
-    return HAL_EIO;
+    uint32_t nbtp;
+    if (!can_bit_timing(g_board.sysclk_hz, bitrate_bps, &nbtp))
+        return HAL_EIO;
+
+    RCC_CCIPR = (RCC_CCIPR & ~RCC_CCIPR_FDCANSEL_MASK) | RCC_CCIPR_FDCANSEL_PCLK1;
+    RCC_APB1ENR1 |= RCC_APB1ENR1_FDCANEN;
+    (void)RCC_APB1ENR1;
+
+    /* Initialisation mode, then configuration change enable (RM0440, FDCAN chapter, FDCAN_CCCR description). */
+    FDCAN1_CCCR |= FDCAN_CCCR_INIT;
+    if (!wait_set(&FDCAN1_CCCR, FDCAN_CCCR_INIT, FDCAN_CCCR_INIT, WAIT_LOOPS))
+        return HAL_EIO;
+    FDCAN1_CCCR |= FDCAN_CCCR_CCE;
+    /* Classic CAN: no FD operation, no bit-rate switching; automatic
+     * retransmission on (DAR = 0). */
+    FDCAN1_CCCR &= ~(FDCAN_CCCR_FDOE | FDCAN_CCCR_BRSE | FDCAN_CCCR_DAR);
+    FDCAN1_NBTP = nbtp;
+
+    /* Message RAM: clear it, then the filters of this node's function codes
+     * (the node id is the firmware's, so the exact match is in software). */
+    for (uint32_t ofs = 0u; ofs < SRAMCAN_SIZE; ofs += 4u)
+        SRAMCAN_WORD(ofs) = 0u;
+    SRAMCAN_WORD(SRAMCAN_FLSSA + 0u) = can_filter(1u, 0x000u, 0x080u); /* NMT, SYNC */
+    SRAMCAN_WORD(SRAMCAN_FLSSA + 4u) = can_filter(0u, 0x200u, 0x57Fu); /* RPDO1..4 */
+    SRAMCAN_WORD(SRAMCAN_FLSSA + 8u) = can_filter(0u, 0x600u, 0x67Fu); /* SDO requests */
+    SRAMCAN_WORD(SRAMCAN_FLSSA + 12u) = can_filter(0u, 0x700u, 0x77Fu); /* heartbeats, node guarding */
+    /* 4 standard filters; everything else and every extended or remote
+     * extended frame is rejected. */
+    FDCAN1_RXGFC = (4u << FDCAN_RXGFC_LSS_SHIFT) | FDCAN_RXGFC_ANFS_REJECT | FDCAN_RXGFC_ANFE_REJECT |
+                   FDCAN_RXGFC_RRFE;
+    FDCAN1_TXBC = 0u; /* TFQM = 0: Tx FIFO (3 elements, fixed) */
+    FDCAN1_IE = 0u;   /* polled from the background: never interrupts the tick */
+    FDCAN1_IR = 0xFFFFFFFFu;
+
+    FDCAN1_CCCR &= ~FDCAN_CCCR_INIT; /* joins after 11 recessive bits */
+    g_board.can_open = true;
+    g_board.can_busoff = false;
+    return HAL_OK;
+}
+
+/* Bus-off: the controller sets INIT by itself; after CAN_BUSOFF_RETRY_MS
+ * clearing INIT starts the recovery (128 x 11 recessive bits; RM0440, FDCAN chapter, bus-off recovery).
+ * @return true while the controller is usable. Context: BG. */
+static bool can_service(void)
+{
+    if (!g_board.can_open)
+        return false;
+    /* PSR.BO stays set from bus-off until the recovery sequence completes. */
+    if ((FDCAN1_PSR & FDCAN_PSR_BO) != 0u) {
+        if (!g_board.can_busoff) {
+            g_board.can_busoff = true;
+            g_board.can_busoff_ms = g_board.millis;
+            g_board.can_busoff_count++;
+            g_board.faults |= BOARD_FAULT_CAN_BUSOFF;
+        } else if ((FDCAN1_CCCR & FDCAN_CCCR_INIT) != 0u &&
+                   g_board.millis - g_board.can_busoff_ms >= CAN_BUSOFF_RETRY_MS) {
+            FDCAN1_CCCR &= ~FDCAN_CCCR_INIT; /* start the recovery */
+            g_board.can_busoff_ms = g_board.millis;
+        }
+        return false;
+    }
+    g_board.can_busoff = false;
+    return true;
 }
 
 int hal_can_send(const hal_can_frame *frame)
 {
     if (frame == NULL || frame->id > 0x7FFu || frame->dlc > 8u)
         return HAL_EINVAL;
-    return HAL_EIO; /* PORT: FDCAN1 transmit FIFO */
+    if (!can_service())
+        return HAL_EIO;
+    uint32_t fqs = FDCAN1_TXFQS;
+    if ((fqs & FDCAN_TXFQS_TFQF) != 0u)
+        return HAL_EBUSY; /* never waits: the caller retries later */
+    uint32_t idx = (fqs & FDCAN_TXFQS_TFQPI_MASK) >> FDCAN_TXFQS_TFQPI_SHIFT;
+    uint32_t e = SRAMCAN_TBSA + idx * SRAMCAN_ELEM_SIZE;
+    uint8_t d[8] = {0};
+    memcpy(d, frame->data, frame->dlc);
+    /* T0: RTR [29], standard id [28:18]; T1: DLC [19:16] (classic, no EFC). */
+    SRAMCAN_WORD(e + 0u) = ((uint32_t)frame->id << 18) | (frame->rtr ? (1u << 29) : 0u);
+    SRAMCAN_WORD(e + 4u) = (uint32_t)frame->dlc << 16;
+    SRAMCAN_WORD(e + 8u) = (uint32_t)d[0] | ((uint32_t)d[1] << 8) | ((uint32_t)d[2] << 16) | ((uint32_t)d[3] << 24);
+    SRAMCAN_WORD(e + 12u) = (uint32_t)d[4] | ((uint32_t)d[5] << 8) | ((uint32_t)d[6] << 16) | ((uint32_t)d[7] << 24);
+    FDCAN1_TXBAR = 1u << idx;
+    return HAL_OK;
 }
 
 int hal_can_recv(hal_can_frame *frame)
 {
     if (frame == NULL)
         return HAL_EINVAL;
-    return HAL_EAGAIN; /* PORT: FDCAN1 receive FIFO 0; nothing can arrive yet */
+    (void)can_service();
+    if (!g_board.can_open)
+        return HAL_EAGAIN;
+    if ((FDCAN1_IR & FDCAN_IR_RF0L) != 0u) {
+        FDCAN1_IR = FDCAN_IR_RF0L;
+        g_board.can_rx_lost++;
+    }
+    for (;;) {
+        uint32_t s = FDCAN1_RXF0S;
+        if ((s & FDCAN_RXF0S_F0FL_MASK) == 0u)
+            return HAL_EAGAIN;
+        uint32_t idx = (s & FDCAN_RXF0S_F0GI_MASK) >> FDCAN_RXF0S_F0GI_SHIFT;
+        uint32_t e = SRAMCAN_RF0SA + idx * SRAMCAN_ELEM_SIZE;
+        uint32_t r0 = SRAMCAN_WORD(e + 0u);
+        uint32_t r1 = SRAMCAN_WORD(e + 4u);
+        uint32_t w[2] = {SRAMCAN_WORD(e + 8u), SRAMCAN_WORD(e + 12u)};
+        FDCAN1_RXF0A = idx;
+        if ((r0 & (1u << 30)) != 0u || (r1 & (1u << 21)) != 0u)
+            continue; /* extended or FD frame: not ours (filters reject them anyway) */
+        uint32_t dlc = (r1 >> 16) & 0xFu;
+        frame->id = (uint16_t)((r0 >> 18) & 0x7FFu);
+        frame->rtr = (r0 & (1u << 29)) != 0u;
+        frame->dlc = (uint8_t)(dlc > 8u ? 8u : dlc);
+        for (unsigned k = 0u; k < 8u; k++)
+            frame->data[k] = (uint8_t)(w[k / 4u] >> (8u * (k % 4u)));
+        return HAL_OK;
+    }
 }
 
 /* ---------------------------------------------------------- non-volatile */
@@ -382,14 +1042,160 @@ int hal_nvm_read(uint32_t offset, void *buf, size_t len)
     return HAL_OK;
 }
 
+/* Let the watchdog through during long flash operations: the caller is the
+ * background, so only the tick still has to prove itself. Context: BG. */
+static void wdg_service_bg(void);
+
+#define FLASH_SR_ERRORS                                                                                  \
+    (FLASH_SR_OPERR | FLASH_SR_PROGERR | FLASH_SR_WRPERR | FLASH_SR_PGAERR | FLASH_SR_SIZERR |          \
+     FLASH_SR_PGSERR | FLASH_SR_MISSERR | FLASH_SR_FASTERR | FLASH_SR_RDERR | FLASH_SR_OPTVERR)
+
+/* The flash data cache may hold a page's old contents after an erase or a
+ * program: reset it (RM0440, FLASH chapter, FLASH_ACR DCRST: only while DCEN = 0). */
+static void flash_dcache_reset(void)
+{
+    uint32_t acr = FLASH_ACR;
+    FLASH_ACR = acr & ~FLASH_ACR_DCEN;
+    FLASH_ACR = (acr & ~FLASH_ACR_DCEN) | FLASH_ACR_DCRST;
+    FLASH_ACR = acr & ~(FLASH_ACR_DCEN | FLASH_ACR_DCRST);
+    FLASH_ACR = acr & ~FLASH_ACR_DCRST;
+}
+
+static bool flash_wait(void)
+{
+    for (uint32_t n = 0u; n < WAIT_FLASH_LOOPS; n++) {
+        if ((FLASH_SR & FLASH_SR_BSY) == 0u)
+            break;
+        if ((n & 0xFFFFu) == 0u)
+            wdg_service_bg();
+    }
+    uint32_t sr = FLASH_SR;
+    FLASH_SR = sr & (FLASH_SR_ERRORS | FLASH_SR_EOP); /* rc_w1 */
+    return (sr & (FLASH_SR_BSY | FLASH_SR_ERRORS)) == 0u;
+}
+
+static bool flash_unlock(void)
+{
+    if ((FLASH_CR & FLASH_CR_LOCK) != 0u) {
+        FLASH_KEYR = FLASH_KEY1; /* RM0440 5.3.5 */
+        FLASH_KEYR = FLASH_KEY2;
+    }
+    return (FLASH_CR & FLASH_CR_LOCK) == 0u;
+}
+
+static bool flash_erase_page(uint32_t addr)
+{
+    /* Dual-bank mode: 2 KiB pages, bank 2 from 0x08040000 (RM0440 5.3.8). */
+    uint32_t bank2 = addr >= FLASH_BANK2_START ? 1u : 0u;
+    uint32_t page = ((addr - (bank2 ? FLASH_BANK2_START : 0x08000000u)) / NVM_PAGE_SIZE) & 0x7Fu;
+    if (!flash_wait())
+        return false;
+    FLASH_CR = FLASH_CR_PER | (bank2 ? FLASH_CR_BKER : 0u) | (page << FLASH_CR_PNB_SHIFT);
+    FLASH_CR |= FLASH_CR_STRT;
+    bool ok = flash_wait();
+    FLASH_CR &= ~(FLASH_CR_PER | FLASH_CR_BKER | FLASH_CR_PNB_MASK);
+    return ok;
+}
+
+static bool flash_program_dword(uint32_t addr, uint32_t lo, uint32_t hi)
+{
+    if (!flash_wait())
+        return false;
+    FLASH_CR = FLASH_CR_PG;
+    REG32(addr) = lo; /* double word: two 32-bit writes, low word first (RM0440 5.3.7) */
+    REG32(addr + 4u) = hi;
+    bool ok = flash_wait();
+    FLASH_CR &= ~FLASH_CR_PG;
+    return ok;
+}
+
+static uint8_t g_page_buf[NVM_PAGE_SIZE] __attribute__((aligned(8)));
+
+/* Write one page: program in place if every changed double word is erased,
+ * otherwise read-modify-erase-write the whole page. */
+static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src, uint32_t n)
+{
+    const uint8_t *flash = (const uint8_t *)(uintptr_t)page_addr;
+    flash_dcache_reset();
+    memcpy(g_page_buf, flash, NVM_PAGE_SIZE);
+    memcpy(g_page_buf + from, src, n);
+
+    bool need_erase = false;
+    for (uint32_t dw = from & ~7u; dw < from + n; dw += 8u) {
+        if (memcmp(flash + dw, g_page_buf + dw, 8u) == 0)
+            continue;
+        for (uint32_t k = 0u; k < 8u; k++) {
+            if (flash[dw + k] != 0xFFu)
+                need_erase = true;
+        }
+    }
+    uint32_t lo = need_erase ? 0u : from & ~7u;
+    uint32_t hi = need_erase ? NVM_PAGE_SIZE : from + n;
+    if (need_erase && !flash_erase_page(page_addr))
+        return false;
+    for (uint32_t dw = lo; dw < hi; dw += 8u) {
+        uint32_t w[2];
+        memcpy(w, g_page_buf + dw, 8u);
+        if (w[0] == 0xFFFFFFFFu && w[1] == 0xFFFFFFFFu)
+            continue; /* erased already */
+        if (!need_erase && memcmp(flash + dw, g_page_buf + dw, 8u) == 0)
+            continue;
+        if (!flash_program_dword(page_addr + dw, w[0], w[1])) {
+            flash_dcache_reset();
+            return false;
+        }
+    }
+    flash_dcache_reset();
+    return memcmp(flash + from, src, n) == 0; /* read back through the bus */
+}
+
+/*
+ * hal.h contract, with this board's reading of "a power loss may leave any
+ * prefix written": a write that needs an erase rewrites its whole 2 KiB page,
+ * so a power loss in the middle can leave that page partly erased. The
+ * persist layer keeps each of its two slots in its own page (slot size =
+ * hal_nvm_size() / 2 = one page) and writes the header last, so the other
+ * slot is never touched and a reset at any point leaves one valid slot.
+ * Blocks the background for up to about 2 x 40 ms (two page erases) plus
+ * 90 us per double word. Context: BG only (refused from an interrupt).
+ */
 int hal_nvm_write(uint32_t offset, const void *buf, size_t len)
 {
     int rc = nvm_check(offset, buf, len);
     if (rc != HAL_OK)
         return rc;
-    /* PORT: unlock FLASH_KEYR, erase the 2 KiB page(s), program double words.
-     * Not ported yet: nothing is written. */
-    return HAL_EIO;
+    if (len == 0u)
+        return HAL_OK;
+    /* Never from an interrupt (erase takes tens of ms); single-bank mode
+     * (4 KiB pages) would put both slots in one page: refused. */
+    if (in_interrupt() || (FLASH_OPTR & FLASH_OPTR_DBANK) == 0u) {
+        g_board.faults |= BOARD_FAULT_NVM;
+        return HAL_EIO;
+    }
+    if (!flash_unlock()) {
+        g_board.faults |= BOARD_FAULT_NVM;
+        return HAL_EIO;
+    }
+    bool ok = true;
+    const uint8_t *src = (const uint8_t *)buf;
+    uint32_t base = (uint32_t)(uintptr_t)__nvm_start;
+    uint32_t at = offset;
+    uint32_t left = (uint32_t)len;
+    while (ok && left > 0u) {
+        uint32_t page = (base + at) & ~(NVM_PAGE_SIZE - 1u);
+        uint32_t from = (base + at) - page;
+        uint32_t n = NVM_PAGE_SIZE - from < left ? NVM_PAGE_SIZE - from : left;
+        ok = nvm_write_page(page, from, src, n);
+        src += n;
+        at += n;
+        left -= n;
+    }
+    FLASH_CR |= FLASH_CR_LOCK;
+    if (!ok) {
+        g_board.faults |= BOARD_FAULT_NVM;
+        return HAL_EIO;
+    }
+    return HAL_OK;
 }
 
 /* -------------------------------------------------------------- watchdog */
@@ -398,16 +1204,35 @@ int hal_watchdog_start(uint32_t timeout_ms)
 {
     if (timeout_ms < 1u || timeout_ms > 4000u)
         return HAL_EINVAL;
+    /* Stop the watchdog while the core is halted by a debugger. */
+    DBGMCU_APB1L_FZ |= DBGMCU_APB1L_FZ_IWDG;
     /* LSI (about 32 kHz, +-several %) / 32 = one reload count per ms. The
      * start key also switches the LSI on; once started it cannot be stopped. */
     IWDG_KR = IWDG_KEY_START;
     IWDG_KR = IWDG_KEY_UNLOCK;
     IWDG_PR = IWDG_PR_DIV32;
     IWDG_RLR = timeout_ms;
-    if (!wait_set(&IWDG_SR, IWDG_SR_BUSY_MASK, 0u))
+    if (!wait_set(&IWDG_SR, IWDG_SR_BUSY_MASK, 0u, WAIT_LOOPS))
         return HAL_EIO;
     IWDG_KR = IWDG_KEY_REFRESH;
+    g_board.wdg_started = true;
     return HAL_OK;
 }
 
-void hal_watchdog_kick(void) { IWDG_KR = IWDG_KEY_REFRESH; }
+/* The tick proves itself by setting wdg_tick_alive; the caller is the
+ * background. Refresh only if both have run since the last refresh. */
+static void wdg_service_bg(void)
+{
+    if (!g_board.wdg_started)
+        return;
+    if (g_board.tick_running && !g_board.wdg_tick_alive)
+        return; /* the tick has not run since the last refresh: let it bite */
+    g_board.wdg_tick_alive = false;
+    IWDG_KR = IWDG_KEY_REFRESH;
+}
+
+/* hal.h: refresh the watchdog. Here the refresh happens only if the control
+ * tick has also run since the last refresh (two-flag scheme, docs/board.md),
+ * so neither a stuck background nor a dead tick keeps the chip alive.
+ * Context: BG. */
+void hal_watchdog_kick(void) { wdg_service_bg(); }

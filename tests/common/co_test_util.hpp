@@ -14,6 +14,7 @@
 
 extern "C" {
 #include "dtc/drive.h"
+#include "dtc/drive_co.h"
 #include "dtc/param_table.h"
 #include "hal_host/hal_host.h"
 }
@@ -229,7 +230,7 @@ public:
 
     const co_param *param(const char *name)
     {
-        const co_param *p = co_od_find_name(name);
+        const co_param *p = co_od_find_name(&drive_od, name);
         EXPECT_NE(p, nullptr) << name;
         return p;
     }
@@ -241,11 +242,11 @@ public:
         std::vector<std::pair<std::string, uint32_t>> out;
         for (uint32_t i = 0; i < CO_PARAM_COUNT; i++) {
             const co_param *p = &co_params[i];
-            if (co_dtype_size(p->dtype) == 0 || !((p->flags & CO_F_WRITE) != 0 || p->bind == CO_BIND_CFG))
+            if (co_dtype_size(p->dtype) == 0 || !((p->flags & CO_F_WRITE) != 0 || p->bind == DRIVE_BIND_CFG))
                 continue;
             co_num v;
             v.u = 0;
-            co_od_read_num(d.get(), p, &v);
+            co_od_read_num(&d->co, p, &v);
             out.emplace_back(p->name, v.u);
         }
         return out;

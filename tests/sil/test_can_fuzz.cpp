@@ -28,6 +28,7 @@
 
 extern "C" {
 #include "dtc/drive.h"
+#include "dtc/drive_co.h"
 #include "dtc/param_table.h"
 #include "hal_host/hal_host.h"
 }
@@ -46,13 +47,13 @@ Dump dump(drive *d)
     Dump out;
     for (uint32_t i = 0; i < CO_PARAM_COUNT; i++) {
         const co_param *p = &co_params[i];
-        if (co_dtype_size(p->dtype) == 0 || !((p->flags & CO_F_WRITE) != 0 || p->bind == CO_BIND_CFG))
+        if (co_dtype_size(p->dtype) == 0 || !((p->flags & CO_F_WRITE) != 0 || p->bind == DRIVE_BIND_CFG))
             continue;
-        if (p->bind == CO_BIND_FN && (p->flags & CO_F_PERSIST) == 0 && p->index != 0x2000 && p->index != 0x60FF)
+        if (p->bind == DRIVE_BIND_FN && (p->flags & CO_F_PERSIST) == 0 && p->index != 0x2000 && p->index != 0x60FF)
             continue; // commands (store, restore, controlword, scope command) read constants
         co_num v;
         v.u = 0;
-        co_od_read_num(d, p, &v);
+        co_od_read_num(&d->co, p, &v);
         out.emplace_back(p->name, v.u);
     }
     return out;

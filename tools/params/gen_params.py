@@ -71,11 +71,12 @@ CTYPES = {
 
 # Bind prefix -> (co_bind, C struct type the path is a member of)
 BINDS = {
-    "cfg": ("CO_BIND_CFG", "ctl_cfg"),
+    "cfg": ("DRIVE_BIND_CFG", "ctl_cfg"),
     "comm": ("CO_BIND_COMM", "co_comm_cfg"),
-    "scope": ("CO_BIND_SCOPE", "scope_cfg"),
-    "snap": ("CO_BIND_SNAP", "drive_snapshot"),
-    "drive": ("CO_BIND_DRIVE", "drive"),
+    "scope": ("DRIVE_BIND_SCOPE", "scope_cfg"),
+    "app": ("DRIVE_BIND_APP", "drive_app_cfg"),
+    "snap": ("DRIVE_BIND_SNAP", "drive_snapshot"),
+    "drive": ("DRIVE_BIND_DRIVE", "drive"),
 }
 
 ERROR_REGISTER_BITS = {
@@ -169,7 +170,8 @@ def expand_params(raw: list) -> list[Param]:
         if not isinstance(name, str) or not NAME_RE.match(name):
             raise TableError(f"{where}: name must be an identifier")
         known = {"name", "index", "sub", "count", "type", "unit", "scale", "resolution", "min", "max",
-                 "allowed", "default", "access", "persist", "runtime", "pdo", "bind", "ctype", "description"}
+                 "allowed", "default", "access", "persist", "runtime", "max_step", "pdo", "bind", "ctype",
+                 "description"}
         for key in e:
             if key not in known:
                 raise TableError(f"{name}: unknown key '{key}'")
@@ -201,6 +203,7 @@ def expand_params(raw: list) -> list[Param]:
                 resolution=float(e.get("resolution", 1.0)), min=e.get("min"), max=e.get("max"),
                 allowed=e.get("allowed"), default=defaults[i], access=e["access"],
                 persist=bool(e.get("persist", False)), runtime=bool(e.get("runtime", False)),
+                max_step=e.get("max_step", 0.0),
                 pdo=bool(e.get("pdo", False)), bind=bind, ctype=e.get("ctype"),
                 description=e["description"], generated=False))
     return out
@@ -229,7 +232,7 @@ def check_param(p: Param, fn_names: set) -> None:
         fn = b[3:]
         if not NAME_RE.match(fn):
             raise TableError(f"{p.name}: bad handler name '{fn}'")
-        p.bind_kind, p.bind_struct, p.path = "CO_BIND_FN", None, fn
+        p.bind_kind, p.bind_struct, p.path = "DRIVE_BIND_FN", None, fn
         fn_names.add(fn)
     else:
         prefix, _, path = b.partition(".")
@@ -247,7 +250,7 @@ def check_param(p: Param, fn_names: set) -> None:
             raise TableError(f"{p.name}: writable strings and domains are not supported")
         if kind == "string" and p.bind_kind == "CO_BIND_CONST" and not isinstance(p.default, str):
             raise TableError(f"{p.name}: a constant string needs a string default")
-        if kind == "domain" and p.bind_kind != "CO_BIND_FN":
+        if kind == "domain" and p.bind_kind != "DRIVE_BIND_FN":
             raise TableError(f"{p.name}: a domain must be bound to a handler")
         p.ctype_name = None
         return
@@ -290,6 +293,11 @@ def check_param(p: Param, fn_names: set) -> None:
             raise TableError(f"{p.name}: at most 32 allowed values")
     if p.persist and p.access != "rw":
         raise TableError(f"{p.name}: only rw parameters can persist")
+    ms = getattr(p, "max_step", 0.0)
+    if isinstance(ms, bool) or not isinstance(ms, (int, float)) or not 0.0 <= ms <= 10.0:
+        raise TableError(f"{p.name}: max_step must be a number 0..10 (a fraction of the present value)")
+    if ms and (not p.runtime or ctype != "float"):
+        raise TableError(f"{p.name}: max_step needs runtime = true and a float field")
     if kind == "real":
         p.raw_min = None if p.min is None else f32(p.min)
         p.raw_max = None if p.max is None else f32(p.max)
@@ -464,7 +472,7 @@ class Table:
         tel = [p for p in self.params if p.index == 0x3000 and p.sub != 0]
         self.tel = tel
         for p in tel:
-            if p.bind_kind != "CO_BIND_SNAP":
+            if p.bind_kind != "DRIVE_BIND_SNAP":
                 raise TableError(f"{p.name}: telemetry (0x3000) must bind snap.*")
         subs = [p.sub for p in tel]
         if subs != list(range(1, len(tel) + 1)):
@@ -522,7 +530,9 @@ def gen_header(t: Table) -> str:
         "",
         "#include <stdint.h>",
         "",
+        '#include "dtc/canopen/co_emcy.h"',
         '#include "dtc/canopen/co_od.h"',
+        '#include "dtc/canopen/co_pdo.h"',
         "",
         "#ifdef __cplusplus",
         'extern "C" {',
@@ -548,24 +558,12 @@ def gen_header(t: Table) -> str:
     ]
     for i, p in enumerate(t.params):
         lines.append(f"    {p.ident} = {i},")
-    lines += ["} co_param_id;", "", "/** Handlers of CO_BIND_FN entries (co_fn_read/co_fn_write in co_dev.c). */",
+    lines += ["} co_param_id;", "", "/** Handlers of DRIVE_BIND_FN entries (drive_co.c). */",
               "typedef enum {"]
     for i, fn in enumerate(fns):
         lines.append(f"    CO_FN_{fn.upper()} = {i},")
     lines += [f"    CO_FN_COUNT = {len(fns)}", "} co_fn_id;", "",
-              "/** A static PDO mapping. */",
-              "typedef struct {",
-              "    uint16_t cob_base;        /**< COB-ID without the node id */",
-              "    uint8_t n;                /**< mapped entries */",
-              "    uint8_t bytes;            /**< frame length */",
-              "    uint16_t param[8];        /**< co_param_id of each mapped entry, in frame order */",
-              "} co_pdo_map;", "",
-              "/** Error code and error-register bit of one fault (EMCY). */",
-              "typedef struct {",
-              "    uint32_t fault_bit;       /**< ctl_fault bit, 0 for events without a fault bit */",
-              "    uint16_t code;            /**< CiA 301 emergency error code */",
-              "    uint8_t reg_bit;          /**< error register bit (0 generic, 1 current, 2 voltage, 5 profile, 7 manufacturer) */",
-              "} co_emcy_entry;", ""]
+              ]
     for i, e in enumerate(t.emcy):
         if not e["fault"]:
             lines.append(f"#define CO_EMCY_{e['key']} {i}u /**< co_emcy_table index: {e['description']} */")
@@ -593,6 +591,7 @@ def gen_source(t: Table) -> str:
         "",
         "#include \"dtc/canopen/co_dev.h\"",
         "#include \"dtc/drive.h\"",
+        "#include \"dtc/drive_co.h\"",
         "#include \"dtc/scope.h\"",
         "",
         "/* Compile-time proof that every binding names a field of the C type the table says. */",
@@ -623,7 +622,7 @@ def gen_source(t: Table) -> str:
                 csize = f"(uint8_t)sizeof CO_FIELD({p.bind_struct}, {p.path})"
             else:
                 csize = str(p.size) + "u"
-        if p.bind_kind == "CO_BIND_FN":
+        if p.bind_kind == "DRIVE_BIND_FN":
             offset = f"CO_FN_{p.path.upper()}"
         elif p.bind_struct is not None:
             offset = f"(uint16_t)offsetof({p.bind_struct}, {p.path})"
@@ -638,7 +637,7 @@ def gen_source(t: Table) -> str:
             f"    [{p.ident}] = {{{c_string(p.name)}, 0x{p.index:04X}u, {p.sub}u, 0x{p.code:02X}u, "
             f"{entry_flags(p)}, {p.bind_kind}, {ckind}, {csize}, {offset}, {c_float(k)}, "
             f"{c_num(p, getattr(p, 'raw_min', None))}, {c_num(p, getattr(p, 'raw_max', None))}, "
-            f"{c_num(p, dflt)}, {allowed}, {nallowed}u, {sval}}},")
+            f"{c_num(p, dflt)}, {allowed}, {nallowed}u, {sval}, {c_float(getattr(p, 'max_step', 0.0) or 0.0)}}},")
     lines += ["};", ""]
     for name, pdos in (("co_tpdo_maps", t.tpdos), ("co_rpdo_maps", t.rpdos)):
         lines.append(f"const co_pdo_map {name}[{'CO_TPDO_COUNT' if 'tpdo' in name else 'CO_RPDO_COUNT'}] = {{")

@@ -1,0 +1,136 @@
+/**
+ * @file drive.h
+ * @brief The drive application: the 200 us interrupt and the background loop.
+ *
+ * Interrupt (drive_isr): sample -> ctl_step (observe, speed control, DTC,
+ * protect) -> actuate -> publish a telemetry snapshot. It is timed with the
+ * HAL cycle counter; a tick longer than the period sets CTL_FAULT_OVERRUN.
+ *
+ * Background (drive_background): communication, persistence, housekeeping.
+ * The background never writes state the interrupt is using: configuration is
+ * double-buffered (edit the inactive copy, then publish it with one store),
+ * and the interrupt picks the published copy up at the start of its next tick.
+ */
+#ifndef DTC_DRIVE_H
+#define DTC_DRIVE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "dtc/canopen/co_dev.h"
+#include "dtc/ctl.h"
+#include "dtc/persist.h"
+#include "dtc/scope.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** The drive's CiA 402 settings (parameters app.*; persisted). */
+typedef struct {
+    int16_t abort_option;      /**< 0x6007 on master loss, NMT stop or reset while enabled:
+                                    0 none, 1 fault, 2 disable voltage, 3 quick stop */
+    int16_t quick_stop_option; /**< 0x605A: 0 coast, 2 ramp down on 0x6049 then switch on disabled */
+    uint32_t qs_delta_rpm;     /**< 0x6049:1 quick stop ramp, rpm per qs_delta_s */
+    uint16_t qs_delta_s;       /**< 0x6049:2, s (>= 1) */
+} drive_app_cfg;
+
+/** A drive-level fault bit in the published fault word, above the control core's (ctl_fault). */
+#define DRIVE_FAULT_COMM (1u << 16) /**< master lost with abort connection option 1 (fault) */
+
+/** Quick stop: requested by the background, carried out in the interrupt. */
+typedef struct {
+    float decel_rad_s2;        /**< ramp rate, rad/s^2 (derived from 0x6049 in the background) */
+    bool active;               /**< ISR: the ramp is running */
+    float ref_rad_s;           /**< ISR: the ramped speed reference, rad/s */
+} drive_quick_stop;
+
+/** Telemetry snapshot guarded by a sequence counter (odd while the ISR writes). */
+typedef struct {
+    volatile uint32_t seq;
+    ctl_telemetry tel;
+    float omega_meas_rad_s;   /**< board speed sensor (diagnostics), rad/s */
+    float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
+    float ia_A, ib_A, ic_A;   /**< measured currents, A */
+    uint32_t tick;            /**< ISR tick counter */
+    float speed_err_rad_s;    /**< tel.speed_ref_rad_s - tel.omega_est_rad_s (the controllers' e_x), rad/s */
+    float vdc_diff_V;         /**< vc1_V - vc2_V (neutral-point deviation), V */
+    bool quick_stop_done;     /**< the quick stop ramp has brought the motor to a stop */
+} drive_snapshot;
+
+/** Interrupt timing statistics, in HAL cycles (hal_cycles_hz per second). */
+typedef struct {
+    uint32_t last_cycles;   /**< duration of the last tick */
+    uint32_t max_cycles;    /**< longest tick since start */
+    uint32_t overruns;      /**< ticks measured longer than the period (statistic only;
+                                 the overrun fault comes from hal_tick_missed()) */
+} drive_timing;
+
+typedef struct drive {
+    ctl_cfg cfg[2];                 /**< double-buffered configuration */
+    volatile uint32_t cfg_active;   /**< index of the copy the ISR uses (0 or 1) */
+    uint32_t period_cycles[2];      /**< cfg[i].period_s in HAL cycles, derived by drive_cfg_commit
+                                         (so the ISR's timing statistic needs no 64-bit division) */
+    ctl_state ctl;                  /**< ISR-owned control state */
+    ctl_out out;                    /**< outputs of the last tick */
+    volatile float speed_ref_rad_s; /**< command from background (scenario, CAN), rad/s */
+    volatile bool run;              /**< run command from background */
+    volatile bool clear_faults_req; /**< background asks the ISR to clear faults */
+    volatile bool quick_stop_req;   /**< background asks the ISR to ramp down, then stop */
+    drive_quick_stop qs;            /**< the quick stop ramp (decel set in BG, the rest ISR-owned) */
+    drive_app_cfg app;              /**< CiA 402 settings (background) */
+    uint32_t drive_faults;          /**< DRIVE_FAULT_* bits latched by the background */
+    uint32_t tick;                  /**< ISR tick counter */
+    bool tick_missed;               /**< the last tick ended after the next one was due */
+    drive_snapshot snap;            /**< published each tick */
+    drive_timing timing;
+    scope scope;                    /**< triggered capture, sampled in drive_isr */
+    co_dev co;                      /**< CANopen device, run by drive_background (drive_co.c) */
+    co_app co_app;                  /**< the drive's side of the CANopen interface (drive_co.c) */
+    persist_state persist;          /**< stored parameter set (status for 0x2510:1) */
+    drive_snapshot bg_snap;         /**< background copy of snap, taken once per drive_background pass */
+} drive;
+
+/**
+ * Initialise with default configuration, stopped, then load the persisted
+ * parameters (the newest valid NVM set; defaults if none). Bind the board
+ * (and load any NVM image) before calling. Context: BG, before hal_tick_start.
+ */
+void drive_init(drive *d);
+
+/** The control interrupt; signature of hal_tick_handler (ctx is the drive). Context: ISR. */
+void drive_isr(void *ctx);
+
+/** The active configuration (read only). Context: ANY. */
+const ctl_cfg *drive_cfg(const drive *d);
+
+/**
+ * Begin editing the configuration: returns the inactive copy, freshly copied
+ * from the active one. Finish with drive_cfg_commit(). Context: BG.
+ */
+ctl_cfg *drive_cfg_edit(drive *d);
+
+/** Derive gains in the edited copy and publish it to the ISR. Context: BG. */
+void drive_cfg_commit(drive *d);
+
+/** Set the mechanical speed reference, rad/s. Context: BG. */
+void drive_set_speed_ref(drive *d, float speed_ref_rad_s);
+
+/** Start (true: magnetise then run) or stop (false: gates off). Context: BG. */
+void drive_set_run(drive *d, bool run);
+
+/**
+ * One pass of the background loop: communication, persistence, housekeeping,
+ * watchdog. Never blocks. The SIL calls it once per control period; the
+ * target calls it in its main loop. Context: BG.
+ */
+void drive_background(drive *d);
+
+/** Copy the latest consistent telemetry snapshot. Context: BG. */
+void drive_read_snapshot(const drive *d, drive_snapshot *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DTC_DRIVE_H */

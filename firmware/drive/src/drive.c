@@ -1,0 +1,190 @@
+/**
+ * @file drive.c
+ * @brief The drive application: interrupt body and background-side accessors.
+ */
+#include "dtc/drive.h"
+
+#include <stdatomic.h>
+#include <string.h>
+
+#include "dtc/drive_co.h"
+#include "dtc/num.h"
+#include "hal/hal.h"
+
+/* Compiler barrier: volatile orders only volatile accesses, so the plain
+ * stores and loads of a published copy are fenced against the volatile word
+ * that publishes it (single core: the interrupt only preempts). */
+static inline void publish_fence(void) { atomic_signal_fence(memory_order_seq_cst); }
+
+/* The control period in HAL cycles, for the overrun statistic (BG: keeps the
+ * float-to-integer work out of the interrupt). Through uint32_t: a float ->
+ * uint64 cast would pull in soft-double code on the M4F. */
+static uint32_t period_in_cycles(const ctl_cfg *cfg)
+{
+    uint32_t period_us = (uint32_t)(cfg->period_s * 1e6f + 0.5f);
+    return (uint32_t)((uint64_t)hal_cycles_hz() * period_us / 1000000u);
+}
+
+void drive_init(drive *d)
+{
+    memset(d, 0, sizeof *d);
+    ctl_cfg_default(&d->cfg[0]); /* derived too */
+    d->cfg[1] = d->cfg[0];
+    d->period_cycles[0] = d->period_cycles[1] = period_in_cycles(&d->cfg[0]);
+    d->cfg_active = 0u;
+    scope_init(&d->scope);
+    drive_co_init(d);
+    (void)persist_load(d); /* defaults, then the stored set; status in d->persist */
+    ctl_init(&d->ctl, drive_cfg(d));
+}
+
+const ctl_cfg *drive_cfg(const drive *d) { return &d->cfg[d->cfg_active & 1u]; }
+
+ctl_cfg *drive_cfg_edit(drive *d)
+{
+    uint32_t inactive = (d->cfg_active & 1u) ^ 1u;
+    d->cfg[inactive] = d->cfg[inactive ^ 1u];
+    return &d->cfg[inactive];
+}
+
+void drive_cfg_commit(drive *d)
+{
+    uint32_t inactive = (d->cfg_active & 1u) ^ 1u;
+    ctl_cfg_derive(&d->cfg[inactive]);
+    d->period_cycles[inactive] = period_in_cycles(&d->cfg[inactive]);
+    publish_fence();
+    /* One aligned word store: the ISR sees either the old or the new copy. */
+    d->cfg_active = inactive;
+}
+
+void drive_set_speed_ref(drive *d, float speed_ref_rad_s) { d->speed_ref_rad_s = speed_ref_rad_s; }
+
+void drive_set_run(drive *d, bool run)
+{
+    if (run)
+        d->clear_faults_req = true;
+    d->run = run;
+}
+
+/* A quick stop ends when the ramp is at 0 and the estimate below this (20 rpm). */
+#define QS_STOPPED_RAD_S 2.0943951f
+
+/*
+ * Quick stop (ISR side): the speed reference ramps from the present estimate
+ * to 0 at the configured deceleration; at 0 with the estimate below
+ * QS_STOPPED_RAD_S (or when the control core is no longer running) the gates
+ * go off and the snapshot says so, so the background ends the run.
+ * @return true when the quick stop is done.
+ */
+static bool quick_stop_step(drive *d, const ctl_cfg *cfg, ctl_in *in)
+{
+    drive_quick_stop *q = &d->qs;
+    if (!d->quick_stop_req) {
+        q->active = false;
+        return false;
+    }
+    real_t w = d->out.tel.omega_est_rad_s;
+    if (!q->active) {
+        q->active = true;
+        q->ref_rad_s = w;
+    }
+    real_t step = q->decel_rad_s2 * cfg->period_s;
+    if (q->ref_rad_s > step)
+        q->ref_rad_s -= step;
+    else if (q->ref_rad_s < -step)
+        q->ref_rad_s += step;
+    else
+        q->ref_rad_s = R(0.0);
+    in->speed_ref_rad_s = q->ref_rad_s;
+    ctl_run_state st = d->ctl.run_state;
+    bool done = (q->ref_rad_s == R(0.0) && num_abs(w) < QS_STOPPED_RAD_S) ||
+                st == CTL_STOPPED || st == CTL_FAULTED;
+    if (done)
+        in->run = false;
+    return done;
+}
+
+static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
+{
+    drive_snapshot *s = &d->snap;
+    s->seq++; /* odd: being written */
+    publish_fence();
+    s->tel = d->out.tel;
+    s->omega_meas_rad_s = in->sample.speed_meas_rad_s;
+    s->vc1_V = in->sample.vc1_V;
+    s->vc2_V = in->sample.vc2_V;
+    s->ia_A = in->sample.ia_A;
+    s->ib_A = in->sample.ib_A;
+    s->ic_A = in->sample.ic_A;
+    s->tick = d->tick;
+    s->speed_err_rad_s = d->out.tel.speed_ref_rad_s - d->out.tel.omega_est_rad_s;
+    s->vdc_diff_V = in->sample.vc1_V - in->sample.vc2_V;
+    s->quick_stop_done = quick_stop_done;
+    publish_fence();
+    s->seq++; /* even: consistent */
+}
+
+void drive_isr(void *ctx)
+{
+    drive *d = (drive *)ctx;
+    uint32_t t0 = hal_cycles();
+    uint32_t active = d->cfg_active & 1u; /* one read: cfg and period_cycles from the same copy */
+    const ctl_cfg *cfg = &d->cfg[active];
+
+    if (d->clear_faults_req) {
+        d->clear_faults_req = false;
+        (void)ctl_clear_faults(&d->ctl);
+    }
+
+    ctl_in in;
+    memset(&in, 0, sizeof in);
+    in.sample_fresh = (hal_sample_read(&in.sample) == HAL_OK);
+    in.run = d->run;
+    in.speed_ref_rad_s = d->speed_ref_rad_s;
+    bool qs_done = quick_stop_step(d, cfg, &in);
+    in.fault_input = hal_fault_input_active();
+    in.overrun = d->tick_missed;
+
+    ctl_step(&d->ctl, cfg, &in, &d->out);
+
+    /* Protection acts in the same tick: gates off before anything else. */
+    if (!d->out.gate_enable) {
+        hal_gate_enable(false);
+    } else {
+        if (!hal_gate_enabled())
+            hal_gate_enable(true);
+    }
+    (void)hal_actuate(&d->out.act);
+
+    d->tick++;
+    publish_snapshot(d, &in, qs_done);
+    scope_sample(&d->scope, &d->snap, in.speed_ref_rad_s, d->out.tel.faults, d->tick);
+
+    /* Judged by the board's timer, so it latches CTL_FAULT_OVERRUN next tick. */
+    d->tick_missed = hal_tick_missed();
+
+    uint32_t dt = hal_cycles() - t0;
+    d->timing.last_cycles = dt;
+    if (dt > d->timing.max_cycles)
+        d->timing.max_cycles = dt;
+    if (dt > d->period_cycles[active])
+        d->timing.overruns++;
+}
+
+void drive_read_snapshot(const drive *d, drive_snapshot *out)
+{
+    uint32_t s0, s1;
+    do {
+        s0 = d->snap.seq;
+        publish_fence();
+        memcpy(out, (const void *)&d->snap, sizeof *out);
+        publish_fence();
+        s1 = d->snap.seq;
+    } while (s0 != s1 || (s0 & 1u));
+}
+
+void drive_background(drive *d)
+{
+    drive_co_process(d);
+    hal_watchdog_kick();
+}

@@ -1,0 +1,227 @@
+/**
+ * @file persist.c
+ * @brief Two-slot parameter storage with sequence numbers and CRC-32
+ *        (layout and rules in dtc/persist.h).
+ */
+#include "dtc/persist.h"
+
+#include <string.h>
+
+#include "dtc/canopen/co_dev.h"
+#include "dtc/canopen/co_od.h"
+#include "dtc/drive.h"
+#include "dtc/drive_co.h"
+#include "dtc/param_table.h"
+#include "hal/hal.h"
+
+#define RECORD_HEADER 4u
+#define CHUNK 64u
+
+uint32_t persist_crc32(uint32_t crc, const void *data, size_t len)
+{
+    const uint8_t *p = (const uint8_t *)data;
+    uint32_t c = ~crc;
+    for (size_t i = 0u; i < len; i++) {
+        c ^= p[i];
+        for (uint32_t k = 0u; k < 8u; k++)
+            c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+    }
+    return ~c;
+}
+
+static void put16(uint8_t *b, uint32_t v)
+{
+    b[0] = (uint8_t)v;
+    b[1] = (uint8_t)(v >> 8);
+}
+
+static void put32(uint8_t *b, uint32_t v)
+{
+    put16(b, v);
+    put16(b + 2, v >> 16);
+}
+
+static uint32_t get16(const uint8_t *b) { return (uint32_t)b[0] | ((uint32_t)b[1] << 8); }
+static uint32_t get32(const uint8_t *b) { return get16(b) | (get16(b + 2) << 16); }
+
+typedef struct {
+    bool valid;      /**< header and CRC check out */
+    bool erased;     /**< the header is all 0xFF (never written) */
+    bool io_error;   /**< the NVM could not be read */
+    uint16_t count;  /**< records */
+    uint32_t seq;
+    uint32_t len;    /**< payload bytes */
+} slot_info;
+
+static uint32_t slot_size(void) { return hal_nvm_size() / 2u; }
+
+static slot_info scan(uint32_t slot)
+{
+    slot_info si;
+    memset(&si, 0, sizeof si);
+    uint32_t base = slot * slot_size();
+    uint8_t h[PERSIST_HEADER_SIZE];
+    if (slot_size() < PERSIST_HEADER_SIZE || hal_nvm_read(base, h, sizeof h) != HAL_OK) {
+        si.io_error = true;
+        return si;
+    }
+    si.erased = true;
+    for (uint32_t i = 0u; i < sizeof h; i++)
+        si.erased = si.erased && h[i] == 0xFFu;
+    if (get32(h) != PERSIST_MAGIC || get16(h + 4) != PERSIST_FORMAT)
+        return si;
+    si.count = (uint16_t)get16(h + 6);
+    si.seq = get32(h + 8);
+    si.len = get32(h + 12);
+    if (si.len > slot_size() - PERSIST_HEADER_SIZE)
+        return si;
+    uint32_t crc = persist_crc32(0u, h, 16u);
+    uint8_t chunk[CHUNK];
+    for (uint32_t at = 0u; at < si.len; at += CHUNK) {
+        uint32_t n = si.len - at < CHUNK ? si.len - at : CHUNK;
+        if (hal_nvm_read(base + PERSIST_HEADER_SIZE + at, chunk, n) != HAL_OK) {
+            si.io_error = true;
+            return si;
+        }
+        crc = persist_crc32(crc, chunk, n);
+    }
+    si.valid = crc == get32(h + 16);
+    return si;
+}
+
+/* Newer by serial-number arithmetic (survives the wrap of the counter). */
+static bool newer(uint32_t a, uint32_t b) { return (int32_t)(a - b) > 0; }
+
+/* Index of the slot with the newest valid set, or -1. */
+static int newest(const slot_info si[2])
+{
+    if (si[0].valid && si[1].valid)
+        return newer(si[1].seq, si[0].seq) ? 1 : 0;
+    if (si[0].valid)
+        return 0;
+    if (si[1].valid)
+        return 1;
+    return -1;
+}
+
+/* Apply the records of a valid slot; @return the number skipped. */
+static uint32_t apply_slot(struct drive *d, uint32_t slot, const slot_info *si, ctl_cfg *edit)
+{
+    uint32_t base = slot * slot_size() + PERSIST_HEADER_SIZE;
+    uint32_t at = 0u, skipped = 0u;
+    for (uint32_t r = 0u; r < si->count; r++) {
+        uint8_t rec[RECORD_HEADER + 4u];
+        if (at + RECORD_HEADER > si->len || hal_nvm_read(base + at, rec, RECORD_HEADER) != HAL_OK)
+            return skipped + (si->count - r);
+        uint32_t n = rec[3];
+        if (at + RECORD_HEADER + n > si->len)
+            return skipped + (si->count - r);
+        if (n > 4u) { /* a value this firmware has no entry for: step over it */
+            at += RECORD_HEADER + n;
+            skipped++;
+            continue;
+        }
+        if (hal_nvm_read(base + at + RECORD_HEADER, rec + RECORD_HEADER, n) != HAL_OK)
+            return skipped + (si->count - r);
+        at += RECORD_HEADER + n;
+        const co_param *p = co_od_find(&drive_od, (uint16_t)get16(rec), rec[2], NULL);
+        co_num v;
+        if (p == NULL || (p->flags & CO_F_PERSIST) == 0u ||
+            co_od_check(p, rec + RECORD_HEADER, n, CO_WR_LOAD, &v) != CO_ABORT_NONE) {
+            skipped++;
+            continue;
+        }
+        drive_co_apply(d, p, &v, edit);
+    }
+    return skipped;
+}
+
+uint8_t persist_load(struct drive *d)
+{
+    ctl_cfg *e = drive_cfg_edit(d);
+    ctl_cfg_default(e);
+    drive_co_defaults(d);
+
+    slot_info si[2] = {scan(0u), scan(1u)};
+    int best = newest(si);
+    uint8_t status;
+    if (best < 0) {
+        if (si[0].io_error || si[1].io_error)
+            status = PERSIST_NO_NVM;
+        else if (si[0].erased && si[1].erased)
+            status = PERSIST_EMPTY;
+        else
+            status = PERSIST_CORRUPT;
+    } else {
+        uint32_t skipped = apply_slot(d, (uint32_t)best, &si[best], e);
+        const slot_info *other = &si[best ^ 1];
+        /* A stored configuration the control core refuses is not used at all. */
+        if (ctl_cfg_check(e) != CTL_CFG_OK) {
+            ctl_cfg_default(e);
+            skipped++;
+        }
+        if (skipped > 0u)
+            status = PERSIST_PARTIAL;
+        else if (!other->valid && !other->erased)
+            status = PERSIST_RECOVERED;
+        else
+            status = PERSIST_LOADED;
+    }
+    drive_cfg_commit(d);
+    d->persist.status = status;
+    return status;
+}
+
+/* Write a set (all persistent parameters, or none) to the slot not holding the newest set. */
+static int save(struct drive *d, bool with_values)
+{
+    uint8_t payload[CO_PERSIST_BYTES];
+    uint32_t len = 0u;
+    uint16_t count = 0u;
+    if (with_values) {
+        for (uint32_t i = 0u; i < CO_PARAM_COUNT; i++) {
+            const co_param *p = &co_params[i];
+            if ((p->flags & CO_F_PERSIST) == 0u)
+                continue;
+            size_t n = co_dtype_size(p->dtype);
+            if (len + RECORD_HEADER + n > sizeof payload ||
+                co_od_read(&d->co, p, payload + len + RECORD_HEADER, n, &n) != CO_ABORT_NONE)
+                return HAL_EIO;
+            put16(payload + len, p->index);
+            payload[len + 2u] = p->sub;
+            payload[len + 3u] = (uint8_t)n;
+            len += RECORD_HEADER + (uint32_t)n;
+            count++;
+        }
+    }
+    if (slot_size() < PERSIST_HEADER_SIZE + len)
+        return HAL_ENOSPC;
+    slot_info si[2] = {scan(0u), scan(1u)};
+    int best = newest(si);
+    uint32_t target = best == 0 ? 1u : 0u;
+    uint32_t seq = best < 0 ? 1u : si[best].seq + 1u;
+
+    uint8_t h[PERSIST_HEADER_SIZE];
+    put32(h, PERSIST_MAGIC);
+    put16(h + 4, PERSIST_FORMAT);
+    put16(h + 6, count);
+    put32(h + 8, seq);
+    put32(h + 12, len);
+    put32(h + 16, persist_crc32(persist_crc32(0u, h, 16u), payload, len));
+
+    /* Payload first, header last: until the header is complete the slot
+     * does not validate, and the other slot still holds the previous set. */
+    uint32_t base = target * slot_size();
+    int rc = len > 0u ? hal_nvm_write(base + PERSIST_HEADER_SIZE, payload, len) : HAL_OK;
+    if (rc == HAL_OK)
+        rc = hal_nvm_write(base, h, sizeof h);
+    if (rc != HAL_OK)
+        return rc;
+    d->persist.status = PERSIST_LOADED;
+    d->persist.saves++;
+    return HAL_OK;
+}
+
+int persist_save(struct drive *d) { return save(d, true); }
+
+int persist_save_defaults(struct drive *d) { return save(d, false); }

@@ -1,0 +1,413 @@
+// Unit tests of the CANopen layer alone (firmware/canopen) with a small test
+// application (co_test_app.hpp): SDO, NMT and heartbeat, PDO, EMCY, CiA 402.
+// This executable links dtc_canopen only: if the layer called anything of the
+// drive or the control law, it would not link.
+#include "co_test_app.hpp"
+
+#include <cmath>
+
+using namespace coapp;
+
+namespace {
+
+std::vector<uint8_t> upload(uint16_t index, uint8_t sub) { return {0x40, uint8_t(index), uint8_t(index >> 8), sub}; }
+
+std::vector<uint8_t> download(uint16_t index, uint8_t sub, std::vector<uint8_t> v)
+{
+    std::vector<uint8_t> r = {uint8_t(0x23 | ((4 - v.size()) << 2)), uint8_t(index), uint8_t(index >> 8), sub};
+    for (uint8_t b : v) // (vector::insert trips GCC 12's -Warray-bounds here)
+        r.push_back(b);
+    return r;
+}
+
+std::vector<uint8_t> f32(float x)
+{
+    uint32_t w;
+    std::memcpy(&w, &x, 4);
+    return {uint8_t(w), uint8_t(w >> 8), uint8_t(w >> 16), uint8_t(w >> 24)};
+}
+
+struct Booted : App {
+    Booted()
+    {
+        step();
+        sent.clear();
+        calls.clear();
+    }
+};
+
+} // namespace
+
+TEST(CoDevice, BootUpOpensAtTheConfiguredRateAndAnnouncesItself)
+{
+    App a;
+    a.step();
+    ASSERT_EQ(a.with_id(0x700 + kNode).size(), 1u);
+    EXPECT_EQ(a.with_id(0x700 + kNode)[0].data[0], 0x00);
+    EXPECT_EQ(a.bitrate, 250000u); // the test dictionary's default, not the drive's
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"open", "booted"}));
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_PRE_OPERATIONAL);
+}
+
+TEST(CoDevice, ExpeditedUploadOfConstantsNodeIdAndApplicationValues)
+{
+    Booted a;
+    hal_can_frame r = a.sdo(upload(0x1000, 0));
+    EXPECT_EQ(r.data[0], 0x43);
+    EXPECT_EQ(le32(&r.data[4]), 0x00020192u);
+    r = a.sdo(upload(0x1200, 1));
+    EXPECT_EQ(le32(&r.data[4]), 0x600u + kNode);
+    a.vars.gain = 2.5f;
+    r = a.sdo(upload(0x2000, 0));
+    float g;
+    std::memcpy(&g, &r.data[4], 4);
+    EXPECT_EQ(g, 2.5f);
+    a.vars.offset_A = -3.26f; // INTEGER16 raw = 10 x A, rounded half away from zero
+    r = a.sdo(upload(0x2001, 0));
+    EXPECT_EQ(r.data[0], 0x4B);
+    EXPECT_EQ(int16_t(r.data[4] | (r.data[5] << 8)), -33);
+}
+
+TEST(CoDevice, DownloadIsCheckedBeforeTheApplicationSeesIt)
+{
+    Booted a;
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(4.0f)))), 0u);
+    EXPECT_EQ(a.vars.gain, 4.0f);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(10.5f)))), CO_ABORT_VALUE_HIGH);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(-0.1f)))), CO_ABORT_VALUE_LOW);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(std::nanf(""))))), CO_ABORT_INVALID_VALUE);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, {1, 2}))), CO_ABORT_LENGTH);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2002, 0, {3}))), CO_ABORT_INVALID_VALUE);
+    EXPECT_EQ(abort_of(a.sdo(download(0x1000, 0, {1, 0, 0, 0}))), CO_ABORT_READ_ONLY);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2FFF, 0, {1}))), CO_ABORT_NO_OBJECT);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2500, 2, {1}))), CO_ABORT_NO_SUB);
+    EXPECT_EQ(a.vars.gain, 4.0f);
+    EXPECT_EQ(a.vars.mode, 1u);
+    // Only the one accepted write reached the application.
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"write:gain"}));
+    // Scaled: raw 25 -> 2.5 A.
+    EXPECT_EQ(abort_of(a.sdo(download(0x2001, 0, {25, 0}))), 0u);
+    EXPECT_FLOAT_EQ(a.vars.offset_A, 2.5f);
+}
+
+TEST(CoDevice, RunningLocksNonRuntimeEntriesAndTheApplicationMayRefuse)
+{
+    Booted a;
+    a.running = true;
+    EXPECT_EQ(abort_of(a.sdo(download(0x2001, 0, {10, 0}))), CO_ABORT_STATE);
+    EXPECT_EQ(a.vars.offset_A, 0.0f);
+    // A runtime entry with max_step 0.5: from 1.0, 1.5 is allowed, then 2.25, not 3.5.
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(1.5f)))), 0u);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(3.5f)))), CO_ABORT_STATE);
+    EXPECT_EQ(a.vars.gain, 1.5f);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(2.25f)))), 0u);
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(1.0f)))), CO_ABORT_STATE); // down by 1.25 > 1.125
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(1.2f)))), 0u);
+    a.refuse_next = true;
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(1.5f)))), CO_ABORT_PARAM_INCOMPAT);
+    EXPECT_EQ(a.vars.gain, 1.2f);
+    // Stopped: any value in range.
+    a.running = false;
+    EXPECT_EQ(abort_of(a.sdo(download(0x2000, 0, f32(9.0f)))), 0u);
+    EXPECT_EQ(a.vars.gain, 9.0f);
+}
+
+TEST(CoDevice, SegmentedUploadOfAStringAndADomain)
+{
+    Booted a;
+    auto read_all = [&](uint16_t index) {
+        hal_can_frame r = a.sdo(upload(index, 0));
+        EXPECT_EQ(r.data[0], 0x41);
+        uint32_t size = le32(&r.data[4]);
+        std::vector<uint8_t> got;
+        uint8_t toggle = 0;
+        while (got.size() < size) {
+            r = a.sdo({uint8_t(0x60 | (toggle << 4))});
+            EXPECT_EQ((r.data[0] >> 4) & 1, toggle);
+            size_t n = 7 - ((r.data[0] >> 1) & 7);
+            for (size_t k = 0; k < n && k < 7; k++)
+                got.push_back(r.data[1 + k]);
+            toggle ^= 1;
+            if (r.data[0] & 1)
+                break;
+        }
+        EXPECT_EQ(got.size(), size);
+        return got;
+    };
+    auto s = read_all(0x1008);
+    EXPECT_EQ(std::string(s.begin(), s.end()), "test application");
+    for (int k = 0; k < 20; k++)
+        a.log.push_back(uint8_t(3 * k + 1));
+    EXPECT_EQ(read_all(0x2100), a.log);
+}
+
+TEST(CoDevice, SegmentedDownloadToggleAndTimeout)
+{
+    Booted a;
+    auto v = f32(7.0f);
+    // Initiate (size 4), 3 bytes with toggle 0, the last byte with toggle 1.
+    EXPECT_EQ(a.sdo({0x21, 0x00, 0x20, 0x00, 4, 0, 0, 0}).data[0], 0x60);
+    EXPECT_EQ(a.sdo({0x08, v[0], v[1], v[2]}).data[0], 0x20);
+    EXPECT_EQ(a.vars.gain, 1.0f); // nothing applied before the last segment
+    EXPECT_EQ(a.sdo({0x1D, v[3]}).data[0], 0x30);
+    EXPECT_EQ(a.vars.gain, 7.0f);
+    // Toggle not alternated: the second segment repeats toggle 0.
+    EXPECT_EQ(a.sdo({0x21, 0x00, 0x20, 0x00, 4, 0, 0, 0}).data[0], 0x60);
+    auto w = f32(2.0f);
+    EXPECT_EQ(a.sdo({0x08, w[0], w[1], w[2]}).data[0], 0x20);
+    EXPECT_EQ(abort_of(a.sdo({0x0D, w[3]})), CO_ABORT_TOGGLE);
+    EXPECT_EQ(a.vars.gain, 7.0f);
+    // A fresh transfer, then silence: aborted after 1000 ms of the pass clock.
+    EXPECT_EQ(a.sdo({0x21, 0x00, 0x20, 0x00, 4, 0, 0, 0}).data[0], 0x60);
+    a.sent.clear();
+    a.pass.now_ms += 1000;
+    a.step();
+    EXPECT_TRUE(a.with_id(0x580 + kNode).empty());
+    a.pass.now_ms += 1;
+    a.step();
+    ASSERT_EQ(a.with_id(0x580 + kNode).size(), 1u);
+    EXPECT_EQ(abort_of(a.with_id(0x580 + kNode)[0]), CO_ABORT_TIMEOUT);
+    // Block transfers are not supported.
+    EXPECT_EQ(abort_of(a.sdo({0xC0, 0x00, 0x20, 0x00})), CO_ABORT_CMD);
+}
+
+TEST(CoDevice, NmtStatesResetsAndHeartbeat)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, kNode})});
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_OPERATIONAL);
+    a.calls.clear();
+    a.step({App::frame(0x000, {0x02, 0})}); // broadcast stop
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_STOPPED);
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:3"})); // CO_EVENT_NMT_STOPPED, once
+    a.step({App::frame(0x000, {0x02, 0})});
+    EXPECT_EQ(a.calls.size(), 1u);
+    EXPECT_TRUE(a.sdo(upload(0x1000, 0)).dlc == 0); // no SDO in stopped
+    a.step({App::frame(0x000, {0x01, kNode + 1})}); // another node
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_STOPPED);
+    // Reset communication with a new node id: boot-up under the new id, no application reset.
+    a.step({App::frame(0x000, {0x80, kNode})});
+    EXPECT_EQ(abort_of(a.sdo(download(0x2500, 1, {9}))), 0u);
+    a.calls.clear();
+    a.sent.clear();
+    a.step({App::frame(0x000, {0x82, kNode})});
+    EXPECT_EQ(a.dev.node_id, 9u);
+    EXPECT_EQ(a.with_id(0x709).size(), 1u);
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:4", "open", "booted"}));
+    // Reset node: told first (CO_EVENT_RESET); it waits while the application
+    // is not ready (a machine still stopping), then resets the application.
+    a.calls.clear();
+    a.hold_reset = true;
+    a.step({App::frame(0x000, {0x81, 9})});
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:4"}));
+    a.hold_reset = false;
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:4", "reset_node", "open", "booted"}));
+    // Heartbeat every 100 ms of the pass clock.
+    EXPECT_EQ(abort_of(a.sdo(download(0x1017, 0, {100, 0}))), 0u);
+    a.sent.clear();
+    for (int k = 0; k < 100; k++) {
+        a.pass.now_ms += 10;
+        a.step();
+    }
+    EXPECT_EQ(a.with_id(0x709).size(), 10u);
+}
+
+TEST(CoDevice, TelemetryTpdoAtTheConfiguredRateOnlyWhenOperational)
+{
+    Booted a;
+    a.vars.tel_speed = 10.0f; // rad/s -> 95.49 rpm on the bus
+    a.vars.tel_state = 3;
+    for (int k = 0; k < 50; k++) { // pre-operational: nothing
+        a.pass.tick += 100;
+        a.step();
+    }
+    EXPECT_TRUE(a.with_id(0x180 + kNode).empty());
+    a.step({App::frame(0x000, {0x01, 0})});
+    a.sent.clear();
+    for (int k = 0; k < 5000; k++) { // one second of 5 kHz ticks at 100 Hz telemetry
+        a.pass.tick += 1;
+        a.step();
+    }
+    auto t = a.with_id(0x180 + kNode);
+    EXPECT_NEAR(double(t.size()), 100.0, 1.0);
+    ASSERT_FALSE(t.empty());
+    EXPECT_EQ(t[0].dlc, 6u);
+    float rpm;
+    std::memcpy(&rpm, &t[0].data[0], 4);
+    EXPECT_NEAR(rpm, 95.49296f, 1e-3f);
+    EXPECT_EQ(t[0].data[4], 3u);
+}
+
+TEST(CoDevice, RpdoAppliesTheControlwordLastAndReportsShortFrames)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    auto g = f32(6.0f);
+    a.calls.clear();
+    a.step({App::frame(0x200 + kNode, {0x06, 0x00, g[0], g[1], g[2], g[3]})});
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"write:gain", "write:controlword"}));
+    EXPECT_EQ(a.vars.gain, 6.0f);
+    a.sent.clear();
+    a.calls.clear();
+    a.step({App::frame(0x200 + kNode, {0x0F, 0x00, g[0]})});
+    EXPECT_TRUE(a.calls.empty());
+    auto e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x8210);
+}
+
+TEST(CoDevice, EmcyOncePerNewFaultGenericForUnknownBitsAndResetWhenCleared)
+{
+    Booted a;
+    a.pass.faults = 1u << 1;
+    a.step();
+    auto e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x3210);
+    EXPECT_EQ(e[0].data[2], 0x05); // voltage bit 2 + generic bit 0
+    a.sent.clear();
+    a.step(); // same fault: nothing new
+    EXPECT_TRUE(a.with_id(0x080 + kNode).empty());
+    a.pass.faults |= 1u << 7; // no table entry
+    a.step();
+    e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x1000);
+    a.sent.clear();
+    a.pass.faults = 0;
+    a.step();
+    e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x0000);
+}
+
+TEST(CoCia402, StateMachineActionsAndStatusword)
+{
+    co_cia402 c;
+    co_cia402_init(&c);
+    EXPECT_EQ(co_cia402_statusword(&c, false), 0x0240);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x0F), CO_CIA402_KEEP); // not from switch on disabled
+    EXPECT_EQ(co_cia402_controlword(&c, 0x06), CO_CIA402_STOP);
+    EXPECT_EQ(c.state, CO_CIA402_READY_TO_SWITCH_ON);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x07), CO_CIA402_KEEP);
+    EXPECT_EQ(co_cia402_statusword(&c, false), 0x0223);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x0F), CO_CIA402_RUN);
+    EXPECT_EQ(co_cia402_statusword(&c, false), 0x0227);
+    EXPECT_EQ(co_cia402_statusword(&c, true), 0x0627);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x07), CO_CIA402_STOP); // disable operation
+    EXPECT_EQ(c.state, CO_CIA402_SWITCHED_ON);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x0F), CO_CIA402_RUN);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x0B), CO_CIA402_QUICK_STOP); // quick stop from operation enabled
+    EXPECT_EQ(c.state, CO_CIA402_QUICK_STOP_ACTIVE);
+    EXPECT_EQ(co_cia402_statusword(&c, false), 0x0207); // bit 5 (quick stop) low
+    EXPECT_EQ(co_cia402_controlword(&c, 0x0F), CO_CIA402_KEEP); // the ramp is not interrupted by enable
+    co_cia402_sync(&c, false, true);
+    EXPECT_EQ(c.state, CO_CIA402_QUICK_STOP_ACTIVE);
+    co_cia402_quick_stop_done(&c);
+    EXPECT_EQ(c.state, CO_CIA402_SWITCH_ON_DISABLED);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x02), CO_CIA402_STOP); // quick stop elsewhere: switch on disabled
+    EXPECT_EQ(c.state, CO_CIA402_SWITCH_ON_DISABLED);
+    co_cia402_sync(&c, true, false);
+    EXPECT_EQ(co_cia402_statusword(&c, false), 0x0208);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x00), CO_CIA402_KEEP);
+    EXPECT_EQ(co_cia402_controlword(&c, 0x80), CO_CIA402_FAULT_RESET); // rising edge of bit 7
+    EXPECT_EQ(co_cia402_controlword(&c, 0x80), CO_CIA402_STOP); // no longer a fault: bit 1 clear = disable voltage
+    EXPECT_EQ(c.state, CO_CIA402_SWITCH_ON_DISABLED);
+    co_cia402_sync(&c, false, true); // started by someone else
+    EXPECT_EQ(c.state, CO_CIA402_OPERATION_ENABLED);
+}
+
+TEST(CoDevice, HeartbeatConsumerLossIsACommunicationError)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    ASSERT_EQ(abort_of(a.sdo(download(0x1016, 1, {200, 0, 0x7F, 0}))), 0u); // node 0x7F, 200 ms
+    // Not monitored before the first heartbeat (CiA 301).
+    a.calls.clear();
+    for (int k = 0; k < 10; k++) {
+        a.pass.now_ms += 100;
+        a.step();
+    }
+    EXPECT_TRUE(a.calls.empty());
+    a.sent.clear();
+    for (int k = 0; k < 10; k++) { // master alive: a beat every 100 ms
+        a.pass.now_ms += 100;
+        a.step({App::frame(0x77F, {0x05})});
+    }
+    EXPECT_TRUE(a.calls.empty());
+    a.pass.now_ms += 200;
+    a.step();
+    EXPECT_TRUE(a.calls.empty()) << "200 ms is still within the time";
+    a.pass.now_ms += 1;
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:1"}));
+    auto e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x8130);
+    EXPECT_EQ(e[0].data[2] & 0x10, 0x10); // communication bit
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_PRE_OPERATIONAL); // 0x1029 default 0
+    a.step();
+    EXPECT_EQ(a.calls.size(), 1u) << "reported once";
+    // A beat again, then loss again with 0x1029 = 2: stopped.
+    ASSERT_EQ(abort_of(a.sdo(download(0x1029, 1, {2}))), 0u);
+    a.step({App::frame(0x77F, {0x05})});
+    a.pass.now_ms += 1000;
+    a.step();
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_STOPPED);
+    EXPECT_EQ(a.calls.back(), "event:1");
+}
+
+TEST(CoDevice, RpdoEventTimerOnceStarted)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    ASSERT_EQ(abort_of(a.sdo(download(0x1029, 1, {1}))), 0u); // no NMT change
+    ASSERT_EQ(abort_of(a.sdo(download(0x1400, 5, {50, 0}))), 0u);
+    a.pass.now_ms += 1000;
+    a.calls.clear();
+    a.step();
+    EXPECT_TRUE(a.calls.empty()) << "not monitored before the first RPDO";
+    auto g = f32(2.0f);
+    for (int k = 0; k < 5; k++) {
+        a.pass.now_ms += 40;
+        a.step({App::frame(0x200 + kNode, {0x0F, 0x00, g[0], g[1], g[2], g[3]})});
+    }
+    a.calls.clear();
+    a.sent.clear();
+    a.pass.now_ms += 51;
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"event:2"}));
+    auto e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x8250);
+    EXPECT_EQ(a.dev.nmt.state, CO_NMT_OPERATIONAL);
+}
+
+TEST(CoDevice, EmcyInhibitTimeQueuesDistinctEventsOnce)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    ASSERT_EQ(abort_of(a.sdo(download(0x1015, 0, {0xE8, 0x03}))), 0u); // 1000 x 100 us = 100 ms
+    a.sent.clear();
+    // 50 short RPDOs within 50 ms: one EMCY now, one waiting, none more.
+    for (int k = 0; k < 50; k++) {
+        a.pass.now_ms += 1;
+        a.step({App::frame(0x200 + kNode, {0x0F})});
+    }
+    EXPECT_EQ(a.with_id(0x080 + kNode).size(), 1u);
+    a.pass.faults = 1u << 0; // a fault within the inhibit time waits as well
+    a.step();
+    EXPECT_EQ(a.with_id(0x080 + kNode).size(), 1u);
+    a.pass.now_ms += 60; // 110 ms after the first message
+    a.step();
+    auto e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 2u);
+    EXPECT_EQ(e[1].data[0] | (e[1].data[1] << 8), 0x8210); // the queued event first
+    a.pass.now_ms += 100;
+    a.step();
+    e = a.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 3u);
+    EXPECT_EQ(e[2].data[0] | (e[2].data[1] << 8), 0x2310); // then the fault, not lost
+}

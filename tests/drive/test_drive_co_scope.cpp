@@ -1,0 +1,179 @@
+// The scope: triggered capture in the interrupt (scope_sample) and read-out
+// through a segmented SDO upload of the domain object 0x2601.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "co_test_util.hpp"
+
+extern "C" {
+#include "dtc/scope.h"
+}
+
+using namespace cotest;
+
+namespace {
+
+constexpr double kRpmPerRadS = 60.0 / (2.0 * M_PI);
+
+// One interrupt's worth of scope work on the drive's snapshot, with a known
+// signal: estimated speed = tick (rad/s), torque command = -tick / 10.
+void isr_tick(Bench &b, float ref_rad_s, uint32_t faults = 0)
+{
+    drive_snapshot &s = b.d->snap;
+    s.tick++;
+    s.tel.omega_est_rad_s = float(s.tick);
+    s.tel.te_ref_Nm = -float(s.tick) / 10.0f;
+    s.tel.faults = faults;
+    s.tel.state = uint8_t(s.tick % 4);
+    scope_sample(&b.d->scope, &b.d->snap, ref_rad_s, faults, s.tick);
+}
+
+std::vector<float> as_floats(const std::vector<uint8_t> &v)
+{
+    std::vector<float> out(v.size() / 4);
+    for (size_t i = 0; i < out.size(); i++)
+        std::memcpy(&out[i], &v[4 * i], 4);
+    return out;
+}
+
+void set_channels(Bench &b, std::vector<uint8_t> ch)
+{
+    for (uint8_t i = 0; i < 4; i++)
+        ASSERT_FALSE(b.download(0x2600, uint8_t(i + 1), {i < ch.size() ? ch[i] : uint8_t(0)}).aborted());
+}
+
+TEST(DriveCoScope, EmptyDomainBeforeACapture)
+{
+    Bench b;
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_IDLE));
+    SdoReply r = b.upload(0x2601, 0);
+    ASSERT_TRUE(r.got);
+    EXPECT_EQ(r.f.data[0], 0x41u); // segmented, size indicated
+    EXPECT_EQ(le32(&r.f.data[4]), 0u);
+    SdoReply s = b.sdo({0x60, 0, 0, 0, 0, 0, 0, 0});
+    EXPECT_EQ(s.f.data[0], 0x0Fu); // t = 0, n = 7, c = 1: no data, last
+}
+
+TEST(DriveCoScope, ReferenceTriggerWithPretrigger)
+{
+    Bench b;
+    set_channels(b, {2, 5}); // speed estimate (rpm), torque command (N m)
+    ASSERT_FALSE(b.download(0x2600, 5, {1}).aborted());          // trigger: reference change
+    ASSERT_FALSE(b.download(0x2600, 6, {100, 0}).aborted());     // 100 samples before
+    ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted());          // arm
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_ARMED));
+    for (int i = 0; i < 50; i++)
+        isr_tick(b, 0.0f);
+    isr_tick(b, 1.0f); // a change before the pretrigger part is full: ignored
+    for (int i = 0; i < 100; i++)
+        isr_tick(b, 1.0f);
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_ARMED));
+    isr_tick(b, 2.0f); // the trigger
+    uint32_t trig_tick = b.d->snap.tick;
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_TRIGGERED));
+    for (int i = 0; i < 1022 - 100; i++)
+        isr_tick(b, 2.0f);
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_TRIGGERED));
+    isr_tick(b, 2.0f);
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_DONE));
+    EXPECT_EQ(b.read_u32(0x2600, 11), trig_tick);
+    for (int i = 0; i < 10; i++)
+        isr_tick(b, 3.0f); // frozen
+    uint32_t abort = 1;
+    auto data = as_floats(b.upload_segmented(0x2601, 0, &abort));
+    ASSERT_EQ(abort, 0u);
+    ASSERT_EQ(data.size(), 2u * 1024u);
+    for (uint32_t j = 0; j < 1024; j++) {
+        double tick = double(trig_tick) - 100.0 + j;
+        EXPECT_NEAR(data[j], tick * kRpmPerRadS, 1e-3 * tick) << j;         // channel 1 in rpm
+        EXPECT_NEAR(data[1024 + j], -tick / 10.0, 1e-4 * tick) << j;        // channel 2 in N m
+    }
+}
+
+TEST(DriveCoScope, ManualTriggerDecimationAndIntegerSignals)
+{
+    Bench b;
+    set_channels(b, {21, 0, 23}); // run state (UNSIGNED8), off, tick (UNSIGNED32)
+    ASSERT_FALSE(b.download(0x2600, 5, {0}).aborted());       // manual
+    ASSERT_FALSE(b.download(0x2600, 6, {0, 0}).aborted());    // no pretrigger
+    ASSERT_FALSE(b.download(0x2600, 7, {3, 0}).aborted());    // every 3rd tick
+    EXPECT_EQ(b.download(0x2600, 8, {2}).abort_code(), kAbortState) << "trigger needs an armed scope";
+    ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted());
+    for (int i = 0; i < 10; i++)
+        isr_tick(b, 0.0f);
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_ARMED));
+    ASSERT_FALSE(b.download(0x2600, 8, {2}).aborted());
+    int n = 0;
+    while (b.read_u32(0x2600, 9) != SCOPE_DONE && n < 4000) {
+        isr_tick(b, 0.0f);
+        n++;
+    }
+    EXPECT_NEAR(n, 3 * 1024, 3);
+    auto data = as_floats(b.upload_segmented(0x2601, 0));
+    ASSERT_EQ(data.size(), 2u * 1024u);
+    for (uint32_t j = 1; j < 1024; j++) {
+        EXPECT_EQ(data[1024 + j] - data[1024 + j - 1], 3.0f) << j; // the tick, every 3rd
+        EXPECT_EQ(data[j], float(uint32_t(data[1024 + j]) % 4)) << j;
+    }
+}
+
+TEST(DriveCoScope, FaultTriggerOnTheRisingEdge)
+{
+    Bench b;
+    set_channels(b, {22});
+    ASSERT_FALSE(b.download(0x2600, 5, {2}).aborted());
+    ASSERT_FALSE(b.download(0x2600, 6, {10, 0}).aborted());
+    ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted());
+    for (int i = 0; i < 20; i++)
+        isr_tick(b, 5.0f);
+    isr_tick(b, 5.0f, CTL_FAULT_OVERSPEED);
+    for (int i = 0; i < 1100; i++)
+        isr_tick(b, 5.0f, CTL_FAULT_OVERSPEED);
+    ASSERT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_DONE));
+    auto data = as_floats(b.upload_segmented(0x2601, 0));
+    ASSERT_EQ(data.size(), 1024u);
+    for (int j = 0; j < 10; j++)
+        EXPECT_EQ(data[j], 0.0f);
+    EXPECT_EQ(data[10], float(CTL_FAULT_OVERSPEED));
+}
+
+TEST(DriveCoScope, StopAndRearm)
+{
+    Bench b;
+    ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted());
+    ASSERT_FALSE(b.download(0x2600, 8, {0}).aborted());
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_IDLE));
+    for (int i = 0; i < 2000; i++)
+        isr_tick(b, float(i));
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_IDLE));
+    // Out-of-range channel settings are refused at the write, not at arming.
+    EXPECT_EQ(b.download(0x2600, 1, {24}).abort_code(), kAbortHigh);
+    EXPECT_EQ(b.download(0x2600, 7, {0, 0}).abort_code(), kAbortLow);
+}
+
+// The real interrupt drives the scope: a reference step while the drive is
+// stopped (no control action needed) triggers a capture.
+TEST(DriveCoScope, SampledByDriveIsr)
+{
+    Bench b;
+    hal_tick_start(drive_isr, b.d.get(), 200);
+    ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted()); // defaults: reference trigger, 128 before
+    hal_sample s{};
+    s.vc1_V = 155.5f;
+    s.vc2_V = 155.5f;
+    for (uint32_t i = 0; i < 1200; i++) {
+        s.seq = i + 1;
+        hal_host_set_sample(&b.board, &s);
+        if (i == 300)
+            drive_set_speed_ref(b.d.get(), 10.0f);
+        hal_host_run_tick(&b.board);
+    }
+    b.pass();
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_DONE));
+    EXPECT_EQ(b.read_u32(0x2600, 11), 301u);
+    hal_tick_stop();
+}
+
+} // namespace

@@ -1,0 +1,132 @@
+// Exhaustive checks of the STM32G474 binding's per-period NPC leg planner
+// (hal/stm32g4/npc_plan.c): the programme the HRTIM runs never turns S1 and
+// S4 on together, never steps a leg directly between P and N (also across
+// periods), keeps the switching instant out of the sampling window and the
+// second pulse above its minimum, and otherwise applies what was asked.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <random>
+#include <vector>
+
+extern "C" {
+#include "npc_plan.h"
+}
+
+namespace {
+
+const npc_timing kTm = {34000u, 1190u, 340u}; // 200 us at 170 MHz, 7 us, 2 us
+
+// Leg state from the output-1 levels of pair 0 (S1) and pair 1 (S2); -1 = S1 and S4 on.
+int leg_state(bool s1, bool s2)
+{
+    if (s1 && s2)
+        return NPC_P;
+    if (!s1 && s2)
+        return NPC_O;
+    if (!s1 && !s2)
+        return NPC_N;
+    return -1;
+}
+
+bool is_pn(int a, int b) { return (a == NPC_P && b == NPC_N) || (a == NPC_N && b == NPC_P); }
+
+// States the leg goes through in one period: [prev, after the start event, after t].
+std::vector<int> simulate(uint8_t prev, const npc_leg_plan &p)
+{
+    bool lv[2], st[2];
+    for (unsigned k = 0; k < 2; k++) {
+        lv[k] = npc_pair_level(k, prev);
+        EXPECT_EQ(p.set[k] & p.rst[k], 0u) << "set and reset on the same event";
+        EXPECT_NE((p.set[k] | p.rst[k]) & NPC_EV_START, 0u) << "every period sets its start level";
+        st[k] = (p.set[k] & NPC_EV_START) != 0;
+    }
+    std::vector<int> seq = {leg_state(lv[0], lv[1]), leg_state(st[0], st[1])};
+    bool en[2] = {st[0], st[1]};
+    for (unsigned k = 0; k < 2; k++) {
+        if (p.set[k] & NPC_EV_T)
+            en[k] = true;
+        if (p.rst[k] & NPC_EV_T)
+            en[k] = false;
+    }
+    seq.push_back(leg_state(en[0], en[1]));
+    return seq;
+}
+
+void check_one(uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0)
+{
+    npc_leg_plan p;
+    npc_plan_leg(&kTm, prev, v0, v1, t0, &p);
+    std::vector<int> seq = simulate(prev, p);
+    SCOPED_TRACE(::testing::Message() << "prev " << int(prev) << " v0 " << int(v0) << " v1 " << int(v1) << " t0 " << t0);
+    for (int s : seq)
+        ASSERT_NE(s, -1) << "S1 and S4 on together";
+    ASSERT_FALSE(is_pn(seq[0], seq[1])) << "P<->N at the period start";
+    ASSERT_FALSE(is_pn(seq[1], seq[2])) << "P<->N at the switching instant";
+    ASSERT_EQ(seq[2], p.end);
+    bool has_t = ((p.set[0] | p.rst[0] | p.set[1] | p.rst[1]) & NPC_EV_T) != 0;
+    if (has_t) {
+        ASSERT_GE(p.t, kTm.keepout) << "switching inside the sampling window";
+        ASSERT_LE(p.t + kTm.min_pulse, kTm.per) << "second pulse too short";
+    }
+    bool asked_pn = is_pn(prev, v0) || is_pn(v0, v1);
+    if (!asked_pn) {
+        // What was asked is applied, with the instant moved by at most the keep-out or the minimum pulse.
+        ASSERT_EQ(p.v0, v0);
+        ASSERT_EQ(p.v1, v1);
+        if (v0 != v1) {
+            uint32_t t_eff = p.t;
+            uint32_t err = t_eff > t0 ? t_eff - t0 : t0 - t_eff;
+            ASSERT_LE(err, kTm.keepout > kTm.min_pulse ? kTm.keepout : kTm.min_pulse);
+            if (t0 >= kTm.keepout && t0 + kTm.min_pulse <= kTm.per) {
+                ASSERT_EQ(p.t, t0) << "an instant outside the keep-outs is not moved";
+            }
+            ASSERT_EQ(seq[2], p.t == kTm.per ? v0 : v1);
+        }
+    } else {
+        ASSERT_GT(p.fixups, 0u);
+    }
+}
+
+TEST(NpcPlan, EveryStateTripleAndInstant)
+{
+    for (uint8_t prev = 0; prev <= NPC_P; prev++)
+        for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+            for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                for (uint32_t t0 = 0; t0 <= kTm.per; t0 += 17)
+                    check_one(prev, v0, v1, t0);
+                for (uint32_t t0 : {1u, 594u, 595u, 596u, 1189u, 1190u, 1191u, 33659u, 33660u, 33661u, 33999u})
+                    check_one(prev, v0, v1, t0);
+            }
+}
+
+TEST(NpcPlan, LongRandomSequencesStayContinuous)
+{
+    std::mt19937 rng(12345);
+    uint8_t prev = NPC_O;
+    for (int i = 0; i < 200000; i++) {
+        uint8_t v0 = uint8_t(rng() % 3), v1 = uint8_t(rng() % 3);
+        uint32_t t0 = rng() % (kTm.per + 1);
+        npc_leg_plan p;
+        npc_plan_leg(&kTm, prev, v0, v1, t0, &p);
+        std::vector<int> seq = simulate(prev, p);
+        for (size_t k = 0; k + 1 < seq.size(); k++) {
+            ASSERT_NE(seq[k + 1], -1);
+            ASSERT_FALSE(is_pn(seq[k], seq[k + 1])) << "step " << i;
+        }
+        prev = p.end;
+    }
+}
+
+TEST(NpcPlan, PairLevels)
+{
+    // S1/S3 pair: S1 on only in P; S2/S4 pair: S2 on in P and O.
+    EXPECT_TRUE(npc_pair_level(0, NPC_P));
+    EXPECT_FALSE(npc_pair_level(0, NPC_O));
+    EXPECT_FALSE(npc_pair_level(0, NPC_N));
+    EXPECT_TRUE(npc_pair_level(1, NPC_P));
+    EXPECT_TRUE(npc_pair_level(1, NPC_O));
+    EXPECT_FALSE(npc_pair_level(1, NPC_N));
+}
+
+} // namespace
