@@ -5,6 +5,9 @@
 #include <stdbool.h>
 #include "board_twin/board.h"
 #include "board_twin/elf.h"
+#include "board_twin/twin.h"
+#include "hrtim.h"
+#include "adc.h"
 
 /* Memory map, RM0440 §2.2 (Figure 3, Table 4). */
 #define FLASH_BASE 0x08000000u
@@ -36,6 +39,7 @@ typedef struct {
   /* DWT / CoreDebug */
   uint32_t demcr, dwt_ctrl, dwt_cyccnt;
   uint64_t dwt_base_cycle;
+  uint32_t dbgmcu[4];           /* DBGMCU CR, APB1FZR1, APB1FZR2, APB2FZR */
 } scs_state;
 
 typedef struct {
@@ -68,8 +72,22 @@ typedef struct {
 typedef struct {
   uint32_t moder, otyper, ospeedr, pupdr, idr_in, odr, lckr, afr[2];
   uint32_t lck_seq;    /* LCKR key sequence stage */
+  uint32_t ext_mask, ext_level; /* pins driven from outside the chip (board_drive_pin) */
   uint32_t changed;    /* pins whose mode/AF left the reset state */
 } gpio_port;
+
+typedef struct {
+  uint32_t cccr, nbtp, psr, ir, ie, ils, ile, rxgfc, txbc, txfqs, ckdiv;
+  uint32_t ram[256];      /* message RAM, 1 KiB */
+  uint32_t tx_frames;
+} canstub_state;
+
+#define IRQSTAT_DEPTH 16
+typedef struct {
+  struct { int exc; uint64_t start, nested; } stack[IRQSTAT_DEPTH];
+  int depth;
+  board_irq_stat per[NUM_EXC];
+} irq_stats;
 
 typedef struct {
   bool started, write_access;
@@ -93,6 +111,7 @@ struct board {
   bool sleeping;        /* WFI */
   /* stop requests raised inside Unicorn callbacks */
   int stop_intno;       /* UC_HOOK_INTR number, -1 none */
+  bool stop_soon;       /* end the slice before the next instruction (set in MMIO callbacks) */
   bool fault;
   char msg[512];
   bool exited;
@@ -107,6 +126,11 @@ struct board {
   flash_state fl;
   gpio_port gpio[7];
   iwdg_state iwdg;
+  hrtim_state hrtim;
+  adc_state adc;
+  canstub_state can;
+  irq_stats irq;
+  struct twin_bind *bind; /* the plant on the pins (twin_plant.c); NULL: nothing connected */
 };
 
 /* engine.c */
@@ -167,6 +191,42 @@ uint32_t iwdg_read(board *b, uint32_t off);
 void iwdg_write(board *b, uint32_t off, uint32_t v);
 double iwdg_next_event(board *b);
 void iwdg_event(board *b);
+
+/* gpio.c: the external side of the pins */
+bool gpio_flt3_low(const board *b);
+
+/* hrtim.c (RM0440 §27); offsets from 0x40016800 */
+void hrtim_reset(board *b);
+uint32_t hrtim_read(board *b, uint32_t off);
+void hrtim_write(board *b, uint32_t off, uint32_t v);
+double hrtim_next_event(board *b);
+void hrtim_event(board *b);
+void hrtim_fault_input_update(board *b, bool line_low);
+uint32_t hrtim_levels(board *b, double t);   /* pin levels of TA1..TF2 from t on */
+double hrtim_next_edge(board *b, double t);  /* first output edge after t, INFINITY: none */
+void hrtim_prune(board *b, double t);        /* forget edges up to t */
+
+/* adc.c (RM0440 §21); offsets from 0x50000000 (ADC1 0x000, ADC2 0x100, common 0x300) */
+void adc_reset(board *b);
+uint32_t adc_read(board *b, uint32_t off);
+void adc_write(board *b, uint32_t off, uint32_t v);
+double adc_next_event(board *b);
+void adc_event(board *b);
+void adc_hrtim_trigger(board *b, int trg, double when); /* HRTIM ADC trigger trg (1..4) fired at `when` */
+
+/* canstub.c: placeholder FDCAN1 (offsets from 0x40006400; message RAM at +0x4000) */
+void canstub_reset(board *b);
+uint32_t canstub_read(board *b, uint32_t off);
+void canstub_write(board *b, uint32_t off, uint32_t v);
+
+/* twin_plant.c */
+void twin_sync(board *b, double t);          /* integrate the plant up to t */
+double twin_pin_voltage(board *b, char port, int pin, double t);
+void twin_free(board *b);
+
+/* irqstat.c */
+void irqstat_enter(board *b, int exc);
+void irqstat_exit(board *b, int exc);
 
 /* semihost.c: BKPT 0xAB. 0 handled, -1 fault raised. */
 int semihost_call(board *b);

@@ -23,7 +23,10 @@ static uint32_t reg32(board *b, int r) {
   return v;
 }
 
-double board_now(const board *b) { return b->t_base_s + (double)(b->cycles - b->cyc_base) / b->hclk_hz; }
+double board_now(const board *b) {
+  if (!(b->hclk_hz > 0)) return b->t_base_s; /* between a reset and the first clock query */
+  return b->t_base_s + (double)(b->cycles - b->cyc_base) / b->hclk_hz;
+}
 
 const char *board_func_name(const board *b, uint32_t addr) {
   const elf_symbol *s = elf_func_at(&b->elf, addr);
@@ -62,7 +65,9 @@ void board_clock_changed(board *b) {
 static void hook_code(uc_engine *uc, uint64_t addr, uint32_t size, void *u) {
   (void)size;
   board *b = u;
-  if (b->cycles >= b->limit) { uc_emu_stop(uc); return; }
+  /* Stop before this instruction: the slice's end, or a request from an MMIO callback
+   * (uc_emu_stop inside a memory callback makes Unicorn re-execute the access). */
+  if (b->cycles >= b->limit || b->stop_soon) { b->stop_soon = false; uc_emu_stop(uc); return; }
   b->cycles++;
   b->pc = (uint32_t)addr;
 }
@@ -103,7 +108,11 @@ typedef struct {
 /* Modelled peripherals and their clock gates (RM0440 §7.4.16-7.4.22). */
 static const periph_slot k_slots[] = {
   {0x40003000u, "IWDG", -1, 0},       /* clocked by LSI, no enable bit */
+  {0x40006400u, "FDCAN1", 4, 25},     /* APB1ENR1.FDCANEN (placeholder model, canstub.c) */
   {0x40007000u, "PWR", 4, 28},        /* APB1ENR1.PWREN */
+  {0x4000A400u, "SRAMCAN", 4, 25},    /* FDCAN message RAM */
+  {0x40016800u, "HRTIM1", 6, 26},     /* APB2ENR.HRTIM1EN: master, A-F, common */
+  {0x50000000u, "ADC12", 1, 13},      /* AHB2ENR.ADC12EN: ADC1, ADC2, common */
   {0x40021000u, "RCC", -1, 0},
   {0x40022000u, "FLASH", 0, 8},       /* AHB1ENR.FLASHEN (set at reset) */
   {0x48000000u, "GPIOA", 1, 0}, {0x48000400u, "GPIOB", 1, 1}, {0x48000800u, "GPIOC", 1, 2},
@@ -132,6 +141,10 @@ static uint32_t periph_read32(board *b, const periph_slot *s, uint32_t off) {
   if (s->base == 0x40007000u) return pwr_read(b, off);
   if (s->base == 0x40022000u) return flash_read(b, off);
   if (s->base == 0x40003000u) return iwdg_read(b, off);
+  if (s->base == 0x40016800u) return hrtim_read(b, off);
+  if (s->base == 0x50000000u) return adc_read(b, off);
+  if (s->base == 0x40006400u) return canstub_read(b, off);
+  if (s->base == 0x4000A400u) return canstub_read(b, 0x4000u + off);
   return gpio_read(b, (int)((s->base - 0x48000000u) / 0x400u), off);
 }
 
@@ -155,7 +168,7 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   if (!s) return;
   uint32_t off = (addr - s->base) & ~3u;
   uint32_t v = (uint32_t)value;
-  if (s->base >= 0x48000000u) { /* GPIO: byte, half-word and word access (RM0440 §9.4) */
+  if (s->base >= 0x48000000u && s->base < 0x48001C00u) { /* GPIO: byte, half-word and word access (RM0440 §9.4) */
     unsigned sh = (addr & 3u) * 8u;
     uint32_t mask = size >= 4 ? 0xFFFFFFFFu : ((1u << (size * 8)) - 1u) << sh;
     gpio_write(b, (int)((s->base - 0x48000000u) / 0x400u), off, v << sh, mask);
@@ -165,8 +178,13 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   } else if (s->base == 0x40021000u) rcc_write(b, off, v);
   else if (s->base == 0x40007000u) pwr_write(b, off, v);
   else if (s->base == 0x40022000u) flash_write(b, off, v);
+  else if (s->base == 0x40016800u) hrtim_write(b, off, v);
+  else if (s->base == 0x50000000u) adc_write(b, off, v);
+  else if (s->base == 0x40006400u) canstub_write(b, off, v);
+  else if (s->base == 0x4000A400u) canstub_write(b, 0x4000u + off, v);
   else iwdg_write(b, off, v);
   b->recheck = true;
+  b->stop_soon = true; /* a write may schedule an event or change the clock: end the slice after it */
 }
 
 static uint64_t mmio_ppb_read(uc_engine *uc, uint64_t offset, unsigned size, void *u) {
@@ -176,9 +194,10 @@ static uint64_t mmio_ppb_read(uc_engine *uc, uint64_t offset, unsigned size, voi
 
 static void mmio_ppb_write(uc_engine *uc, uint64_t offset, unsigned size, uint64_t value, void *u) {
   board *b = u;
+  (void)uc;
   scs_write(b, PPB_BASE + (uint32_t)offset, size, (uint32_t)value);
   /* an NVIC/SCB write may make an exception take effect: end the slice after this store */
-  uc_emu_stop(uc);
+  b->stop_soon = true;
 }
 
 /* ---- reset ---- */
@@ -210,12 +229,18 @@ static void system_reset(board *b, bool power_on) {
   memset(b->sram, 0, SRAM1_SIZE + SRAM2_SIZE);
   memset(b->ccm, 0, CCM_SIZE);
   rcc_reset(b, power_on);
+  b->t_base_s = board_now(b); /* virtual time continues across a reset */
+  b->cyc_base = b->cycles;
   b->hclk_hz = 0;
   board_clock_changed(b);
   pwr_reset(b);
   flash_reset(b);
   gpio_reset(b);
   iwdg_reset(b);
+  hrtim_reset(b);
+  adc_reset(b);
+  canstub_reset(b);
+  b->irq.depth = 0;
   scs_reset(b);
   b->sleeping = false;
   b->reset_request = false;
@@ -292,6 +317,7 @@ void board_close(board *b) {
   if (!b) return;
   if (b->cfg.nvm_path && b->uc) flash_nvm_save(b);
   if (b->uc) uc_close(b->uc);
+  twin_free(b);
   elf_free(&b->elf);
   free(b->flash); free(b->sram); free(b->ccm); free(b->sysmem); free(b->otp);
   free(b);
@@ -311,6 +337,8 @@ static void process_events(board *b) {
   rcc_event(b);
   flash_event(b);
   iwdg_event(b);
+  hrtim_event(b);
+  adc_event(b);
 }
 
 static uint64_t next_event(board *b, double t_end) {
@@ -318,9 +346,11 @@ static uint64_t next_event(board *b, double t_end) {
   uint64_t s = scs_next_event(b);
   if (s < n) n = s;
   double t = rcc_next_event(b);
-  double f = flash_next_event(b), w = iwdg_next_event(b);
+  double f = flash_next_event(b), w = iwdg_next_event(b), hr = hrtim_next_event(b), ad = adc_next_event(b);
   if (f < t) t = f;
   if (w < t) t = w;
+  if (hr < t) t = hr;
+  if (ad < t) t = ad;
   if (t < INFINITY) {
     uint64_t c = cycles_at(b, t);
     if (c < n) n = c;
@@ -395,6 +425,7 @@ board_status board_run(board *b, double seconds) {
     if (exc_any_pending_enabled(b) && next > b->cycles + 64) next = b->cycles + 64; /* poll PRIMASK/BASEPRI */
     b->limit = next;
     b->recheck = false;
+    b->stop_soon = false;
     uint32_t pc = reg32(b, UC_ARM_REG_PC) | 1u;
     uc_err e = uc_emu_start(b->uc, pc, 0xFFFFFFFEu, 0, 0);
     handle_stop(b, e);
