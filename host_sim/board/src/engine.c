@@ -443,6 +443,28 @@ int board_read_u32(board *b, uint32_t addr, uint32_t *value) {
   return uc_mem_read(b->uc, addr, value, 4) == UC_ERR_OK ? 0 : -1;
 }
 
+int board_write_u32(board *b, uint32_t addr, uint32_t value) {
+  return uc_mem_write(b->uc, addr, &value, 4) == UC_ERR_OK ? 0 : -1;
+}
+
+int board_read_mem(board *b, uint32_t addr, void *out, size_t n) {
+  return uc_mem_read(b->uc, addr, out, n) == UC_ERR_OK ? 0 : -1;
+}
+
+int board_symbol(board *b, const char *name, uint32_t *addr, uint32_t *size) {
+  const elf_symbol *s = elf_find(&b->elf, name);
+  if (!s) return -1;
+  *addr = s->addr;
+  *size = s->size;
+  return 0;
+}
+
+double board_pwm_period_start(board *b, double *period_s) {
+  hrtim_event(b);
+  if (period_s) *period_s = b->hrtim.running ? (double)b->hrtim.mper * b->hrtim.t_count : 0.0;
+  return b->hrtim.running ? b->hrtim.t_period : -1.0;
+}
+
 int board_read_symbol(board *b, const char *name, uint32_t offset, uint32_t *value) {
   const elf_symbol *s = elf_find(&b->elf, name);
   return s ? board_read_u32(b, s->addr + offset, value) : -1;

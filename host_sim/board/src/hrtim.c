@@ -382,7 +382,18 @@ static void start_stop(board *b, uint32_t old, uint32_t v) {
     if (!(f_hrtim(b) > 0)) { board_fault(b, "HRTIM started without a clock"); return; }
     h->t_count = (double)(1u << psc) / (32.0 * f_hrtim(b));
     h->running = true;
-    period_start(b, board_now(b));
+    double t0 = board_now(b);
+    /* the outputs take the crossbar's present level when the counters start: with dead time,
+     * output 2 is the complement of output 1 (after its dead time, §27.3.10) */
+    for (int t = 0; t < 6; t++) {
+      if (h->tim[t].outr & (1u << 8)) {
+        h->tim[t].ref[0] ^= 1u;
+        ref_edge(b, t, 0, t0, h->tim[t].ref[0]);
+        h->tim[t].ref[0] ^= 1u;
+        ref_edge(b, t, 0, t0, h->tim[t].ref[0]);
+      }
+    }
+    period_start(b, t0);
     return;
   }
   if (en_new == 0) { /* counters stop; the outputs keep their levels */

@@ -49,6 +49,7 @@ int board_attach_plant(board *b, const plant_config *cfg) {
   for (int l = 0; l < 3; l++) w->leg[l] = PLANT_LEG_OFF;
   for (int o = 0; o < 12; o++) { w->last_on[o] = w->last_off[o] = -1; w->la.first_on_s[o] = w->la.last_off_s[o] = -1; }
   w->la.min_dead_time_s = INFINITY;
+  w->la.mark_s = -1;
   w->sens_t = -1;
   free(b->bind);
   b->bind = w;
@@ -96,6 +97,7 @@ static void la_edges(struct twin_bind *w, double t, uint32_t lv) {
       }
     } else {
       w->la.off_edges[o]++;
+      if (w->la.mark_s >= 0 && t >= w->la.mark_s - EPS_T && w->la.off_after_mark_s[o] < 0) w->la.off_after_mark_s[o] = t;
       w->last_off[o] = t;
       w->la.last_off_s[o] = t;
       if (w->last_on[o] >= 0) w->la.on_time_s[o] += t - w->last_on[o];
@@ -157,6 +159,16 @@ double twin_pin_voltage(board *b, char port, int pin, double t) {
   if (port == 'C' && pin == 0) return v[0] * kv;
   if (port == 'C' && pin == 1) return v[1] * kv;
   return 0.0;
+}
+
+void board_la_mark(board *b) {
+  struct twin_bind *w = bind(b);
+  if (!w) return;
+  double now = board_now(b);
+  twin_sync(b, now);
+  w->la.mark_s = now;
+  w->la.on_at_mark = hrtim_levels(b, now);
+  for (int o = 0; o < 12; o++) w->la.off_after_mark_s[o] = -1;
 }
 
 void board_la_get(board *b, board_la_stats *out) {

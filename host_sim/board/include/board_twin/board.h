@@ -44,6 +44,13 @@ double board_core_hz(const board *b);
 /* Read a 32-bit word of the emulated memory at a symbol (+offset); 0 on success. */
 int board_read_symbol(board *b, const char *name, uint32_t offset, uint32_t *value);
 int board_read_u32(board *b, uint32_t addr, uint32_t *value);
+/* Test-only access to the emulated RAM (a debugger's view); 0 on success. */
+int board_write_u32(board *b, uint32_t addr, uint32_t value);
+int board_read_mem(board *b, uint32_t addr, void *out, size_t n);
+/* Address and size of an ELF symbol; 0 on success. */
+int board_symbol(board *b, const char *name, uint32_t *addr, uint32_t *size);
+/* Start of the current HRTIM master period and its length; -1 while the timers are stopped. */
+double board_pwm_period_start(board *b, double *period_s);
 
 /* GPIO configuration as the firmware left it (mode 0 input, 1 output, 2 AF, 3 analog). */
 typedef struct {

@@ -32,7 +32,12 @@ typedef struct {
   uint64_t pn_steps;             /* leg P<->N without passing through O */
   uint64_t bad_combinations;     /* other switch combinations outside P/O/N/off/dead time */
   double t_s;                    /* analysed up to */
+  double mark_s;                 /* board_la_mark time, -1: none */
+  uint32_t on_at_mark;           /* outputs on at the mark */
+  double off_after_mark_s[12];   /* first on->off edge at or after the mark, -1: none yet */
 } board_la_stats;
+/* Remember which outputs are on now and time their next turn-off (the fault test). */
+void board_la_mark(board *b);
 void board_la_get(board *b, board_la_stats *out);
 
 /* Executed instructions per exception number (16 + IRQ), exact, excluding nested exceptions. */
