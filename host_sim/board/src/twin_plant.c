@@ -7,12 +7,13 @@
  *
  * Leg state per segment (switches of leg x: S1 = timer A/C/E output 1, S3 = its output 2, S2 =
  * timer B/D/F output 1, S4 = its output 2): S1+S2 = P, S2+S3 = O, S3+S4 = N, all off =
- * PLANT_LEG_OFF (diodes). During a dead time (only S2, or only S3, on) the real leg's voltage is
- * set by the current's sign through the clamp/freewheel diodes; the plant API takes one state
- * per leg and segment, so the last defined state (P/O/N) is kept for the dead time -- an error of
- * at most one dead time (1 us of 200 us) per commutation, the same order as dtc-sim's
- * idealisation. Overlapping pairs and other combinations are counted as violations and the leg
- * keeps its last state.
+ * PLANT_LEG_OFF (diodes). During a dead time only S2, or only S3, is on and the leg's voltage is
+ * set by the sign of its current at the segment start (the plant takes one state per leg and
+ * segment): only S2: a current into the motor flows through the upper clamp diode and S2 (O), a
+ * current out of it through the free-wheeling diodes of S2 and S1 (P); only S3: into the motor
+ * through the diodes of S4 and S3 (N), out of it through S3 and the lower clamp diode (O). A zero
+ * current keeps the last defined state. Overlapping pairs and other combinations are counted as
+ * violations and the leg keeps its last state.
  *
  * Sensor pins (docs/board.md): ia/ib/ic on PA0/PA1/PB1 at 1.65 V + i x 1.65 V / 150 A (90.91 A/V),
  * vc1/vc2 on PC0/PC1 at v x 3.3 V / 500 V (151.5 V/V). The plant's sensor model (gain, offset,
@@ -58,7 +59,7 @@ int board_attach_plant(board *b, const plant_config *cfg) {
 
 void twin_free(board *b) { free(b->bind); b->bind = NULL; }
 
-static uint8_t leg_state(struct twin_bind *w, int l, uint32_t lv) {
+static uint8_t leg_state(struct twin_bind *w, int l, uint32_t lv, double i_leg) {
   unsigned s1 = (lv >> (4 * l)) & 1u, s3 = (lv >> (4 * l + 1)) & 1u, s2 = (lv >> (4 * l + 2)) & 1u,
            s4 = (lv >> (4 * l + 3)) & 1u;
   unsigned k = s1 | (s2 << 1) | (s3 << 2) | (s4 << 3);
@@ -67,8 +68,10 @@ static uint8_t leg_state(struct twin_bind *w, int l, uint32_t lv) {
   case 0x6: return PLANT_LEG_O;   /* S2 S3 */
   case 0xC: return PLANT_LEG_N;   /* S3 S4 */
   case 0x0: return PLANT_LEG_OFF; /* all off */
-  case 0x2: case 0x4:             /* dead time of one pair: last defined state */
-    return w->leg[l] == PLANT_LEG_OFF ? PLANT_LEG_OFF : w->leg[l];
+  case 0x2:                       /* S2 only: dead time between P and O */
+    return i_leg > 0 ? PLANT_LEG_O : i_leg < 0 ? PLANT_LEG_P : w->leg[l];
+  case 0x4:                       /* S3 only: dead time between O and N */
+    return i_leg > 0 ? PLANT_LEG_N : i_leg < 0 ? PLANT_LEG_O : w->leg[l];
   default:
     if ((s1 && s3) || (s2 && s4)) w->la.overlaps++;
     else w->la.bad_combinations++;
@@ -116,8 +119,18 @@ void twin_sync(board *b, double t) {
     uint32_t lv = hrtim_levels(b, w->t);
     if (!w->levels_valid || lv != w->levels) la_edges(w, w->t, lv);
     uint8_t legs[3];
+    double i_abc[3] = {0, 0, 0};
     for (int l = 0; l < 3; l++) {
-      uint8_t s = leg_state(w, l, lv);
+      unsigned k = (lv >> (4 * l)) & 0xFu;
+      if (k == 0x2u || k == 0x4u) { /* a dead time: the current's sign decides */
+        plant_truth tr;
+        plant_get_truth(&w->ps, &tr);
+        i_abc[0] = tr.ia_A; i_abc[1] = tr.ib_A; i_abc[2] = tr.ic_A;
+        break;
+      }
+    }
+    for (int l = 0; l < 3; l++) {
+      uint8_t s = leg_state(w, l, lv, i_abc[l]);
       bool defined = s != w->leg[l];
       if (defined && ((s == PLANT_LEG_P && w->leg[l] == PLANT_LEG_N) || (s == PLANT_LEG_N && w->leg[l] == PLANT_LEG_P)))
         w->la.pn_steps++;
