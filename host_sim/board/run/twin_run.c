@@ -249,12 +249,15 @@ int twin_run_main(int argc, char **argv) {
     if (ref != last_ref) wr_f32(&f, L->speed_ref_rad_s, (float)(ref * RPM_TO_RAD_S));
     last_ref = ref;
     if (fault_t >= 0 && !fault_done && ts + T_EPS >= fault_t) {
-      /* mid-period, inside the switching part (after the sampling keep-out) */
-      board_run(b, 0.5 * T);
+      /* at the first instant (2 us steps, from the end of the sampling keep-out) where an outer
+       * switch (S1 or S4) conducts, so the trip shows the outer-before-inner order */
+      board_run(b, 10e-6);
+      for (int n = 0; n < 20000 && !(board_gate_levels(b) & 0x999u); n++) board_run(b, 2e-6);
       board_la_mark(b);
       fault_board_t = board_time_s(b);
       board_drive_pin(b, 'B', 10, 0);
       fault_done = true;
+      while (tk + 0.75 * T < board_time_s(b)) { tk += T; ts += T; k++; } /* ticks spent searching: not sampled */
       board_run(b, tk + 0.75 * T - board_time_s(b));
     } else {
       board_run(b, 0.75 * T); /* after the tick interrupt of this period */

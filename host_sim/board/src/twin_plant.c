@@ -174,6 +174,12 @@ double twin_pin_voltage(board *b, char port, int pin, double t) {
   return 0.0;
 }
 
+uint32_t board_gate_levels(board *b) {
+  double now = board_now(b);
+  twin_sync(b, now);
+  return hrtim_levels(b, now);
+}
+
 void board_la_mark(board *b) {
   struct twin_bind *w = bind(b);
   if (!w) return;

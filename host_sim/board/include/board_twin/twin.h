@@ -36,6 +36,8 @@ typedef struct {
   uint32_t on_at_mark;           /* outputs on at the mark */
   double off_after_mark_s[12];   /* first on->off edge at or after the mark, -1: none yet */
 } board_la_stats;
+/* Gate levels now, bit o = output o (TA1, TA2, TB1, ... TF2). */
+uint32_t board_gate_levels(board *b);
 /* Remember which outputs are on now and time their next turn-off (the fault test). */
 void board_la_mark(board *b);
 void board_la_get(board *b, board_la_stats *out);
