@@ -76,8 +76,23 @@ typedef struct {
   uint32_t changed;    /* pins whose mode/AF left the reset state */
 } gpio_port;
 
+/* A classic CAN frame on the twin's bus: the interface between the board and a CAN model
+ * (placeholder canstub.c here; the FDCAN model of branch twin-can implements the same two calls). */
+typedef struct {
+  uint32_t id;         /* 11-bit identifier */
+  uint8_t dlc, rtr;
+  uint8_t data[8];
+} board_can_frame;
+/* Offer a frame to FDCAN1 as if received from the bus. 0 accepted, -1 not accepted/not modelled. */
+int board_can_inject(board *b, const board_can_frame *f);
+/* Take the oldest frame the firmware transmitted. 1 one taken, 0 none. */
+int board_can_take(board *b, board_can_frame *f);
+
+#define CANSTUB_TXQ 64
 typedef struct {
   uint32_t cccr, nbtp, psr, ir, ie, ils, ile, rxgfc, txbc, txfqs, ckdiv;
+  board_can_frame txq[CANSTUB_TXQ]; /* transmitted, not yet taken */
+  unsigned tx_head, tx_count;
   uint32_t ram[256];      /* message RAM, 1 KiB */
   uint32_t tx_frames;
 } canstub_state;

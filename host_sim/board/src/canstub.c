@@ -63,8 +63,20 @@ void canstub_write(board *b, uint32_t off, uint32_t v) {
   case 0x054: c->ie = v; return;
   case 0x058: c->ils = v; return;
   case 0x05C: c->ile = v; return;
-  case 0x0CC: /* TXBAR: the frame goes out and is acknowledged */
-    c->tx_frames += (uint32_t)__builtin_popcount(v & 7u);
+  case 0x0CC: /* TXBAR: the frames go out and are acknowledged (Tx buffers at 0x278, 18 words each) */
+    for (unsigned i = 0; i < 3; i++) {
+      if (!(v & (1u << i))) continue;
+      const uint32_t *e = &c->ram[(0x278u + 72u * i) / 4u];
+      board_can_frame fr;
+      fr.id = (e[0] >> 18) & 0x7FFu;
+      fr.rtr = (uint8_t)((e[0] >> 29) & 1u);
+      fr.dlc = (uint8_t)((e[1] >> 16) & 0xFu);
+      if (fr.dlc > 8) fr.dlc = 8;
+      for (int k = 0; k < 8; k++) fr.data[k] = (uint8_t)(e[2 + k / 4] >> (8 * (k % 4)));
+      c->tx_frames++;
+      if (c->tx_count < CANSTUB_TXQ) c->txq[(c->tx_head + c->tx_count++) % CANSTUB_TXQ] = fr;
+      else { c->txq[c->tx_head] = fr; c->tx_head = (c->tx_head + 1) % CANSTUB_TXQ; } /* keep the newest */
+    }
     c->ir |= 1u << 9; /* TC */
     return;
   case 0x01C: case 0x080: case 0x0C0: case 0x100: {
@@ -77,4 +89,18 @@ void canstub_write(board *b, uint32_t off, uint32_t v) {
   }
   }
   board_fault(b, "write 0x%08X to FDCAN1 register offset 0x%03X: not in the placeholder CAN model", v, off);
+}
+
+int board_can_take(board *b, board_can_frame *f) {
+  canstub_state *c = &b->can;
+  if (!c->tx_count) return 0;
+  *f = c->txq[c->tx_head];
+  c->tx_head = (c->tx_head + 1) % CANSTUB_TXQ;
+  c->tx_count--;
+  return 1;
+}
+
+int board_can_inject(board *b, const board_can_frame *f) {
+  (void)b; (void)f;
+  return -1; /* the placeholder has no receive path: the FDCAN model of branch twin-can provides it */
 }
