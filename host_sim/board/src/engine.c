@@ -160,9 +160,12 @@ static uint64_t mmio_periph_read(uc_engine *uc, uint64_t offset, unsigned size, 
   return size >= 4 ? v : (v >> sh) & ((1u << (size * 8)) - 1u);
 }
 
+static uint64_t next_event(board *b, double t_end);
+
 static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uint64_t value, void *u) {
   (void)uc;
   board *b = u;
+  double hz0 = b->hclk_hz;
   uint32_t addr = PERIPH_BASE + (uint32_t)offset;
   const periph_slot *s = find_slot(b, addr, true);
   if (!s) return;
@@ -184,7 +187,11 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   else if (s->base == 0x4000A400u) canstub_write(b, 0x4000u + off, v);
   else iwdg_write(b, off, v);
   b->recheck = true;
-  b->stop_soon = true; /* a write may schedule an event or change the clock: end the slice after it */
+  /* End the slice after this store when the write changed the clock or brought an event before
+   * the slice's end (interrupts pended by the models end it themselves): the slice's cycle limit
+   * was computed from the old schedule. Other writes (a watchdog kick, a register set-up) let the
+   * slice run on: restarting Unicorn costs far more than an instruction. */
+  if (b->hclk_hz != hz0 || next_event(b, INFINITY) < b->limit) b->stop_soon = true;
 }
 
 static uint64_t mmio_ppb_read(uc_engine *uc, uint64_t offset, unsigned size, void *u) {
