@@ -25,6 +25,7 @@ CASE2 = os.path.join(SRC, "host_sim", "scenarios", "case2.ini")
 T_HRTIM = 1.0 / 170e6
 DEAD_TIME = 1.0e-6            # BOARD_DEAD_TIME_NS (hal/stm32g4/board.h)
 INNER_DELAY = 1.0e-6          # BOARD_FAULT_INNER_DELAY_NS
+MIN_PULSE = 2.0e-6            # BOARD_MIN_PULSE_NS: shortest second-vector pulse (npc_plan.c)
 CTL_FAULT_HW = 1 << 6
 BOARD_FAULT_HRTIM = 1 << 5
 
@@ -60,6 +61,9 @@ def common_board_checks(b):
     check(abs(b["min_dead_time_s"] - DEAD_TIME) <= T_HRTIM + 1e-12 and
           abs(b["max_dead_time_s"] - DEAD_TIME) <= T_HRTIM + 1e-12,
           f"dead time {b['min_dead_time_s'] * 1e9:.2f}..{b['max_dead_time_s'] * 1e9:.2f} ns = 1000 ns +- 5.9 ns")
+    shortest = min(min(s["min_on_s"], s["min_off_s"]) for s in b["switches"].values())
+    check(shortest >= MIN_PULSE - DEAD_TIME - T_HRTIM,
+          f"shortest gate pulse {shortest * 1e6:.3f} us >= minimum vector pulse - dead time (1 us)")
     tick = b["interrupt_instructions"].get("ADC1_2 (control tick)")
     check(tick is not None and tick["count"] > 1000 and tick["worst"] >= tick["mean"] > 0,
           f"control tick instructions: {tick}")

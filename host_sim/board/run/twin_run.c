@@ -344,6 +344,8 @@ int twin_metrics_extend(board *b, const char *path, const sim_metrics *m, double
     cJSON_AddNumberToObject(s, "on_edges", (double)la.on_edges[o]);
     cJSON_AddNumberToObject(s, "off_edges", (double)la.off_edges[o]);
     cJSON_AddNumberToObject(s, "on_time_s", la.on_time_s[o]);
+    cJSON_AddNumberToObject(s, "min_on_s", isfinite(la.min_on_s[o]) ? la.min_on_s[o] : -1.0);
+    cJSON_AddNumberToObject(s, "min_off_s", isfinite(la.min_off_s[o]) ? la.min_off_s[o] : -1.0);
   }
   cJSON_AddNumberToObject(bd, "min_dead_time_s", isfinite(la.min_dead_time_s) ? la.min_dead_time_s : -1.0);
   cJSON_AddNumberToObject(bd, "max_dead_time_s", la.max_dead_time_s);

@@ -48,7 +48,11 @@ int board_attach_plant(board *b, const plant_config *cfg) {
   w->t = board_now(b);
   w->ps.t_s = w->t;
   for (int l = 0; l < 3; l++) w->leg[l] = PLANT_LEG_OFF;
-  for (int o = 0; o < 12; o++) { w->last_on[o] = w->last_off[o] = -1; w->la.first_on_s[o] = w->la.last_off_s[o] = -1; }
+  for (int o = 0; o < 12; o++) {
+    w->last_on[o] = w->last_off[o] = -1;
+    w->la.first_on_s[o] = w->la.last_off_s[o] = -1;
+    w->la.min_on_s[o] = w->la.min_off_s[o] = INFINITY;
+  }
   w->la.min_dead_time_s = INFINITY;
   w->la.mark_s = -1;
   w->sens_t = -1;
@@ -87,6 +91,7 @@ static void la_edges(struct twin_bind *w, double t, uint32_t lv) {
     if (!(ch & (1u << o))) continue;
     if (lv & (1u << o)) {
       w->la.on_edges[o]++;
+      if (w->last_off[o] >= 0 && t - w->last_off[o] < w->la.min_off_s[o]) w->la.min_off_s[o] = t - w->last_off[o];
       w->last_on[o] = t;
       if (w->la.first_on_s[o] < 0) w->la.first_on_s[o] = t;
       int partner = o ^ 1; /* S1<->S3, S2<->S4: outputs 1 and 2 of one timer */
@@ -103,7 +108,10 @@ static void la_edges(struct twin_bind *w, double t, uint32_t lv) {
       if (w->la.mark_s >= 0 && t >= w->la.mark_s - EPS_T && w->la.off_after_mark_s[o] < 0) w->la.off_after_mark_s[o] = t;
       w->last_off[o] = t;
       w->la.last_off_s[o] = t;
-      if (w->last_on[o] >= 0) w->la.on_time_s[o] += t - w->last_on[o];
+      if (w->last_on[o] >= 0) {
+        w->la.on_time_s[o] += t - w->last_on[o];
+        if (t - w->last_on[o] < w->la.min_on_s[o]) w->la.min_on_s[o] = t - w->last_on[o];
+      }
     }
   }
   w->levels = lv;

@@ -25,6 +25,7 @@ typedef struct {
   uint64_t on_edges[12], off_edges[12];
   double on_time_s[12];          /* total time on */
   double first_on_s[12], last_off_s[12]; /* -1: never */
+  double min_on_s[12], min_off_s[12];    /* shortest complete on / off pulse; INFINITY: none */
   double min_dead_time_s;        /* shortest off->on gap between the two switches of a pair; INFINITY: none */
   double max_dead_time_s;
   uint64_t dead_time_events;
