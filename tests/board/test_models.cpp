@@ -138,4 +138,39 @@ TEST_F(Board, AdcRegularConversionsAndDualModesNotModelledAreRefused) {
   EXPECT_NE(msg().find("DUAL 6"), std::string::npos) << msg();
 }
 
+// The logic analyser must see what the port's planner never does: a direct P<->N step (both pairs
+// of leg a commutating at once) and a pair overlap (leg b, timer C without dead time).
+TEST_F(Board, LogicAnalyserCountsPnStepsAndOverlaps) {
+  plant_config pc;
+  plant_default_config(&pc);
+  ASSERT_EQ(board_attach_plant(b, &pc), 0);
+  timers(1000);
+  const uint32_t dt = 16u | (3u << 10) | (16u << 16);
+  for (int t = 0; t < 2; t++) {  // leg a: S1 (A out 1) and S2 (B out 1) set together at CMP1
+    hrtim_write(b, TIM(t) + 0x1C, 300);
+    hrtim_write(b, TIM(t) + 0x24, 700);
+    hrtim_write(b, TIM(t) + 0x3C, 1u << 3);
+    hrtim_write(b, TIM(t) + 0x40, 1u << 4);
+    hrtim_write(b, TIM(t) + 0x38, dt);
+    hrtim_write(b, TIM(t) + 0x64, 1u << 8);
+  }
+  // leg b: timer C without dead time, outputs 1 and 2 both set at CMP1 = S1 and S3 together
+  hrtim_write(b, TIM(2) + 0x1C, 300);
+  hrtim_write(b, TIM(2) + 0x24, 700);
+  hrtim_write(b, TIM(2) + 0x3C, 1u << 3);
+  hrtim_write(b, TIM(2) + 0x40, 1u << 4);
+  hrtim_write(b, TIM(2) + 0x44, 1u << 3);
+  hrtim_write(b, TIM(2) + 0x48, 1u << 4);
+  hrtim_write(b, COMMON + 0x14, 0x3Fu);  // A, B, C outputs
+  const double t0 = board_now(b), tc = 1.0 / rcc_hclk_hz(b);
+  hrtim_write(b, 0x00, 5u | 8u | (0x7Fu << 16));
+  ASSERT_FALSE(faulted()) << msg();
+  twin_sync(b, t0 + 900 * tc);
+  board_la_stats la;
+  board_la_get(b, &la);
+  EXPECT_EQ(la.pn_steps, 2u);  // N -> P at CMP1, P -> N at CMP2
+  EXPECT_GE(la.overlaps, 1u);
+  EXPECT_NEAR(la.min_dead_time_s, 1e-6, 1e-12);  // leg a's pairs still have their dead time
+}
+
 }  // namespace

@@ -33,6 +33,8 @@ struct twin_bind {
   uint32_t levels;           /* gate levels of the segment that ended at t */
   bool levels_valid;
   uint8_t leg[3];            /* last defined leg state */
+  uint8_t last_pon[3];       /* last P/O/N state, PLANT_LEG_OFF: none (after a long gates-off) */
+  double off_since[3];       /* start of the present all-off interval */
   double last_on[12], last_off[12];
   board_la_stats la;
   double sens_t;             /* cached sensor reading */
@@ -47,7 +49,7 @@ int board_attach_plant(board *b, const plant_config *cfg) {
   if (rc != 0) { free(w); return rc; }
   w->t = board_now(b);
   w->ps.t_s = w->t;
-  for (int l = 0; l < 3; l++) w->leg[l] = PLANT_LEG_OFF;
+  for (int l = 0; l < 3; l++) w->leg[l] = w->last_pon[l] = PLANT_LEG_OFF;
   for (int o = 0; o < 12; o++) {
     w->last_on[o] = w->last_off[o] = -1;
     w->la.first_on_s[o] = w->la.last_off_s[o] = -1;
@@ -139,9 +141,15 @@ void twin_sync(board *b, double t) {
     }
     for (int l = 0; l < 3; l++) {
       uint8_t s = leg_state(w, l, lv, i_abc[l]);
-      bool defined = s != w->leg[l];
-      if (defined && ((s == PLANT_LEG_P && w->leg[l] == PLANT_LEG_N) || (s == PLANT_LEG_N && w->leg[l] == PLANT_LEG_P)))
-        w->la.pn_steps++;
+      /* P<->N without O in between; an all-off gap shorter than 50 us (both pairs commutating at
+       * once, through their dead times) does not separate them, a longer gates-off does */
+      if (s == PLANT_LEG_OFF && w->leg[l] != PLANT_LEG_OFF) w->off_since[l] = w->t;
+      if (s != PLANT_LEG_OFF) {
+        if (w->leg[l] == PLANT_LEG_OFF && w->t - w->off_since[l] >= 50e-6) w->last_pon[l] = PLANT_LEG_OFF;
+        uint8_t p = w->last_pon[l];
+        if ((s == PLANT_LEG_P && p == PLANT_LEG_N) || (s == PLANT_LEG_N && p == PLANT_LEG_P)) w->la.pn_steps++;
+        w->last_pon[l] = s;
+      }
       legs[l] = s;
       w->leg[l] = s;
     }
