@@ -173,4 +173,66 @@ TEST_F(Board, LogicAnalyserCountsPnStepsAndOverlaps) {
   EXPECT_NEAR(la.min_dead_time_s, 1e-6, 1e-12);  // leg a's pairs still have their dead time
 }
 
+// ADC1 + ADC2 in dual injected mode converting the plant's sensors at standstill: currents at
+// mid-scale (1.65 V), capacitors at vdc/2 = 155.5 V through 151.5 V/V, against the closed form.
+TEST_F(Board, DualInjectedConversionOfThePlantSensors) {
+  plant_config pc;
+  plant_default_config(&pc);
+  ASSERT_EQ(board_attach_plant(b, &pc), 0);
+  auto advance = [&](double s) {
+    b->cycles += (uint64_t)std::ceil(s * board_core_hz(b));
+    adc_event(b);
+  };
+  adc_write(b, 0x308, (3u << 16) | 5u);  // CKMODE HCLK/4, DUAL injected simultaneous
+  for (uint32_t base : {0x000u, 0x100u}) {
+    adc_write(b, base + 0x08, 0u);
+    adc_write(b, base + 0x08, 1u << 28);
+  }
+  advance(25e-6);
+  for (uint32_t base : {0x000u, 0x100u}) adc_write(b, base + 0x08, (1u << 28) | (1u << 31));
+  advance(40e-6);
+  for (uint32_t base : {0x000u, 0x100u}) {
+    EXPECT_EQ(adc_read(b, base + 0x08) & (1u << 31), 0u) << "calibration done";
+    adc_write(b, base + 0x08, (1u << 28) | 1u);
+  }
+  advance(2e-6);
+  adc_write(b, 0x000 + 0x4C, 2u | (19u << 2) | (1u << 7) | (1u << 9) | (12u << 15) | (6u << 21));
+  adc_write(b, 0x100 + 0x4C, 2u | (2u << 9) | (7u << 15) | (7u << 21));
+  adc_write(b, 0x000 + 0x04, 1u << 6);                       // JEOSIE
+  adc_write(b, 0x000 + 0x08, (1u << 28) | 1u | (1u << 3));  // JADSTART on the master
+  ASSERT_FALSE(faulted()) << msg();
+  adc_hrtim_trigger(b, 2, board_now(b));
+  advance(10e-6);
+  EXPECT_EQ(adc_read(b, 0x000) & (1u << 6), 0u) << "JEOS only after three ranks";
+  advance(30e-6);
+  ASSERT_FALSE(faulted()) << msg();
+  EXPECT_NE(adc_read(b, 0x000) & (1u << 6), 0u);
+  EXPECT_TRUE(b->scs.pending[16 + 18]) << "ADC1_2 interrupt pending";
+  // the plant's sensor model quantises first (its 12-bit, 0..500 V), the pin then carries v x 3.3 / 500
+  const double v_plant = (double)std::lround(155.5 / 500.0 * 4095.0) * 500.0 / 4095.0;
+  const uint32_t v_code = (uint32_t)std::floor(v_plant * 3.3 / 500.0 / 3.3 * 4096.0);
+  EXPECT_EQ(adc_read(b, 0x080), 2048u);    // ADC1 JDR1 ia
+  EXPECT_EQ(adc_read(b, 0x084), 2048u);    // ADC1 JDR2 ic
+  EXPECT_EQ(adc_read(b, 0x088), v_code);   // ADC1 JDR3 vc1
+  EXPECT_EQ(adc_read(b, 0x180), 2048u);    // ADC2 JDR1 ib
+  EXPECT_EQ(adc_read(b, 0x184), v_code);   // ADC2 JDR2 vc2
+}
+
+TEST_F(Board, AdcChannelNotWiredIsRefused) {
+  adc_write(b, 0x308, 3u << 16);
+  adc_write(b, 0x08, 0u);
+  adc_write(b, 0x08, 1u << 28);
+  b->cycles += (uint64_t)(25e-6 * board_core_hz(b));
+  adc_write(b, 0x08, (1u << 28) | (1u << 31));
+  b->cycles += (uint64_t)(40e-6 * board_core_hz(b));
+  adc_event(b);
+  adc_write(b, 0x08, (1u << 28) | 1u);
+  b->cycles += (uint64_t)(2e-6 * board_core_hz(b));
+  adc_event(b);
+  adc_write(b, 0x4C, (3u << 9));  // software trigger, channel 3: not wired on this board
+  adc_write(b, 0x08, (1u << 28) | 1u | (1u << 3));
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("channel 3 is not wired"), std::string::npos) << msg();
+}
+
 }  // namespace
