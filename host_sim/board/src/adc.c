@@ -136,6 +136,13 @@ static void start_sequence(board *b, double when) {
   a->len = (int)(a->u[0].jsqr & 3u) + 1;
   a->t_trig = when;
   a->rank_sample_t = -1;
+  double t = when; /* sequence end, for the JEOS event */
+  for (int r = 0; r < a->len; r++) {
+    double conv = 0;
+    for (int i = 0; i < n_units(b); i++) if (rank_time(b, i, r) > conv) conv = rank_time(b, i, r);
+    t += conv;
+  }
+  a->seq_end_t = t;
   schedule_rank(b, when);
 }
 
@@ -163,6 +170,10 @@ static uint16_t convert(board *b, int i, int r, double t) {
   return (uint16_t)code;
 }
 
+/* CPU-visible events only: calibration/ready, and the end of the rank whose flag has its interrupt
+ * enabled (JEOC) or of the sequence (JEOS). Sampling instants and other rank ends need no slice
+ * boundary: they are processed in order whenever a register is read (adc_read) or the plant is
+ * about to be integrated past them (twin_sync -> adc_advance), which gives the same result. */
 double adc_next_event(board *b) {
   adc_state *a = &b->adc;
   double t = INFINITY;
@@ -171,25 +182,31 @@ double adc_next_event(board *b) {
     if (a->u[i].rdy_t >= 0 && a->u[i].rdy_t < t) t = a->u[i].rdy_t;
   }
   if (a->busy) {
-    double n = a->rank_sample_t >= 0 ? a->rank_sample_t : a->rank_end_t;
+    uint32_t ie = a->u[0].ier | a->u[1].ier;
+    double n = (ie & (1u << 5)) ? a->rank_end_t : (ie & (1u << 6)) ? a->seq_end_t : INFINITY;
     if (n < t) t = n;
   }
   return t;
 }
 
 void adc_event(board *b) {
-  adc_state *a = &b->adc;
   settle(b);
-  double now = board_now(b);
+  adc_advance(b, board_now(b));
+}
+
+void adc_advance(board *b, double upto) {
+  adc_state *a = &b->adc;
+  if (a->in_advance) return;
+  a->in_advance = true;
   while (a->busy && !b->fault) {
     if (a->rank_sample_t >= 0) {
-      if (now < a->rank_sample_t - EPS_T) break;
+      if (upto < a->rank_sample_t - EPS_T) break;
       twin_sync(b, a->rank_sample_t);
       for (int i = 0; i < n_units(b); i++) a->pending_code[i] = convert(b, i, a->rank, a->rank_sample_t);
       a->rank_sample_t = -1;
       continue;
     }
-    if (now < a->rank_end_t - EPS_T) break;
+    if (upto < a->rank_end_t - EPS_T) break;
     for (int i = 0; i < n_units(b); i++) {
       adc_unit *u = &a->u[i];
       int16_t c = (int16_t)a->pending_code[i];
@@ -207,6 +224,7 @@ void adc_event(board *b) {
     }
     update_irq(b);
   }
+  a->in_advance = false;
 }
 
 uint32_t adc_read(board *b, uint32_t off) {

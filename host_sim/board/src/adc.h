@@ -23,7 +23,8 @@ typedef struct {
   bool busy;
   int rank, len;
   double t_trig;
-  double rank_sample_t, rank_end_t;
+  double rank_sample_t, rank_end_t, seq_end_t;
+  bool in_advance;        /* adc_advance is running (it integrates the plant itself) */
   uint16_t pending_code[2];
 } adc_state;
 

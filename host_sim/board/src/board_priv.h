@@ -227,6 +227,7 @@ uint32_t adc_read(board *b, uint32_t off);
 void adc_write(board *b, uint32_t off, uint32_t v);
 double adc_next_event(board *b);
 void adc_event(board *b);
+void adc_advance(board *b, double upto); /* process sampling instants and rank ends up to `upto` */
 void adc_hrtim_trigger(board *b, int trg, double when); /* HRTIM ADC trigger trg (1..4) fired at `when` */
 
 /* canstub.c: placeholder FDCAN1 (offsets from 0x40006400; message RAM at +0x4000) */

@@ -123,6 +123,7 @@ static void la_edges(struct twin_bind *w, double t, uint32_t lv) {
 void twin_sync(board *b, double t) {
   struct twin_bind *w = bind(b);
   if (!w) { hrtim_prune(b, t); return; }
+  adc_advance(b, t); /* ADC sampling instants before t take the plant there first */
   while (w->t < t - EPS_T && !b->fault) {
     double tn = hrtim_next_edge(b, w->t);
     if (tn > t) tn = t;
