@@ -6,6 +6,9 @@
 #include "board_twin/board.h"
 #include "board_twin/elf.h"
 #include "fdcan_model.h"
+#include "board_twin/twin.h"
+#include "hrtim.h"
+#include "adc.h"
 
 /* Memory map, RM0440 §2.2 (Figure 3, Table 4). */
 #define FLASH_BASE 0x08000000u
@@ -37,6 +40,7 @@ typedef struct {
   /* DWT / CoreDebug */
   uint32_t demcr, dwt_ctrl, dwt_cyccnt;
   uint64_t dwt_base_cycle;
+  uint32_t dbgmcu[4];           /* DBGMCU CR, APB1FZR1, APB1FZR2, APB2FZR */
 } scs_state;
 
 typedef struct {
@@ -70,8 +74,17 @@ typedef struct {
 typedef struct {
   uint32_t moder, otyper, ospeedr, pupdr, idr_in, odr, lckr, afr[2];
   uint32_t lck_seq;    /* LCKR key sequence stage */
+  uint32_t ext_mask, ext_level; /* pins driven from outside the chip (board_drive_pin) */
   uint32_t changed;    /* pins whose mode/AF left the reset state */
 } gpio_port;
+
+
+#define IRQSTAT_DEPTH 16
+typedef struct {
+  struct { int exc; uint64_t start, nested; } stack[IRQSTAT_DEPTH];
+  int depth;
+  board_irq_stat per[NUM_EXC];
+} irq_stats;
 
 typedef struct {
   bool started, write_access;
@@ -88,34 +101,6 @@ typedef struct {
   uint64_t base, next_update;
 } tim6_state;
 
-typedef struct {
-  uint32_t cr, isr, dier, per, rep, cmp[4], dt, set[2], rst[2], outr, flt;
-  uint32_t pre_per, pre_cmp[4], pre_rep; /* preload registers (PREEN) */
-  bool preload_pending;
-  int sw_level[2];      /* level from software set/reset (SST/SRT), and before any event */
-  double sw_t[2];       /* time of the last SST/SRT */
-  double start_t, next_rep_t;
-} hrtim_timer;
-
-typedef struct {
-  uint32_t mcr, isr, oen, dllcr, fltinr1, fltinr2;
-  uint8_t faulted[12];
-  double dll_ready_t;
-  hrtim_timer t[7];     /* A-F, then the master timer */
-} hrtim_state;
-
-typedef struct {
-  uint32_t isr, ier, cr, cfgr, cfgr2, smpr[2], tr[3], jsqr, jdr[4], difsel, calfact;
-  bool calibrated;
-  double vreg_t, cal_done_t, rdy_t, jdone_t; /* ADVREGEN time; events, <0: none */
-} adc_unit;
-
-typedef struct {
-  adc_unit u[2];
-  uint32_t ccr;
-  board_adc_source source;
-  void *ctx;
-} adc_state;
 
 struct board {
   board_config cfg;
@@ -148,9 +133,11 @@ struct board {
   gpio_port gpio[7];
   iwdg_state iwdg;
   tim6_state tim6;
-  hrtim_state hr;
+  hrtim_state hrtim;
   adc_state adc;
   fdcan_state fdcan;
+  irq_stats irq;
+  struct twin_bind *bind; /* the plant on the pins (twin_plant.c); NULL: nothing connected */
 };
 
 /* engine.c */
@@ -223,17 +210,37 @@ void tim6_write(board *b, uint32_t off, uint32_t v);
 uint64_t tim6_next_event(board *b);
 void tim6_event(board *b);
 
+/* gpio.c: the external side of the pins */
+bool gpio_flt3_low(const board *b);
+
+/* hrtim.c (RM0440 §27); offsets from 0x40016800 */
 void hrtim_reset(board *b);
 uint32_t hrtim_read(board *b, uint32_t off);
 void hrtim_write(board *b, uint32_t off, uint32_t v);
 double hrtim_next_event(board *b);
 void hrtim_event(board *b);
+void hrtim_fault_input_update(board *b, bool line_low);
+uint32_t hrtim_levels(board *b, double t);   /* pin levels of TA1..TF2 from t on */
+double hrtim_next_edge(board *b, double t);  /* first output edge after t, INFINITY: none */
+void hrtim_prune(board *b, double t);        /* forget edges up to t */
 
+/* adc.c (RM0440 §21); offsets from 0x50000000 (ADC1 0x000, ADC2 0x100, common 0x300) */
 void adc_reset(board *b);
 uint32_t adc_read(board *b, uint32_t off);
 void adc_write(board *b, uint32_t off, uint32_t v);
 double adc_next_event(board *b);
 void adc_event(board *b);
+void adc_advance(board *b, double upto); /* process sampling instants and rank ends up to `upto` */
+void adc_hrtim_trigger(board *b, int trg, double when); /* HRTIM ADC trigger trg (1..4) fired at `when` */
+
+/* twin_plant.c */
+void twin_sync(board *b, double t);          /* integrate the plant up to t */
+double twin_pin_voltage(board *b, char port, int pin, double t);
+void twin_free(board *b);
+
+/* irqstat.c */
+void irqstat_enter(board *b, int exc);
+void irqstat_exit(board *b, int exc);
 
 /* semihost.c: BKPT 0xAB. 0 handled, -1 fault raised. */
 int semihost_call(board *b);

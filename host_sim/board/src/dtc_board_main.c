@@ -8,11 +8,14 @@
  * back to wall-clock time (a tool on the bus sees the image at its real pace); SIGINT or SIGTERM
  * then ends the run like a power-off (the --nvm file is written, exit status 0). Exit status: the image's exit code; 1 for a strictness stop (the message
  * names the address, the PC and the function); 2 for bad usage.
- *   dtc-board run SCENARIO --elf FILE ...  (the plant binding: not yet, see README) */
+ *   dtc-board run SCENARIO --elf FILE [--controller NAME] [--csv OUT] [--metrics OUT] [--set k=v]
+ *                 [--nvm FILE] [--fault-line T_S]
+ * runs a dtc-sim scenario with the image driving the plant through the HRTIM and ADC models. */
 #define _POSIX_C_SOURCE 200809L
 #include "board_twin/board.h"
 #include "board_twin/can.h"
 #include "board_twin/pinmap.h"
+#include "twin_run.h"
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,7 +29,8 @@ static void on_signal(int sig) { (void)sig; g_stop = 1; }
 static int usage(void) {
   fprintf(stderr, "usage: dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats] [--peek SYM[+OFF]]...\n"
                   "                      [--can IFACE [--can-bitrate BPS]] [--realtime]\n"
-                  "       dtc-board run SCENARIO --elf FILE [...]   (not implemented yet)\n");
+                  "       dtc-board run SCENARIO --elf FILE [--controller NAME] [--csv OUT] [--metrics OUT]\n"
+                  "                 [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S] [--quiet]\n");
   return 2;
 }
 
@@ -38,10 +42,7 @@ static double wall(void) {
 
 int main(int argc, char **argv) {
   if (argc < 2) return usage();
-  if (strcmp(argv[1], "run") == 0) {
-    fprintf(stderr, "dtc-board run: the plant binding (HRTIM, ADC and FDCAN models) is not implemented yet\n");
-    return 2;
-  }
+  if (strcmp(argv[1], "run") == 0) return twin_run_main(argc, argv);
   if (strcmp(argv[1], "exec") != 0) return usage();
   board_config cfg;
   board_config_default(&cfg);

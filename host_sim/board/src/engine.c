@@ -23,7 +23,10 @@ static uint32_t reg32(board *b, int r) {
   return v;
 }
 
-double board_now(const board *b) { return b->t_base_s + (double)(b->cycles - b->cyc_base) / b->hclk_hz; }
+double board_now(const board *b) {
+  if (!(b->hclk_hz > 0)) return b->t_base_s; /* between a reset and the first clock query */
+  return b->t_base_s + (double)(b->cycles - b->cyc_base) / b->hclk_hz;
+}
 
 const char *board_func_name(const board *b, uint32_t addr) {
   const elf_symbol *s = elf_func_at(&b->elf, addr);
@@ -163,6 +166,8 @@ static uint64_t mmio_periph_read(uc_engine *uc, uint64_t offset, unsigned size, 
   return size >= 4 ? v : (v >> sh) & ((1u << (size * 8)) - 1u);
 }
 
+static uint64_t next_event(board *b, double t_end);
+
 static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uint64_t value, void *u) {
   (void)uc;
   board *b = u;
@@ -171,7 +176,7 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   if (!s) return;
   uint32_t off = (addr - s->base) & ~3u;
   uint32_t v = (uint32_t)value;
-  if (s->base >= 0x48000000u && s->base < 0x50000000u) { /* GPIO: byte, half-word and word access (RM0440 §9.4) */
+  if (s->base >= 0x48000000u && s->base < 0x48001C00u) { /* GPIO: byte, half-word and word access (RM0440 §9.4) */
     unsigned sh = (addr & 3u) * 8u;
     uint32_t mask = size >= 4 ? 0xFFFFFFFFu : ((1u << (size * 8)) - 1u) << sh;
     gpio_write(b, (int)((s->base - 0x48000000u) / 0x400u), off, v << sh, mask);
@@ -248,6 +253,7 @@ static void system_reset(board *b, bool power_on) {
   hrtim_reset(b);
   adc_reset(b);
   fdcan_reset(b);
+  b->irq.depth = 0;
   scs_reset(b);
   b->sleeping = false;
   b->reset_request = false;
@@ -345,6 +351,7 @@ void board_close(board *b) {
   if (!b) return;
   if (b->cfg.nvm_path && b->uc) flash_nvm_save(b);
   if (b->uc) uc_close(b->uc);
+  twin_free(b);
   elf_free(&b->elf);
   free(b->flash); free(b->sram); free(b->ccm); free(b->sysmem); free(b->otp);
   free(b);
@@ -481,6 +488,28 @@ double board_core_hz(const board *b) { return b->hclk_hz; }
 
 int board_read_u32(board *b, uint32_t addr, uint32_t *value) {
   return uc_mem_read(b->uc, addr, value, 4) == UC_ERR_OK ? 0 : -1;
+}
+
+int board_write_u32(board *b, uint32_t addr, uint32_t value) {
+  return uc_mem_write(b->uc, addr, &value, 4) == UC_ERR_OK ? 0 : -1;
+}
+
+int board_read_mem(board *b, uint32_t addr, void *out, size_t n) {
+  return uc_mem_read(b->uc, addr, out, n) == UC_ERR_OK ? 0 : -1;
+}
+
+int board_symbol(board *b, const char *name, uint32_t *addr, uint32_t *size) {
+  const elf_symbol *s = elf_find(&b->elf, name);
+  if (!s) return -1;
+  *addr = s->addr;
+  *size = s->size;
+  return 0;
+}
+
+double board_pwm_period_start(board *b, double *period_s) {
+  hrtim_event(b);
+  if (period_s) *period_s = b->hrtim.running ? (double)b->hrtim.mper * b->hrtim.t_count : 0.0;
+  return b->hrtim.running ? b->hrtim.t_period : -1.0;
 }
 
 int board_read_symbol(board *b, const char *name, uint32_t offset, uint32_t *value) {

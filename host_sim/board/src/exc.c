@@ -118,6 +118,7 @@ int exc_enter(board *b, int exc) {
   wreg(b, UC_ARM_REG_LR, 0xFFFFFFE1u | (fp ? 0u : 0x10u) | (ipsr == 0 ? 0x8u : 0u));
   wreg(b, UC_ARM_REG_CONTROL, control & ~4u);
   wreg(b, UC_ARM_REG_XPSR, (1u << 24) | (uint32_t)exc);
+  irqstat_enter(b, exc);
   return vector_jump(b, exc);
 }
 
@@ -133,6 +134,7 @@ int exc_return(board *b, uint32_t v) {
   }
   if (v & 0x4u) { board_fault(b, "EXC_RETURN 0x%08X returns to the process stack: not modelled", v); return -1; }
   b->scs.active[exc] = 0;
+  irqstat_exit(b, exc);
   b->pc = v;
   /* Tail-chaining (B1.5.12): a pending exception that would preempt the context we return
    * to is entered with the frame left on the stack and the same EXC_RETURN. */
@@ -141,6 +143,7 @@ int exc_return(board *b, uint32_t v) {
     wreg(b, UC_ARM_REG_XPSR, (1u << 24) | (uint32_t)next);
     wreg(b, UC_ARM_REG_LR, v);
     wreg(b, UC_ARM_REG_CONTROL, reg32(b, UC_ARM_REG_CONTROL) & ~4u);
+    irqstat_enter(b, next);
     return vector_jump(b, next);
   }
   bool fp = !(v & 0x10u);

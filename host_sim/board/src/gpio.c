@@ -9,22 +9,51 @@ static const uint32_t k_moder_reset[7] = {0xABFFFFFFu, 0xFFFFFEBFu, 0xFFFFFFFFu,
 void gpio_reset(board *b) {
   for (int i = 0; i < 7; i++) {
     gpio_port *p = &b->gpio[i];
+    uint32_t em = p->ext_mask, el = p->ext_level; /* the board's wiring survives a reset */
     memset(p, 0, sizeof *p);
+    p->ext_mask = em;
+    p->ext_level = el;
     p->moder = k_moder_reset[i];
   }
   b->gpio[0].ospeedr = 0x0C000000u; b->gpio[0].pupdr = 0x64000000u; /* SWD pins */
   b->gpio[1].ospeedr = 0x000000C0u; b->gpio[1].pupdr = 0x00000100u;
 }
 
+/* Level of an input-capable pin: driven from outside (board_drive_pin), else its pull. The
+ * Schmitt trigger also samples in alternate-function mode (RM0440 §9.3.12), so an AF input such
+ * as HRTIM_FLT3 reads its line in IDR too. */
+static uint32_t input_level(const gpio_port *p, int pin) {
+  uint32_t bit = 1u << pin, pull = (p->pupdr >> (2 * pin)) & 3u;
+  if (p->ext_mask & bit) return (p->ext_level & bit) ? 1u : 0u;
+  return ((p->idr_in & bit) || pull == 1u) ? 1u : 0u;
+}
+
 static uint32_t idr(const gpio_port *p) {
   uint32_t v = 0;
   for (int pin = 0; pin < 16; pin++) {
-    uint32_t mode = (p->moder >> (2 * pin)) & 3u, pull = (p->pupdr >> (2 * pin)) & 3u;
+    uint32_t mode = (p->moder >> (2 * pin)) & 3u;
     uint32_t bit = 1u << pin;
-    if (mode == 1u || mode == 2u) v |= p->odr & bit & (mode == 1u ? bit : 0u);
-    else if (mode == 0u) v |= (p->idr_in & bit) | (pull == 1u ? bit : 0u);
+    if (mode == 1u) v |= p->odr & bit;
+    else if (mode == 0u || mode == 2u) v |= input_level(p, pin) << pin;
   }
   return v;
+}
+
+/* HRTIM_FLT3 as the HRTIM sees it: PB10 in AF13 carries the line; any other pin mode gives the
+ * peripheral a low input (docs/board.md: an analog pin reads low). */
+bool gpio_flt3_low(const board *b) {
+  const gpio_port *p = &b->gpio[1];
+  uint32_t mode = (p->moder >> 20) & 3u, af = (p->afr[1] >> 8) & 0xFu;
+  if (mode != 2u || af != 13u) return true;
+  return input_level(p, 10) == 0u;
+}
+
+void board_drive_pin(board *b, char port, int pin, int level) {
+  gpio_port *p = &b->gpio[port - 'A'];
+  uint32_t bit = 1u << pin;
+  if (level < 0) p->ext_mask &= ~bit;
+  else { p->ext_mask |= bit; p->ext_level = level ? (p->ext_level | bit) : (p->ext_level & ~bit); }
+  hrtim_fault_input_update(b, gpio_flt3_low(b));
 }
 
 uint32_t gpio_read(board *b, int port, uint32_t off) {
@@ -125,6 +154,7 @@ void gpio_write(board *b, int port, uint32_t off, uint32_t v, uint32_t mask) {
   default: board_fault(b, "write to reserved GPIO%c offset 0x%02X", 'A' + port, off); return;
   }
   mark_changes(b, port);
+  if (port == 1) hrtim_fault_input_update(b, gpio_flt3_low(b));
 }
 
 size_t board_pins(const board *b, board_pin *out, size_t max) {

@@ -1,353 +1,614 @@
-/* HRTIM, a first subset (RM0440, HRTIM chapter; register map and reset values from the SVD):
- * DLL calibration (DLLCR.CAL -> ISR.DLLRDY), timers A-F in continuous up-counting mode with
- * prescaler CKPSC (f = 32 x fHRTIM / 2^CKPSC), period PER (period = PER counter ticks, as in
- * ST's HRTIM cookbook AN4539), compares 1-4, set/reset crossbar from PER and CMP1-4 (reset wins
- * on a tie), software set/reset (SST/SRT), dead time on output pairs (DTEN, DTR/DTF, DTPRSC),
- * polarity, output enable/disable (OENR/ODISR/ODSR) with the idle level, fault inputs 1-6 as a
- * host input (FLTINR1/2 enable, FLTxR per timer, OUTxR.FAULTx state, outputs disabled, ISR.FLTn),
- * repetition counters with REP interrupts (master IRQ 67, timers 68-72, 74), the master timer
- * (period, compares, MSTPER/MSTCMPx as set/reset sources), and preload (PREEN) with the
- * transfer on the repetition event (TxREPU/MREPU). Everything else (half/interleaved/push-pull
- * modes, external events, capture, burst mode, ADC triggers, counter reset sources) is refused
- * as not modelled rather than guessed. Index 6 of the timer array is the master timer. */
+/* HRTIM1 (RM0440 §27, high-resolution timer), modelled for the use the NPC port makes of it:
+ *
+ *  - master timer and timers A-F in continuous mode (§27.3.3), low resolution only
+ *    (CKPSC >= 5: fCOUNTER = fHRTIM x 32 / 2^CKPSC, §27.3.2), started together by one
+ *    MCR write and sharing one period (the model refuses other schemes);
+ *  - period, repetition and compare 1-4 registers with preload (PREEN) and transfer at the
+ *    repetition/update event (MREPU/TxREPU, REP = 0: every period), TxUDIS hold (HRTIM_CR1)
+ *    and the software update TxSWU (HRTIM_CR2), §27.3.8;
+ *  - output set/reset crossbar from the timer's PER and CMP1-4 events (SETxyR/RSTxyR, §27.3.5);
+ *  - the dead-time unit (OUTxR.DTEN, DTxR: rising/falling dead time in tDTG = 2^DTPRSC x
+ *    tHRTIM / 8, §27.3.10): output 1 = reference with its rising edge delayed by DTR,
+ *    output 2 = complement with its rising edge delayed by DTF; a pulse shorter than the
+ *    dead time disappears;
+ *  - output stage (§27.3.15): OENR/ODISR/ODSR, polarity POLx, idle state IDLESx, fault state
+ *    FAULTx; fault input FLT3 (FLTINR1 FLT3E/FLT3P/FLT3SRC/FLT3F/FLT3LCK, FLTxR.FLT3EN/FLTLCK,
+ *    §27.3.16) with the ISR.FLT3 flag and the HRTIM1_FLT interrupt (IRQ 73);
+ *  - master compare events as ADC trigger 2 (ADC2R, §27.3.19) and the master interrupt flags
+ *    (MISR, MICR, MDIER -> IRQ 67).
+ * Everything else the firmware writes is refused with a board fault naming the register.
+ * The 12 output levels are exposed as a piecewise-constant waveform (hrtim_levels /
+ * hrtim_next_edge) for the plant binding and the logic analyser. */
 #include "board_priv.h"
 #include <math.h>
 #include <string.h>
 
-#define MST_OFF 0x000u
-#define TIM_OFF(x) (0x080u + 0x80u * (uint32_t)(x))
-#define CMN_OFF 0x380u
-static const int k_irq[7] = {68, 69, 70, 71, 72, 74, 67};
-#define MST 6
-#define DLL_CAL_S 14e-6 /* calibration time: order of the datasheet's t_DLL */
+#define IRQ_HRTIM_MASTER 67
+#define IRQ_HRTIM_FLT 73
+#define EPS_T 1e-12
+#define FLT_SYNC_TICKS 3.0 /* fault input synchronisation, in tHRTIM (docs/board.md: 20-60 ns) */
+
+/* register offsets from 0x40016800 */
+#define OFS_TIM(t) (0x80u + 0x80u * (unsigned)(t))
+#define OFS_COMMON 0x380u
+
+static const char *k_tname = "ABCDEF";
 
 void hrtim_reset(board *b) {
-  memset(&b->hr, 0, sizeof b->hr);
-  for (int x = 0; x < 7; x++) {
-    b->hr.t[x].per = b->hr.t[x].pre_per = 0xFFFFu;
-    b->hr.t[x].sw_t[0] = b->hr.t[x].sw_t[1] = -INFINITY;
+  hrtim_state *h = &b->hrtim;
+  memset(h, 0, sizeof *h);
+  h->mper = h->p_mper = 0xFFDFu;
+  for (int t = 0; t < 6; t++) h->tim[t].per = h->tim[t].p_per = 0xFFDFu;
+  h->flt3_apply_t = -1;
+  h->flt3_line_low = gpio_flt3_low(b);
+}
+
+static double f_hrtim(board *b) { return rcc_hclk_hz(b); } /* APB2 prescaler 1: fHRTIM = PCLK2 = HCLK */
+static unsigned ckpsc(uint32_t cr) { return cr & 7u; }
+
+/* ---- waveform queue ---- */
+
+static void wave_cut(hrtim_wave *w, double t) { /* drop queued edges at or after t */
+  while (w->n > 0 && w->e[w->n - 1].t >= t - EPS_T) w->n--;
+}
+
+static uint8_t wave_level_end(const hrtim_wave *w) { return w->n ? w->e[w->n - 1].level : w->level; }
+
+static void wave_push(board *b, hrtim_wave *w, double t, uint8_t level) {
+  if (wave_level_end(w) == level) return;
+  if (w->n == HRTIM_MAX_EDGES) { board_fault(b, "HRTIM model: more than %d output edges pending", HRTIM_MAX_EDGES); return; }
+  w->e[w->n].t = t;
+  w->e[w->n].level = level;
+  w->n++;
+}
+
+/* Reference edge of timer t's output `out` (0/1) at time when: through the dead-time unit. */
+static void ref_edge(board *b, int t, int out, double when, uint8_t level) {
+  hrtim_state *h = &b->hrtim;
+  hrtim_timer *x = &h->tim[t];
+  hrtim_wave *o1 = &h->wave[2 * t], *o2 = &h->wave[2 * t + 1];
+  if (!(x->outr & (1u << 8))) { /* DTEN = 0: each output follows its own crossbar */
+    hrtim_wave *w = out ? o2 : o1;
+    wave_cut(w, when);
+    wave_push(b, w, when, level);
+    return;
   }
-  b->hr.dll_ready_t = -1;
-}
-
-static double f_hrtim(board *b) {
-  uint32_t ppre2 = (b->rcc.cfgr >> 11) & 7u;
-  double hclk = rcc_hclk_hz(b);
-  return ppre2 < 4 ? hclk : 2.0 * hclk / (double)(1u << (ppre2 - 3)); /* APB2 timer clock */
-}
-
-static uint32_t ckpsc(const board *b, int x) { return (x == MST ? b->hr.mcr : b->hr.t[x].cr) & 7u; }
-static double tick_s(board *b, int x) { return (double)(1u << ckpsc(b, x)) / (32.0 * f_hrtim(b)); }
-static double period_s(board *b, int x) { return (double)b->hr.t[x].per * tick_s(b, x); }
-static bool running(const board *b, int x) { return (b->hr.mcr >> (x == MST ? 16 : 17 + x)) & 1u; }
-
-/* Time of the latest period (is_per) or compare-at-pos event of timer x at or before t;
- * -INFINITY if none yet. The counter starts at 0 at start_t and rolls over every PER ticks. */
-static double last_event(board *b, int x, bool is_per, uint32_t pos, double t) {
-  hrtim_timer *T = &b->hr.t[x];
-  if (!running(b, x) || t < T->start_t || T->per == 0) return -INFINITY;
-  double per = period_s(b, x);
-  if (is_per) {
-    double k = floor((t - T->start_t) / per);
-    return k < 1 ? -INFINITY : T->start_t + k * per;
+  if (out) return; /* DTEN = 1: output 2 is derived from output 1's reference (§27.3.10) */
+  double tdtg = (double)(1u << ((x->dtr >> 10) & 7u)) / (8.0 * f_hrtim(b));
+  double dtr = (double)(x->dtr & 0x1FFu) * tdtg, dtf = (double)((x->dtr >> 16) & 0x1FFu) * tdtg;
+  wave_cut(o1, when);
+  wave_cut(o2, when);
+  if (level) {
+    wave_push(b, o2, when, 0);
+    wave_push(b, o1, when + dtr, 1);
+  } else {
+    wave_push(b, o1, when, 0);
+    wave_push(b, o2, when + dtf, 1);
   }
-  if (pos >= T->per) return -INFINITY; /* never matched */
-  double off = (double)pos * tick_s(b, x);
-  if (t < T->start_t + off) return -INFINITY;
-  return T->start_t + off + floor((t - T->start_t - off) / per) * per;
 }
 
-/* Level of output o (0/1) of timer x from the crossbar, before dead time and polarity: the
- * latest set or reset event at or before t decides (reset wins a tie). Sources: the timer's
- * PER and CMP1-4, the master's MSTPER and MSTCMP1-4, software SST/SRT. */
-static int crossbar(board *b, int x, int o, double t) {
-  hrtim_timer *T = &b->hr.t[x];
-  double best = T->sw_t[o] <= t ? T->sw_t[o] : -INFINITY;
-  int level = T->sw_level[o];
-  for (int act = 0; act < 2; act++) {
-    uint32_t reg = act == 0 ? T->set[o] : T->rst[o];
-    for (int bit = 2; bit <= 11; bit++) {
-      if (!((reg >> bit) & 1u)) continue;
-      int src = bit <= 6 ? x : MST;
-      int k = bit <= 6 ? bit - 2 : bit - 7; /* 0 = PER, 1..4 = CMP1..4 */
-      double e = last_event(b, src, k == 0, k == 0 ? 0u : b->hr.t[src].cmp[k - 1], t);
-      if (e > best || (e == best && e > -INFINITY && act == 1)) { best = e; level = act == 0; }
+/* ---- levels seen on the pins ---- */
+
+static uint8_t out_level(const hrtim_state *h, int o, double t) {
+  const hrtim_timer *x = &h->tim[o / 2];
+  unsigned sh = (o & 1) ? 16u : 0u; /* OUTxR fields of output 2 are 16 bits up */
+  uint8_t pol = (x->outr >> (1u + sh)) & 1u;
+  uint8_t active;
+  if (h->oen & (1u << o)) {
+    const hrtim_wave *w = &h->wave[o];
+    active = w->level;
+    for (int i = 0; i < w->n && w->e[i].t <= t + EPS_T; i++) active = w->e[i].level;
+  } else if (h->fault_state & (1u << o)) {
+    active = ((x->outr >> (4u + sh)) & 3u) == 1u; /* FAULTx = 1 active, 2 inactive */
+  } else {
+    active = (x->outr >> (3u + sh)) & 1u;          /* IDLESx */
+  }
+  return active ^ pol;
+}
+
+uint32_t hrtim_levels(board *b, double t) {
+  uint32_t v = 0;
+  for (int o = 0; o < HRTIM_NOUT; o++) v |= (uint32_t)out_level(&b->hrtim, o, t) << o;
+  return v;
+}
+
+double hrtim_next_edge(board *b, double t) {
+  double n = INFINITY;
+  for (int o = 0; o < HRTIM_NOUT; o++) {
+    const hrtim_wave *w = &b->hrtim.wave[o];
+    for (int i = 0; i < w->n; i++)
+      if (w->e[i].t > t + EPS_T) { if (w->e[i].t < n) n = w->e[i].t; break; }
+  }
+  return n;
+}
+
+void hrtim_prune(board *b, double t) {
+  for (int o = 0; o < HRTIM_NOUT; o++) {
+    hrtim_wave *w = &b->hrtim.wave[o];
+    int k = 0;
+    while (k < w->n && w->e[k].t <= t + EPS_T) w->level = w->e[k++].level;
+    if (k) { memmove(w->e, w->e + k, (size_t)(w->n - k) * sizeof w->e[0]); w->n -= k; }
+  }
+}
+
+/* ---- periods ---- */
+
+static void transfer(hrtim_state *h, int which) { /* which: -1 master, 0..5 timers */
+  if (which < 0) {
+    h->mper = h->p_mper; h->mrep = h->p_mrep;
+    memcpy(h->mcmp, h->p_mcmp, sizeof h->mcmp);
+    return;
+  }
+  hrtim_timer *x = &h->tim[which];
+  x->per = x->p_per; x->rep = x->p_rep;
+  memcpy(x->cmp, x->p_cmp, sizeof x->cmp);
+  memcpy(x->set, x->p_set, sizeof x->set);
+  memcpy(x->rst, x->p_rst, sizeof x->rst);
+}
+
+/* Crossbar of timer t for the period starting at t0 (RM0440 §27.3.5): events PER (bit 2) and
+ * CMP1-4 (bits 3-6); set and reset on one event is refused (the model does not arbitrate). */
+static void plan_period(board *b, int t, double t0) {
+  hrtim_state *h = &b->hrtim;
+  hrtim_timer *x = &h->tim[t];
+  for (int out = 0; out < 2; out++) {
+    uint32_t s = x->set[out], r = x->rst[out];
+    if (!s && !r) continue;
+    if (s & r) {
+      board_fault(b, "HRTIM_SET%c%dR/RST%c%dR 0x%08X/0x%08X: set and reset on the same event (not modelled)",
+                  k_tname[t], out + 1, k_tname[t], out + 1, s, r);
+      return;
+    }
+    struct { uint32_t c; uint32_t bit; } ev[5];
+    int n = 0;
+    for (int k = 0; k < 4; k++)
+      if (((s | r) >> (3 + k)) & 1u) { ev[n].c = x->cmp[k]; ev[n].bit = 1u << (3 + k); n++; }
+    if ((s | r) & 4u) { ev[n].c = x->per; ev[n].bit = 4u; n++; }
+    for (int i = 1; i < n; i++) /* insertion sort by count */
+      for (int j = i; j > 0 && ev[j].c < ev[j - 1].c; j--) { __typeof__(ev[0]) tmp = ev[j]; ev[j] = ev[j - 1]; ev[j - 1] = tmp; }
+    for (int i = 0; i < n; i++) {
+      if (ev[i].c > x->per) continue; /* a compare beyond the period never matches */
+      uint8_t lvl = (s & ev[i].bit) ? 1u : 0u;
+      if (lvl == x->ref[out]) continue;
+      x->ref[out] = lvl;
+      ref_edge(b, t, out, t0 + (double)ev[i].c * h->t_count, lvl);
     }
   }
-  return level;
 }
 
-int board_hrtim_output(board *b, int x, int o, double t) {
-  hrtim_timer *T = &b->hr.t[x];
-  uint32_t outr = T->outr, pol = o ? (outr >> 17) & 1u : (outr >> 1) & 1u;
-  uint32_t idles = o ? (outr >> 19) & 1u : (outr >> 3) & 1u;
-  int ch = 2 * x + o;
-  if (b->hr.faulted[ch]) {
-    uint32_t f = o ? (outr >> 20) & 3u : (outr >> 4) & 3u;
-    if (f == 1u) return (int)(1u ^ pol);
-    if (f == 2u) return (int)pol;
-    if (f == 3u) return -1; /* high impedance */
+static void period_start(board *b, double t0) {
+  hrtim_state *h = &b->hrtim;
+  twin_sync(b, t0); /* the plant runs up to the period boundary on the old programme */
+  h->t_period = t0;
+  h->periods++;
+  /* repetition event with REP = 0 each period: update (transfer) unless held by TxUDIS */
+  if ((h->mcr & (1u << 27)) && (h->mcr & (1u << 29)) && !(h->cr1 & 1u)) transfer(h, -1);
+  h->misr |= (1u << 4) | (1u << 5); /* MREP, MUPD */
+  for (int t = 0; t < 6; t++) {
+    hrtim_timer *x = &h->tim[t];
+    if ((x->cr & (1u << 27)) && (x->cr & (1u << 17)) && !(h->cr1 & (1u << (t + 1)))) transfer(h, t);
+    if (x->per != h->mper)
+      board_fault(b, "HRTIM timer %c period %u differs from the master's %u: the model runs all timers on the "
+                  "master's period (the port's scheme)", k_tname[t], x->per, h->mper);
+    plan_period(b, t, t0);
   }
-  if (!((b->hr.oen >> ch) & 1u)) return (int)(idles ^ pol);
-  int lv;
-  if (outr & (1u << 8)) { /* dead time: out2 is the complement of out1, rising edges delayed */
-    uint32_t dt = T->dt;
-    double tdtg = (double)(1u << ((dt >> 10) & 7u)) / (8.0 * f_hrtim(b));
-    double dtr = (double)(dt & 0x1FFu) * tdtg, dtf = (double)((dt >> 16) & 0x1FFu) * tdtg;
-    int now1 = crossbar(b, x, 0, t);
-    lv = o == 0 ? (now1 && crossbar(b, x, 0, t - dtr)) : (!now1 && !crossbar(b, x, 0, t - dtf));
-  } else {
-    lv = crossbar(b, x, o, t);
+  if (h->mper < 3u) board_fault(b, "HRTIM_MPER %u: below the minimum period of 3 (RM0440 §27.5)", h->mper);
+  h->next_period_t = t0 + (double)h->mper * h->t_count;
+  for (int k = 0; k < 4; k++) {
+    h->mcmp_done[k] = h->mcmp[k] == 0 || h->mcmp[k] > h->mper;
+    h->next_mcmp_t[k] = t0 + (double)h->mcmp[k] * h->t_count;
   }
-  return (int)((uint32_t)lv ^ pol);
 }
 
-void board_hrtim_fault(board *b, int n, int active) {
-  if (n < 1 || n > 6) return;
-  uint32_t fltinr = n <= 4 ? b->hr.fltinr1 >> (8 * (n - 1)) : b->hr.fltinr2 >> (8 * (n - 5));
-  if (!active || !(fltinr & 1u)) return; /* FLTnE */
-  b->hr.isr |= 1u << (n == 6 ? 6 : n - 1);
-  for (int x = 0; x < 6; x++)
-    if ((b->hr.t[x].flt >> (n - 1)) & 1u)
-      for (int o = 0; o < 2; o++) {
-        b->hr.faulted[2 * x + o] = 1;
-        b->hr.oen &= ~(1u << (2 * x + o)); /* ODSR shows the fault-disabled state */
-      }
+static void pend_master(board *b) {
+  if (b->hrtim.misr & b->hrtim.mdier & 0x7Fu) scs_set_pending(b, 16 + IRQ_HRTIM_MASTER);
 }
 
-static bool rep_tracked(const board *b, int x) {
-  const hrtim_timer *T = &b->hr.t[x];
-  return running(b, x) && ((T->dier & 0x10u) || T->preload_pending);
+static void master_compare(board *b, int k, double when) {
+  hrtim_state *h = &b->hrtim;
+  h->mcmp_done[k] = true;
+  h->misr |= 1u << k;
+  pend_master(b);
+  /* ADC triggers 1-4: master compare k -> ADCxR bit k (AD1MC1.. / AD2MC1..), §27.3.19 */
+  for (int a = 0; a < 4; a++)
+    if (h->adcr[a] & (1u << k)) adc_hrtim_trigger(b, a + 1, when);
 }
 
 double hrtim_next_event(board *b) {
-  double t = b->hr.dll_ready_t >= 0 ? b->hr.dll_ready_t : INFINITY;
-  for (int x = 0; x < 7; x++)
-    if (rep_tracked(b, x) && b->hr.t[x].next_rep_t < t) t = b->hr.t[x].next_rep_t;
+  hrtim_state *h = &b->hrtim;
+  double t = h->flt3_apply_t >= 0 ? h->flt3_apply_t : INFINITY;
+  if (!h->running) return t;
+  if (h->next_period_t < t) t = h->next_period_t;
+  for (int k = 0; k < 4; k++)
+    if (!h->mcmp_done[k] && h->next_mcmp_t[k] < t) t = h->next_mcmp_t[k];
   return t;
 }
 
-/* Preloaded PER/CMP/REP become active at the repetition event when TxREPU/MREPU is set; the
- * counter rolls over to 0 there, so the timebase restarts at that instant. */
-static void rep_event(board *b, int x, double when) {
-  hrtim_timer *T = &b->hr.t[x];
-  uint32_t repu = x == MST ? (b->hr.mcr >> 29) & 1u : (T->cr >> 17) & 1u;
-  T->isr |= 0x10u; /* REP */
-  if (T->preload_pending && repu) {
-    T->per = T->pre_per;
-    memcpy(T->cmp, T->pre_cmp, sizeof T->cmp);
-    T->rep = T->pre_rep;
-    T->preload_pending = false;
-    T->start_t = when;
-  }
-  T->next_rep_t = when + period_s(b, x) * (double)(T->rep + 1u);
-}
+static void apply_fault(board *b);
 
 void hrtim_event(board *b) {
+  hrtim_state *h = &b->hrtim;
   double now = board_now(b);
-  if (b->hr.dll_ready_t >= 0 && now >= b->hr.dll_ready_t) { b->hr.isr |= 1u << 16; b->hr.dll_ready_t = -1; }
-  for (int x = 0; x < 7; x++) {
-    hrtim_timer *T = &b->hr.t[x];
-    if (!running(b, x)) continue;
-    while (T->next_rep_t <= now + 1e-15) rep_event(b, x, T->next_rep_t);
-    if ((T->isr & T->dier & 0x10u) && !b->scs.active[16 + k_irq[x]] && !b->scs.pending[16 + k_irq[x]])
-      b->scs.pending[16 + k_irq[x]] = 1;
+  if (h->flt3_apply_t >= 0 && now >= h->flt3_apply_t - EPS_T) { h->flt3_apply_t = -1; apply_fault(b); }
+  while (h->running && !b->fault) {
+    double tn = INFINITY;
+    int which = -1;
+    for (int k = 0; k < 4; k++)
+      if (!h->mcmp_done[k] && h->next_mcmp_t[k] < tn) { tn = h->next_mcmp_t[k]; which = k; }
+    if (h->next_period_t <= tn) { tn = h->next_period_t; which = 4; }
+    if (tn > now + EPS_T) break;
+    if (which == 4) period_start(b, tn);
+    else master_compare(b, which, tn);
   }
 }
 
-static bool refuse(board *b, const char *reg, uint32_t v, uint32_t allowed) {
-  if (v & ~allowed) {
-    board_fault(b, "HRTIM %s 0x%08X: bits 0x%08X are reserved or not modelled", reg, v, v & ~allowed);
-    return true;
-  }
-  return false;
+/* ---- fault input FLT3 (§27.3.16) ---- */
+
+static bool flt3_active(const hrtim_state *h) {
+  if (!(h->fltinr1 & (1u << 16))) return false;            /* FLT3E */
+  bool pol_high = (h->fltinr1 >> 17) & 1u;                   /* FLT3P: 0 active low */
+  return pol_high ? !h->flt3_line_low : h->flt3_line_low;
 }
 
-static const char *tname(int x) {
-  static const char *n[7] = {"TIMA", "TIMB", "TIMC", "TIMD", "TIME", "TIMF", "Master"};
-  return n[x];
-}
-
-/* Registers at the same offsets in the master and in timers A-F: ISR, ICR, DIER, CNT, PER,
- * REP, CMP1-4. Returns false when the offset is not one of them. */
-static bool counter_read(board *b, int x, uint32_t r, uint32_t *v) {
-  hrtim_timer *T = &b->hr.t[x];
-  switch (r) {
-  case 0x04: *v = T->isr; return true;
-  case 0x0C: *v = T->dier; return true;
-  case 0x10:
-    *v = running(b, x) ? (uint32_t)fmod((board_now(b) - T->start_t) / tick_s(b, x), (double)T->per) : 0u;
-    return true;
-  /* software accesses the preload registers (equal to the active ones without PREEN) */
-  case 0x14: *v = T->pre_per; return true;
-  case 0x18: *v = T->pre_rep; return true;
-  case 0x1C: *v = T->pre_cmp[0]; return true;
-  case 0x24: case 0x28: case 0x2C: *v = T->pre_cmp[(r - 0x20) / 4]; return true;
-  }
-  return false;
-}
-
-static bool preload_on(const board *b, int x) { return ((x == MST ? b->hr.mcr : b->hr.t[x].cr) >> 27) & 1u; }
-
-static bool counter_write(board *b, int x, uint32_t r, uint32_t v) {
-  hrtim_timer *T = &b->hr.t[x];
-  switch (r) {
-  case 0x08: T->isr &= ~(v & 0x3FFFu); return true; /* ICR */
-  case 0x0C:
-    if (v & ~0x10u) { board_fault(b, "HRTIM %s DIER 0x%08X: only REPIE is modelled", tname(x), v); return true; }
-    T->dier = v;
-    return true;
-  case 0x14: case 0x1C: case 0x24: case 0x28: case 0x2C: {
-    uint32_t ck = ckpsc(b, x), min = ck <= 5 ? 3u << (5 - ck) : 3u; /* at least 3 fHRTIM periods */
-    if (v > 0xFFFFu || (v < min && !(r != 0x14 && v == 0))) {
-      board_fault(b, "HRTIM %s %s 0x%X outside 0x%X..0xFFFF for CKPSC=%u (RM0440: at least 3 fHRTIM periods)",
-                  tname(x), r == 0x14 ? "PER" : "CMP", v, min, ck);
-      return true;
+static void apply_fault(board *b) {
+  hrtim_state *h = &b->hrtim;
+  if (!flt3_active(h)) return;
+  twin_sync(b, board_now(b));
+  h->isr |= 1u << 2; /* FLT3 */
+  if (h->ier & (1u << 2)) scs_set_pending(b, 16 + IRQ_HRTIM_FLT);
+  for (int t = 0; t < 6; t++) {
+    if (!(h->tim[t].fltr & (1u << 2))) continue; /* FLT3EN */
+    for (int k = 0; k < 2; k++) {
+      int o = 2 * t + k;
+      uint32_t fault = (h->tim[t].outr >> (4u + 16u * (unsigned)k)) & 3u;
+      if (fault == 0u) continue; /* "no action": the output keeps its waveform */
+      h->fault_state |= 1u << o;
+      h->oen &= ~(1u << o);
     }
-    uint32_t *pre = r == 0x14 ? &T->pre_per : &T->pre_cmp[r == 0x1C ? 0 : (r - 0x20) / 4];
-    uint32_t *act = r == 0x14 ? &T->per : &T->cmp[r == 0x1C ? 0 : (r - 0x20) / 4];
-    *pre = v;
-    if (preload_on(b, x) && running(b, x)) T->preload_pending = true;
-    else *act = v;
-    return true;
   }
-  case 0x18:
-    if (v > 0xFFu) { board_fault(b, "HRTIM %s REP 0x%X > 0xFF", tname(x), v); return true; }
-    T->pre_rep = v;
-    if (preload_on(b, x) && running(b, x)) T->preload_pending = true;
-    else T->rep = v;
-    return true;
+}
+
+/* The FLT3 pin (PB10, AF13) changed or its mux did: seen after the input synchronisation. */
+void hrtim_fault_input_update(board *b, bool line_low) {
+  hrtim_state *h = &b->hrtim;
+  if (line_low == h->flt3_line_low) return;
+  h->flt3_line_low = line_low;
+  if (flt3_active(h)) {
+    double f = f_hrtim(b) > 0 ? f_hrtim(b) : 16e6;
+    h->flt3_apply_t = board_now(b) + FLT_SYNC_TICKS / f;
   }
-  return false;
+}
+
+/* ---- registers ---- */
+
+static uint32_t counter(board *b, uint32_t per) {
+  hrtim_state *h = &b->hrtim;
+  if (!h->running) return 0;
+  double c = floor((board_now(b) - h->t_period) / h->t_count + 1e-6);
+  return c < 0 ? 0 : (uint32_t)c % (per + 1u);
+}
+
+static bool check_cmp(board *b, const char *name, uint32_t v) {
+  if (v & ~0xFFFFu) { board_fault(b, "%s 0x%08X: bits 31:16 are reserved", name, v); return false; }
+  if (v != 0 && v < 3u) {
+    board_fault(b, "%s = %u: compare values below 3 are not allowed in low resolution (RM0440 §27.5, "
+                "HRTIM_CMPxR minimum value)", name, v);
+    return false;
+  }
+  return true;
 }
 
 uint32_t hrtim_read(board *b, uint32_t off) {
-  hrtim_state *h = &b->hr;
-  uint32_t v;
-  if (off < TIM_OFF(0)) {
-    if (off == 0x00) return h->mcr;
-    if (counter_read(b, MST, off, &v)) return v;
-  } else if (off < CMN_OFF) {
-    int x = (int)((off - TIM_OFF(0)) / 0x80u);
-    hrtim_timer *T = &h->t[x];
-    uint32_t r = (off - TIM_OFF(0)) % 0x80u;
-    if (counter_read(b, x, r, &v)) return v;
+  hrtim_state *h = &b->hrtim;
+  hrtim_event(b);
+  if (off < 0x80u) {
+    switch (off) {
+    case 0x00: return h->mcr;
+    case 0x04: return h->misr;
+    case 0x08: return 0;
+    case 0x0C: return h->mdier;
+    case 0x10: return counter(b, h->mper);
+    case 0x14: return (h->mcr & (1u << 27)) ? h->p_mper : h->mper;
+    case 0x18: return (h->mcr & (1u << 27)) ? h->p_mrep : h->mrep;
+    case 0x1C: case 0x24: case 0x28: case 0x2C: {
+      int k = off == 0x1C ? 0 : (int)(off - 0x24u) / 4 + 1;
+      return (h->mcr & (1u << 27)) ? h->p_mcmp[k] : h->mcmp[k];
+    }
+    }
+  } else if (off < OFS_COMMON) {
+    int t = (int)(off - 0x80u) / 0x80;
+    hrtim_timer *x = &h->tim[t];
+    uint32_t r = (off - 0x80u) % 0x80u;
+    bool pre = (x->cr & (1u << 27)) != 0;
     switch (r) {
-    case 0x00: return T->cr;
-    case 0x38: return T->dt;
-    case 0x3C: return T->set[0];
-    case 0x40: return T->rst[0];
-    case 0x44: return T->set[1];
-    case 0x48: return T->rst[1];
-    case 0x64: return T->outr;
-    case 0x68: return T->flt;
+    case 0x00: return x->cr;
+    case 0x04: { /* TIMxISR: O1STAT/O2STAT copies of the output levels (bits 18/19) */
+      uint32_t lv = hrtim_levels(b, board_now(b));
+      return x->isr | (((lv >> (2 * t)) & 1u) << 18) | (((lv >> (2 * t + 1)) & 1u) << 19);
+    }
+    case 0x08: return 0;
+    case 0x0C: return x->dier;
+    case 0x10: return counter(b, x->per);
+    case 0x14: return pre ? x->p_per : x->per;
+    case 0x18: return pre ? x->p_rep : x->rep;
+    case 0x1C: return pre ? x->p_cmp[0] : x->cmp[0];
+    case 0x24: return pre ? x->p_cmp[1] : x->cmp[1];
+    case 0x28: return pre ? x->p_cmp[2] : x->cmp[2];
+    case 0x2C: return pre ? x->p_cmp[3] : x->cmp[3];
+    case 0x38: return x->dtr;
+    case 0x3C: return pre ? x->p_set[0] : x->set[0];
+    case 0x40: return pre ? x->p_rst[0] : x->rst[0];
+    case 0x44: return pre ? x->p_set[1] : x->set[1];
+    case 0x48: return pre ? x->p_rst[1] : x->rst[1];
+    case 0x64: return x->outr;
+    case 0x68: return x->fltr;
     }
   } else {
-    switch (off - CMN_OFF) {
+    switch (off - OFS_COMMON) {
+    case 0x00: return h->cr1;
+    case 0x04: return 0; /* CR2: software update bits read as 0 once done */
     case 0x08: return h->isr;
-    case 0x14: return h->oen;
+    case 0x0C: return 0;
+    case 0x10: return h->ier;
+    case 0x14: return h->oen;             /* OENR reads the enable status (§27.5, HRTIM_OENR) */
     case 0x18: return 0;
-    case 0x1C: { uint32_t d = 0; for (int c = 0; c < 12; c++) if (h->faulted[c] && !((h->oen >> c) & 1u)) d |= 1u << c; return d; }
-    case 0x4C: return h->dllcr;
+    case 0x1C: return h->fault_state & ~h->oen; /* ODSR: 1 = disabled in the fault state */
+    case 0x3C: case 0x40: case 0x44: case 0x48: return h->adcr[(off - OFS_COMMON - 0x3Cu) / 4u];
     case 0x50: return h->fltinr1;
     case 0x54: return h->fltinr2;
     }
   }
-  board_fault(b, "read of HRTIM offset 0x%03X: not modelled", off);
+  board_fault(b, "read of HRTIM register at offset 0x%03X: not modelled", off);
   return 0;
 }
 
-static void timer_write(board *b, int x, uint32_t r, uint32_t v) {
-  hrtim_timer *T = &b->hr.t[x];
-  char name[16];
-  if (counter_write(b, x, r, v)) return;
-  switch (r) {
-  case 0x00: /* TIMxCR: CKPSC, CONT, TxREPU, PREEN */
-    snprintf(name, sizeof name, "TIM%cCR", 'A' + x);
-    if (refuse(b, name, v, 0x0802000Fu)) return;
-    if (!(v & 8u)) { board_fault(b, "HRTIM TIM%cCR.CONT=0: single-shot mode is not modelled", 'A' + x); return; }
-    if (running(b, x) && ((v ^ T->cr) & 0xFu)) { board_fault(b, "HRTIM TIM%cCR: CKPSC/CONT changed while the timer runs", 'A' + x); return; }
-    T->cr = v;
+static void start_stop(board *b, uint32_t old, uint32_t v) {
+  hrtim_state *h = &b->hrtim;
+  uint32_t en_old = old & (0x7Fu << 16), en_new = v & (0x7Fu << 16);
+  if (en_old == en_new) return;
+  if (en_old == 0 && en_new == (0x7Fu << 16)) {
+    /* all counters start together: the port's synchronous scheme */
+    unsigned psc = ckpsc(h->mcr);
+    if (psc < 5u) { board_fault(b, "HRTIM_MCR CKPSC %u: high resolution needs the DLL, not modelled", psc); return; }
+    for (int t = 0; t < 6; t++) {
+      if (ckpsc(h->tim[t].cr) != psc) {
+        board_fault(b, "HRTIM timer %c prescaler %u differs from the master's %u (not modelled)", k_tname[t],
+                    ckpsc(h->tim[t].cr), psc);
+        return;
+      }
+      if (!(h->tim[t].cr & 8u)) { board_fault(b, "HRTIM timer %c not in continuous mode (not modelled)", k_tname[t]); return; }
+    }
+    if (!(h->mcr & 8u)) { board_fault(b, "HRTIM master not in continuous mode (not modelled)"); return; }
+    if (!(f_hrtim(b) > 0)) { board_fault(b, "HRTIM started without a clock"); return; }
+    h->t_count = (double)(1u << psc) / (32.0 * f_hrtim(b));
+    h->running = true;
+    double t0 = board_now(b);
+    /* the outputs take the crossbar's present level when the counters start: with dead time,
+     * output 2 is the complement of output 1 (after its dead time, §27.3.10) */
+    for (int t = 0; t < 6; t++) {
+      if (h->tim[t].outr & (1u << 8)) {
+        h->tim[t].ref[0] ^= 1u;
+        ref_edge(b, t, 0, t0, h->tim[t].ref[0]);
+        h->tim[t].ref[0] ^= 1u;
+        ref_edge(b, t, 0, t0, h->tim[t].ref[0]);
+      }
+    }
+    period_start(b, t0);
     return;
+  }
+  if (en_new == 0) { /* counters stop; the outputs keep their levels */
+    twin_sync(b, board_now(b));
+    h->running = false;
+    return;
+  }
+  board_fault(b, "HRTIM_MCR 0x%08X: timers started or stopped separately (the model runs the master and "
+              "timers A-F together)", v);
+}
+
+static void write_timer(board *b, int t, uint32_t r, uint32_t v) {
+  hrtim_state *h = &b->hrtim;
+  hrtim_timer *x = &h->tim[t];
+  bool pre = (x->cr & (1u << 27)) != 0;
+  char name[24];
+  bool running_now = h->running;
+  switch (r) {
+  case 0x00: {
+    const uint32_t ok = 7u | (1u << 3) | (1u << 17) | (1u << 27);
+    if (v & ~ok) {
+      board_fault(b, "HRTIM_TIM%cCR 0x%08X: bits 0x%08X not modelled (the port uses CKPSC, CONT, TxREPU, PREEN)",
+                  k_tname[t], v, v & ~ok);
+      return;
+    }
+    if (running_now && ckpsc(v) != ckpsc(x->cr)) { board_fault(b, "HRTIM_TIM%cCR: CKPSC changed while counting", k_tname[t]); return; }
+    x->cr = v;
+    return;
+  }
+  case 0x08: x->isr &= ~v; return;
+  case 0x0C:
+    if (v) { board_fault(b, "HRTIM_TIM%cDIER 0x%08X: timer interrupts/DMA not modelled", k_tname[t], v); return; }
+    x->dier = v;
+    return;
+  case 0x14:
+    if (v & ~0xFFFFu || v > 0xFFDFu || v < 3u) {
+      board_fault(b, "HRTIM_PER%cR %u: outside 3..0xFFDF (RM0440 §27.5)", k_tname[t], v); return;
+    }
+    if (pre) x->p_per = v; else { x->per = x->p_per = v; }
+    return;
+  case 0x18:
+    if (v & ~0xFFu) { board_fault(b, "HRTIM_REP%cR 0x%08X: bits 31:8 reserved", k_tname[t], v); return; }
+    if (v) { board_fault(b, "HRTIM_REP%cR %u: repetition counts other than 0 not modelled", k_tname[t], v); return; }
+    if (pre) x->p_rep = v; else x->rep = x->p_rep = v;
+    return;
+  case 0x1C: case 0x24: case 0x28: case 0x2C: {
+    int k = r == 0x1C ? 0 : (int)(r - 0x24u) / 4 + 1;
+    snprintf(name, sizeof name, "HRTIM_CMP%d%cR", k + 1, k_tname[t]);
+    if (!check_cmp(b, name, v)) return;
+    if (pre) x->p_cmp[k] = v; else x->cmp[k] = x->p_cmp[k] = v;
+    return;
+  }
   case 0x38:
-    snprintf(name, sizeof name, "DT%cR", 'A' + x);
-    if (refuse(b, name, v, 0x01FF1DFFu & ~0x200u)) return; /* no negative dead time, no locks */
-    T->dt = v;
+    if (((x->dtr & (1u << 15)) && ((v ^ x->dtr) & 0x7FFFu)) || ((x->dtr & (1u << 31)) && ((v ^ x->dtr) & 0x7FFF0000u))) {
+      board_fault(b, "HRTIM_DT%cR written while locked (DTRLK/DTFLK, RM0440 §27.5)", k_tname[t]);
+      return;
+    }
+    if (v & ((1u << 9) | (1u << 25) | (1u << 14) | (1u << 30))) {
+      board_fault(b, "HRTIM_DT%cR 0x%08X: negative dead time (SDTR/SDTF) or sign locks not modelled", k_tname[t], v);
+      return;
+    }
+    if (((v >> 10) & 7u) < 3u) {
+      board_fault(b, "HRTIM_DT%cR DTPRSC %u: a dead-time step finer than tHRTIM needs the high-resolution "
+                  "delay line (DLL), not available in the low-resolution mode the model supports", k_tname[t], (v >> 10) & 7u);
+      return;
+    }
+    if (running_now && (h->oen & (3u << (2 * t)))) {
+      board_fault(b, "HRTIM_DT%cR changed while the timer's outputs are enabled", k_tname[t]);
+      return;
+    }
+    x->dtr = v;
     return;
   case 0x3C: case 0x40: case 0x44: case 0x48: {
-    int o = r >= 0x44, set = r == 0x3C || r == 0x44;
-    snprintf(name, sizeof name, "%s%c%dR", set ? "SET" : "RST", 'A' + x, o + 1);
-    if (refuse(b, name, v, 0xFFDu)) return; /* SST/SRT, PER, CMP1-4, MSTPER, MSTCMP1-4 */
-    if (v & 1u) { T->sw_level[o] = set; T->sw_t[o] = board_now(b); } /* software set/reset */
-    if (set) T->set[o] = v & ~1u; else T->rst[o] = v & ~1u;
+    int out = r >= 0x44u;
+    bool is_set = r == 0x3Cu || r == 0x44u;
+    const uint32_t ok = 0x7Cu; /* PER, CMP1-4 */
+    if (v & ~ok) {
+      board_fault(b, "HRTIM_%s%c%dR 0x%08X: event sources 0x%08X not modelled (PER, CMP1-4 only)",
+                  is_set ? "SET" : "RST", k_tname[t], out + 1, v, v & ~ok);
+      return;
+    }
+    uint32_t *reg = is_set ? (pre ? &x->p_set[out] : &x->set[out]) : (pre ? &x->p_rst[out] : &x->rst[out]);
+    *reg = v;
+    if (!pre) { if (is_set) x->p_set[out] = v; else x->p_rst[out] = v; }
     return;
   }
-  case 0x64:
-    snprintf(name, sizeof name, "OUT%cR", 'A' + x);
-    if (refuse(b, name, v, 0x003A013Au)) return; /* POL, IDLES, FAULT, DTEN */
-    T->outr = v;
+  case 0x64: {
+    const uint32_t ok = 0x003B003Bu | (1u << 8); /* POLx, IDLESx, FAULTx (bits 1,3,4,5 and +16), DTEN */
+    if (v & ~ok) { board_fault(b, "HRTIM_OUT%cR 0x%08X: bits 0x%08X not modelled", k_tname[t], v, v & ~ok); return; }
+    if (((v >> 4) & 3u) == 3u || ((v >> 20) & 3u) == 3u) {
+      board_fault(b, "HRTIM_OUT%cR: FAULTx = high impedance not modelled", k_tname[t]); return;
+    }
+    if (h->oen & (3u << (2 * t))) {
+      board_fault(b, "HRTIM_OUT%cR written while the timer's outputs are enabled: POLx, IDLESx, FAULTx and "
+                  "DTEN may change only with the outputs disabled (RM0440 §27.5, HRTIM_OUTxR)", k_tname[t]);
+      return;
+    }
+    x->outr = v;
     return;
+  }
   case 0x68:
-    snprintf(name, sizeof name, "FLT%cR", 'A' + x);
-    if (refuse(b, name, v, 0x3Fu)) return;
-    T->flt = v;
+    if (x->fltr & (1u << 31)) { board_fault(b, "HRTIM_FLT%cR written while FLTLCK is set (RM0440 §27.5)", k_tname[t]); return; }
+    if (v & ~((1u << 31) | 0x3Fu)) { board_fault(b, "HRTIM_FLT%cR 0x%08X: reserved bits", k_tname[t], v); return; }
+    x->fltr = v;
     return;
   }
-  board_fault(b, "write 0x%08X to HRTIM timer %c offset 0x%02X: not modelled", v, 'A' + x, r);
+  board_fault(b, "write 0x%08X to HRTIM timer %c register offset 0x%02X: not modelled", v, k_tname[t], r);
 }
 
 void hrtim_write(board *b, uint32_t off, uint32_t v) {
-  hrtim_state *h = &b->hr;
-  if (off < TIM_OFF(0)) {
-    if (off == 0x00) {
-      /* MCR: CKPSC, CONT, MCEN, TxCEN, PREEN, MREPU */
-      if (refuse(b, "MCR", v, 0x287F000Fu)) return;
-      if ((v & (1u << 16)) && !(v & 8u)) { board_fault(b, "HRTIM MCR.CONT=0: single-shot master is not modelled"); return; }
-      if (running(b, MST) && ((v ^ h->mcr) & 0xFu)) { board_fault(b, "HRTIM MCR: CKPSC/CONT changed while the master runs"); return; }
-      double now = board_now(b);
+  hrtim_state *h = &b->hrtim;
+  hrtim_event(b);
+  if (off < 0x80u) {
+    bool pre = (h->mcr & (1u << 27)) != 0;
+    switch (off) {
+    case 0x00: {
+      const uint32_t ok = 7u | (1u << 3) | (0x7Fu << 16) | (1u << 27) | (1u << 29);
+      if (v & ~ok) { board_fault(b, "HRTIM_MCR 0x%08X: bits 0x%08X not modelled", v, v & ~ok); return; }
       uint32_t old = h->mcr;
-      h->mcr = (h->mcr & 0x007F0000u) | (v & ~0x007F0000u); /* prescaler first: the master's tick */
-      for (int x = 0; x < 7; x++) {
-        uint32_t bit = 1u << (x == MST ? 16 : 17 + x);
-        if ((v & bit) && !(old & bit)) {
-          if (ckpsc(b, x) < 5u && !(h->isr & (1u << 16))) {
-            board_fault(b, "HRTIM %s started in high resolution (CKPSC<5) before the DLL is calibrated (ISR.DLLRDY)", tname(x));
-            h->mcr = old;
-            return;
-          }
-          h->t[x].start_t = now;
-          h->t[x].next_rep_t = now + period_s(b, x) * (double)(h->t[x].rep + 1u);
-        }
-      }
+      if (h->running && ckpsc(v) != ckpsc(old)) { board_fault(b, "HRTIM_MCR: CKPSC changed while counting"); return; }
       h->mcr = v;
+      start_stop(b, old, v);
       return;
     }
-    if (counter_write(b, MST, off, v)) return;
-    board_fault(b, "write 0x%08X to HRTIM master offset 0x%02X: not modelled", v, off);
+    case 0x08: h->misr &= ~v; return;
+    case 0x0C:
+      if (v & ~0x7Fu) { board_fault(b, "HRTIM_MDIER 0x%08X: DMA requests not modelled", v); return; }
+      h->mdier = v;
+      pend_master(b);
+      return;
+    case 0x14:
+      if (v > 0xFFDFu || v < 3u) { board_fault(b, "HRTIM_MPER %u: outside 3..0xFFDF (RM0440 §27.5)", v); return; }
+      if (pre) h->p_mper = v; else h->mper = h->p_mper = v;
+      return;
+    case 0x18:
+      if (v) { board_fault(b, "HRTIM_MREP %u: repetition counts other than 0 not modelled", v); return; }
+      h->mrep = h->p_mrep = 0;
+      return;
+    case 0x1C: case 0x24: case 0x28: case 0x2C: {
+      int k = off == 0x1C ? 0 : (int)(off - 0x24u) / 4 + 1;
+      char name[16];
+      snprintf(name, sizeof name, "HRTIM_MCMP%dR", k + 1);
+      if (!check_cmp(b, name, v)) return;
+      if (pre) h->p_mcmp[k] = v; else h->mcmp[k] = h->p_mcmp[k] = v;
+      return;
+    }
+    }
+  } else if (off < OFS_COMMON) {
+    write_timer(b, (int)(off - 0x80u) / 0x80, (off - 0x80u) % 0x80u, v);
     return;
-  }
-  if (off < CMN_OFF) { timer_write(b, (int)((off - TIM_OFF(0)) / 0x80u), (off - TIM_OFF(0)) % 0x80u, v); return; }
-  switch (off - CMN_OFF) {
-  case 0x0C: h->isr &= ~(v & 0x3007Fu); return; /* ICR */
-  case 0x14: /* OENR: 1 enables; a faulted output stays off until its fault flag is cleared */
-    if (refuse(b, "OENR", v, 0xFFFu)) return;
-    for (int c = 0; c < 12; c++)
-      if ((v >> c) & 1u) {
-        int n_fault = 0;
-        for (int n = 0; n < 6; n++) n_fault |= (h->t[c / 2].flt >> n) & 1u && (h->isr >> (n == 5 ? 6 : n)) & 1u;
-        if (n_fault) continue;
-        h->faulted[c] = 0;
-        h->oen |= 1u << c;
+  } else {
+    switch (off - OFS_COMMON) {
+    case 0x00:
+      if (v & ~0x7Fu) { board_fault(b, "HRTIM_CR1 0x%08X: ADC update sources not modelled", v); return; }
+      h->cr1 = v;
+      return;
+    case 0x04:
+      if (v & ~0x7Fu) { board_fault(b, "HRTIM_CR2 0x%08X: counter software resets / swaps not modelled", v); return; }
+      if (v & 1u) transfer(h, -1);
+      for (int t = 0; t < 6; t++) if (v & (1u << (t + 1))) transfer(h, t);
+      return;
+    case 0x0C: h->isr &= ~(v & 0x3Fu); return; /* FLTxC, SYSFLTC */
+    case 0x10:
+      if (v & ~0x3Fu) { board_fault(b, "HRTIM_IER 0x%08X: burst/DLL interrupts not modelled", v); return; }
+      h->ier = v;
+      if (h->isr & h->ier & 0x3Fu) scs_set_pending(b, 16 + IRQ_HRTIM_FLT);
+      return;
+    case 0x14: { /* OENR: enable; an output whose fault is still active stays in its fault state */
+      if (v & ~0xFFFu) { board_fault(b, "HRTIM_OENR 0x%08X: bits 31:12 reserved", v); return; }
+      twin_sync(b, board_now(b));
+      uint32_t blocked = 0;
+      if (flt3_active(h))
+        for (int o = 0; o < HRTIM_NOUT; o++)
+          if ((h->tim[o / 2].fltr & 4u) && ((h->tim[o / 2].outr >> (4u + 16u * (unsigned)(o & 1))) & 3u)) blocked |= 1u << o;
+      h->oen |= v & ~blocked;
+      h->fault_state &= ~(v & ~blocked);
+      return;
+    }
+    case 0x18:
+      if (v & ~0xFFFu) { board_fault(b, "HRTIM_ODISR 0x%08X: bits 31:12 reserved", v); return; }
+      twin_sync(b, board_now(b));
+      h->oen &= ~v;
+      return;
+    case 0x3C: case 0x40: case 0x44: case 0x48: {
+      const uint32_t ok = 0x1Fu; /* master CMP1-4, master period */
+      if (v & ~ok) { board_fault(b, "HRTIM_ADC%uR 0x%08X: trigger sources other than the master not modelled", (off - OFS_COMMON - 0x3Cu) / 4u + 1u, v); return; }
+      if (v & 0x10u) { board_fault(b, "HRTIM_ADCxR: master period trigger not modelled"); return; }
+      h->adcr[(off - OFS_COMMON - 0x3Cu) / 4u] = v;
+      return;
+    }
+    case 0x50: {
+      uint32_t old = h->fltinr1;
+      /* per input byte: FLTxE bit 0, FLTxP 1, FLTxSRC 2, FLTxF 3-6, FLTxLCK 7 */
+      for (int k = 0; k < 4; k++) {
+        uint32_t ob = (old >> (8 * k)) & 0xFFu, nb = (v >> (8 * k)) & 0xFFu;
+        if ((ob & 0x80u) && ob != nb) { board_fault(b, "HRTIM_FLTINR1 FLT%d written while FLT%dLCK is set", k + 1, k + 1); return; }
+        if ((ob & 1u) && (nb & 1u) && ((ob ^ nb) & 0x7Eu)) {
+          board_fault(b, "HRTIM_FLTINR1 FLT%d: polarity, source or filter changed while FLT%dE = 1 (RM0440 §27.5, "
+                      "HRTIM_FLTINR1)", k + 1, k + 1);
+          return;
+        }
+        if ((nb & 1u) && k != 2) { board_fault(b, "HRTIM_FLTINR1: fault input FLT%d not wired on this board model", k + 1); return; }
+        if ((nb & 4u)) { board_fault(b, "HRTIM_FLTINR1 FLT%dSRC: internal comparator source not modelled", k + 1); return; }
+        if ((nb & 0x78u)) { board_fault(b, "HRTIM_FLTINR1 FLT%dF: digital filter not modelled", k + 1); return; }
       }
-    return;
-  case 0x18: if (refuse(b, "ODISR", v, 0xFFFu)) return; h->oen &= ~v; return;
-  case 0x4C: /* DLLCR: CAL starts a calibration */
-    if (refuse(b, "DLLCR", v, 0xFu)) return;
-    h->dllcr = v & ~1u;
-    if (v & 1u) { h->isr &= ~(1u << 16); h->dll_ready_t = board_now(b) + DLL_CAL_S; }
-    return;
-  case 0x50: if (refuse(b, "FLTINR1", v, 0x03030303u)) return; h->fltinr1 = v; return; /* FLTnE, FLTnP, from pins */
-  case 0x54: if (refuse(b, "FLTINR2", v, 0x0303u)) return; h->fltinr2 = v; return;
+      h->fltinr1 = v;
+      if (!(old & (1u << 16)) && (v & (1u << 16)) && flt3_active(h)) h->flt3_apply_t = board_now(b) + FLT_SYNC_TICKS / f_hrtim(b);
+      return;
+    }
+    case 0x54:
+      if (v & 0x0101u) { board_fault(b, "HRTIM_FLTINR2: FLT5/FLT6 not wired on this board model"); return; }
+      if (v & ~(0x0101FFFFu | (3u << 24))) { board_fault(b, "HRTIM_FLTINR2 0x%08X: not modelled", v); return; }
+      h->fltinr2 = v;
+      return;
+    }
   }
-  board_fault(b, "write 0x%08X to HRTIM common offset 0x%02X: not modelled", v, off - CMN_OFF);
+  board_fault(b, "write 0x%08X to HRTIM register at offset 0x%03X: not modelled", v, off);
 }

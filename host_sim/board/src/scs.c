@@ -182,8 +182,18 @@ static void set_bits(board *b, uint8_t *arr, uint32_t word, uint32_t v, uint8_t 
     }
 }
 
+/* DBGMCU (RM0440 §47.16): IDCODE (DEV_ID 0x469, REV_ID 0x2001), CR and the freeze registers.
+ * No debugger is attached, so the freeze bits have no effect. */
+static bool dbgmcu_reg(board *b, uint32_t a, uint32_t **reg) {
+  if (a < 0xE0042000u || a > 0xE0042010u) return false;
+  *reg = a == 0xE0042000u ? NULL : &b->scs.dbgmcu[(a - 0xE0042004u) / 4u];
+  return true;
+}
+
 uint32_t scs_read(board *b, uint32_t addr, unsigned size) {
   bool ok;
+  uint32_t *dreg;
+  if (dbgmcu_reg(b, addr & ~3u, &dreg)) return dreg ? *dreg : 0x20016469u;
   uint32_t v = read_word(b, addr & ~3u, &ok);
   if (!ok) { board_fault(b, "read of unmodelled system register 0x%08X", addr); return 0; }
   if (size >= 4) return v;
@@ -192,6 +202,12 @@ uint32_t scs_read(board *b, uint32_t addr, unsigned size) {
 
 void scs_write(board *b, uint32_t a, unsigned size, uint32_t v) {
   scs_state *s = &b->scs;
+  uint32_t *dreg;
+  if (dbgmcu_reg(b, a, &dreg)) {
+    if (!dreg || size != 4) { board_fault(b, "write to DBGMCU register 0x%08X (IDCODE, or not a 32-bit write)", a); return; }
+    *dreg = v;
+    return;
+  }
   /* byte-accessible priority registers (B3.4.9, B3.2.10-12): 4 implemented bits */
   if ((a >= 0xE000E400u && a < 0xE000E400u + NUM_IRQ + 2) || (a >= 0xE000ED18u && a < 0xE000ED24u)) {
     for (unsigned i = 0; i < size; i++) {

@@ -44,6 +44,13 @@ double board_core_hz(const board *b);
 /* Read a 32-bit word of the emulated memory at a symbol (+offset); 0 on success. */
 int board_read_symbol(board *b, const char *name, uint32_t offset, uint32_t *value);
 int board_read_u32(board *b, uint32_t addr, uint32_t *value);
+/* Test-only access to the emulated RAM (a debugger's view); 0 on success. */
+int board_write_u32(board *b, uint32_t addr, uint32_t value);
+int board_read_mem(board *b, uint32_t addr, void *out, size_t n);
+/* Address and size of an ELF symbol; 0 on success. */
+int board_symbol(board *b, const char *name, uint32_t *addr, uint32_t *size);
+/* Start of the current HRTIM master period and its length; -1 while the timers are stopped. */
+double board_pwm_period_start(board *b, double *period_s);
 
 /* GPIO configuration as the firmware left it (mode 0 input, 1 output, 2 AF, 3 analog). */
 typedef struct {
@@ -55,15 +62,7 @@ typedef struct {
 } board_pin;
 size_t board_pins(const board *b, board_pin *out, size_t max);
 
-/* HRTIM output `out` (0: TxI1, 1: TxI2) of timer 0-5 (A-F) at virtual time t: 0/1 pin level,
- * -1 high impedance. For the plant binding and tests. */
-int board_hrtim_output(board *b, int timer, int out, double t);
-/* The value an ADC converts: adc 1 or 2, channel 0-18, at virtual time t; a 12-bit code. */
-typedef int (*board_adc_source)(void *ctx, int adc, int channel, double t);
-void board_set_adc_source(board *b, board_adc_source fn, void *ctx);
 
-/* A fault input FLT1-6 becoming active (already filtered and polarity-resolved). */
-void board_hrtim_fault(board *b, int n, int active);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,238 @@
+// HRTIM and ADC models of the twin (host_sim/board/src/hrtim.c, adc.c) driven directly through
+// their register interface: the dead-time waveform against closed-form edge times, and the
+// refusals RM0440 calls for (locked registers, modes the model does not support).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+extern "C" {
+#include "board_priv.h"
+}
+
+namespace {
+
+constexpr uint32_t TIM(int t) { return 0x80u + 0x80u * (uint32_t)t; }
+constexpr uint32_t COMMON = 0x380u;
+
+struct Board : ::testing::Test {
+  board *b = nullptr;
+  void SetUp() override {
+    board_config cfg;
+    board_config_default(&cfg);
+    cfg.elf_path = DTC_SOURCE_DIR "/build/stm32g4/dtc-fw.elf";
+    char err[256];
+    b = board_open(&cfg, err, sizeof err);
+    if (!b) GTEST_SKIP() << "no image: " << err;
+  }
+  void TearDown() override { board_close(b); }
+  std::string msg() const { return board_message(b); }
+  bool faulted() const { return b->fault; }
+  // master + A-F: prescaler 5 (fCOUNTER = fHRTIM), continuous, period `per`
+  void timers(uint32_t per) {
+    hrtim_write(b, 0x00, 5u | 8u);
+    hrtim_write(b, 0x14, per);
+    for (int t = 0; t < 6; t++) {
+      hrtim_write(b, TIM(t) + 0x00, 5u | 8u);
+      hrtim_write(b, TIM(t) + 0x14, per);
+    }
+  }
+};
+
+TEST_F(Board, DeadTimeWaveformMatchesClosedForm) {
+  const double f = rcc_hclk_hz(b);  // fHRTIM after reset: HSI16
+  ASSERT_EQ(f, 16e6);
+  timers(1000);
+  // timer A output 1: set at CMP1 = 300, reset at CMP2 = 700; dead time DTPRSC 3 -> tDTG = tHRTIM,
+  // rising 16 x 62.5 ns = 1 us, falling 24 x 62.5 ns = 1.5 us
+  hrtim_write(b, TIM(0) + 0x1C, 300);
+  hrtim_write(b, TIM(0) + 0x24, 700);
+  hrtim_write(b, TIM(0) + 0x3C, 1u << 3);
+  hrtim_write(b, TIM(0) + 0x40, 1u << 4);
+  hrtim_write(b, TIM(0) + 0x38, 16u | (3u << 10) | (24u << 16));
+  hrtim_write(b, TIM(0) + 0x64, 1u << 8);
+  hrtim_write(b, COMMON + 0x14, 3u);                  // OENR TA1, TA2
+  const double t0 = board_now(b);
+  hrtim_write(b, 0x00, 5u | 8u | (0x7Fu << 16));      // start master and A-F together
+  ASSERT_FALSE(faulted()) << msg();
+  const double tc = 1.0 / f, rise = 1e-6, fall = 1.5e-6;
+  struct { double t; unsigned lv; } expect[] = {
+    {t0 + 0.5e-6, 0u},                 // both off: output 2's rising dead time (falling: 1.5 us)
+    {t0 + fall + 0.1e-6, 2u},          // output 2 on
+    {t0 + 300 * tc + 0.1e-6, 0u},      // reference rose: output 2 off at once
+    {t0 + 300 * tc + rise - 0.01e-6, 0u},
+    {t0 + 300 * tc + rise + 0.01e-6, 1u},  // output 1 on after the rising dead time
+    {t0 + 700 * tc + 0.01e-6, 0u},     // reference fell: output 1 off at once
+    {t0 + 700 * tc + fall - 0.01e-6, 0u},
+    {t0 + 700 * tc + fall + 0.01e-6, 2u},
+  };
+  for (const auto &e : expect) EXPECT_EQ(hrtim_levels(b, e.t) & 3u, e.lv) << "at " << (e.t - t0) * 1e6 << " us";
+  EXPECT_DOUBLE_EQ(hrtim_next_edge(b, t0 + 300 * tc + 0.1e-6), t0 + 300 * tc + rise);
+  // ODISR: both outputs to their idle (inactive) level at once
+  hrtim_write(b, COMMON + 0x18, 3u);
+  EXPECT_EQ(hrtim_levels(b, t0 + 300 * tc + rise + 0.01e-6) & 3u, 0u);
+}
+
+TEST_F(Board, PulseShorterThanTheDeadTimeDisappears) {
+  timers(1000);
+  hrtim_write(b, TIM(0) + 0x1C, 300);
+  hrtim_write(b, TIM(0) + 0x24, 310);                 // 10 counts = 625 ns < 1 us
+  hrtim_write(b, TIM(0) + 0x3C, 1u << 3);
+  hrtim_write(b, TIM(0) + 0x40, 1u << 4);
+  hrtim_write(b, TIM(0) + 0x38, 16u | (3u << 10) | (16u << 16));
+  hrtim_write(b, TIM(0) + 0x64, 1u << 8);
+  hrtim_write(b, COMMON + 0x14, 3u);
+  const double t0 = board_now(b), tc = 1.0 / rcc_hclk_hz(b);
+  hrtim_write(b, 0x00, 5u | 8u | (0x7Fu << 16));
+  for (double t = 300 * tc; t < 320 * tc + 1e-6; t += 50e-9) EXPECT_EQ(hrtim_levels(b, t0 + t) & 1u, 0u);
+}
+
+TEST_F(Board, LockedDeadTimeIsRefused) {
+  hrtim_write(b, TIM(1) + 0x38, 16u | (3u << 10) | (1u << 15) | (16u << 16));  // DTRLK
+  ASSERT_FALSE(faulted()) << msg();
+  hrtim_write(b, TIM(1) + 0x38, 20u | (3u << 10) | (1u << 15) | (16u << 16));
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("HRTIM_DTBR written while locked"), std::string::npos) << msg();
+}
+
+TEST_F(Board, DeadTimeFinerThanTHrtimNeedsTheDll) {
+  hrtim_write(b, TIM(2) + 0x38, 16u | (2u << 10) | (16u << 16));
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("DTPRSC 2"), std::string::npos) << msg();
+}
+
+TEST_F(Board, LockedFaultConfigurationIsRefused) {
+  hrtim_write(b, TIM(3) + 0x68, (1u << 2) | (1u << 31));
+  ASSERT_FALSE(faulted()) << msg();
+  hrtim_write(b, TIM(3) + 0x68, 0u);
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("FLTLCK"), std::string::npos) << msg();
+}
+
+TEST_F(Board, FaultPolarityChangeWhileEnabledIsRefused) {
+  hrtim_write(b, COMMON + 0x50, 1u << 16);                 // FLT3E
+  ASSERT_FALSE(faulted()) << msg();
+  hrtim_write(b, COMMON + 0x50, (1u << 16) | (1u << 17));  // FLT3P with FLT3E = 1
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("while FLT3E = 1"), std::string::npos) << msg();
+}
+
+TEST_F(Board, OutputConfigurationWithOutputsEnabledIsRefused) {
+  hrtim_write(b, COMMON + 0x14, 1u);
+  hrtim_write(b, TIM(0) + 0x64, 1u << 8);
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("HRTIM_OUTAR written while"), std::string::npos) << msg();
+}
+
+TEST_F(Board, AdcCalibrationBeforeTheRegulatorSettledIsRefused) {
+  adc_write(b, 0x08, 0u);          // DEEPPWD = 0
+  adc_write(b, 0x08, 1u << 28);    // ADVREGEN
+  adc_write(b, 0x08, (1u << 28) | (1u << 31));  // ADCAL at once: < tADCVREG_STUP
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("tADCVREG_STUP"), std::string::npos) << msg();
+}
+
+TEST_F(Board, AdcRegularConversionsAndDualModesNotModelledAreRefused) {
+  adc_write(b, 0x308, (3u << 16) | 6u);  // DUAL = 6 (regular simultaneous)
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("DUAL 6"), std::string::npos) << msg();
+}
+
+// The logic analyser must see what the port's planner never does: a direct P<->N step (both pairs
+// of leg a commutating at once) and a pair overlap (leg b, timer C without dead time).
+TEST_F(Board, LogicAnalyserCountsPnStepsAndOverlaps) {
+  plant_config pc;
+  plant_default_config(&pc);
+  ASSERT_EQ(board_attach_plant(b, &pc), 0);
+  timers(1000);
+  const uint32_t dt = 16u | (3u << 10) | (16u << 16);
+  for (int t = 0; t < 2; t++) {  // leg a: S1 (A out 1) and S2 (B out 1) set together at CMP1
+    hrtim_write(b, TIM(t) + 0x1C, 300);
+    hrtim_write(b, TIM(t) + 0x24, 700);
+    hrtim_write(b, TIM(t) + 0x3C, 1u << 3);
+    hrtim_write(b, TIM(t) + 0x40, 1u << 4);
+    hrtim_write(b, TIM(t) + 0x38, dt);
+    hrtim_write(b, TIM(t) + 0x64, 1u << 8);
+  }
+  // leg b: timer C without dead time, outputs 1 and 2 both set at CMP1 = S1 and S3 together
+  hrtim_write(b, TIM(2) + 0x1C, 300);
+  hrtim_write(b, TIM(2) + 0x24, 700);
+  hrtim_write(b, TIM(2) + 0x3C, 1u << 3);
+  hrtim_write(b, TIM(2) + 0x40, 1u << 4);
+  hrtim_write(b, TIM(2) + 0x44, 1u << 3);
+  hrtim_write(b, TIM(2) + 0x48, 1u << 4);
+  hrtim_write(b, COMMON + 0x14, 0x3Fu);  // A, B, C outputs
+  const double t0 = board_now(b), tc = 1.0 / rcc_hclk_hz(b);
+  hrtim_write(b, 0x00, 5u | 8u | (0x7Fu << 16));
+  ASSERT_FALSE(faulted()) << msg();
+  twin_sync(b, t0 + 900 * tc);
+  board_la_stats la;
+  board_la_get(b, &la);
+  EXPECT_EQ(la.pn_steps, 2u);  // N -> P at CMP1, P -> N at CMP2
+  EXPECT_GE(la.overlaps, 1u);
+  EXPECT_NEAR(la.min_dead_time_s, 1e-6, 1e-12);  // leg a's pairs still have their dead time
+}
+
+// ADC1 + ADC2 in dual injected mode converting the plant's sensors at standstill: currents at
+// mid-scale (1.65 V), capacitors at vdc/2 = 155.5 V through 151.5 V/V, against the closed form.
+TEST_F(Board, DualInjectedConversionOfThePlantSensors) {
+  plant_config pc;
+  plant_default_config(&pc);
+  ASSERT_EQ(board_attach_plant(b, &pc), 0);
+  auto advance = [&](double s) {
+    b->cycles += (uint64_t)std::ceil(s * board_core_hz(b));
+    adc_event(b);
+  };
+  adc_write(b, 0x308, (3u << 16) | 5u);  // CKMODE HCLK/4, DUAL injected simultaneous
+  for (uint32_t base : {0x000u, 0x100u}) {
+    adc_write(b, base + 0x08, 0u);
+    adc_write(b, base + 0x08, 1u << 28);
+  }
+  advance(25e-6);
+  for (uint32_t base : {0x000u, 0x100u}) adc_write(b, base + 0x08, (1u << 28) | (1u << 31));
+  advance(40e-6);
+  for (uint32_t base : {0x000u, 0x100u}) {
+    EXPECT_EQ(adc_read(b, base + 0x08) & (1u << 31), 0u) << "calibration done";
+    adc_write(b, base + 0x08, (1u << 28) | 1u);
+  }
+  advance(2e-6);
+  adc_write(b, 0x000 + 0x4C, 2u | (19u << 2) | (1u << 7) | (1u << 9) | (12u << 15) | (6u << 21));
+  adc_write(b, 0x100 + 0x4C, 2u | (2u << 9) | (7u << 15) | (7u << 21));
+  adc_write(b, 0x000 + 0x04, 1u << 6);                       // JEOSIE
+  adc_write(b, 0x000 + 0x08, (1u << 28) | 1u | (1u << 3));  // JADSTART on the master
+  ASSERT_FALSE(faulted()) << msg();
+  adc_hrtim_trigger(b, 2, board_now(b));
+  advance(10e-6);
+  EXPECT_EQ(adc_read(b, 0x000) & (1u << 6), 0u) << "JEOS only after three ranks";
+  advance(30e-6);
+  ASSERT_FALSE(faulted()) << msg();
+  EXPECT_NE(adc_read(b, 0x000) & (1u << 6), 0u);
+  EXPECT_TRUE(b->scs.pending[16 + 18]) << "ADC1_2 interrupt pending";
+  // the plant's sensor model quantises first (its 12-bit, 0..500 V), the pin then carries v x 3.3 / 500
+  const double v_plant = (double)std::lround(155.5 / 500.0 * 4095.0) * 500.0 / 4095.0;
+  const uint32_t v_code = (uint32_t)std::floor(v_plant * 3.3 / 500.0 / 3.3 * 4096.0);
+  EXPECT_EQ(adc_read(b, 0x080), 2048u);    // ADC1 JDR1 ia
+  EXPECT_EQ(adc_read(b, 0x084), 2048u);    // ADC1 JDR2 ic
+  EXPECT_EQ(adc_read(b, 0x088), v_code);   // ADC1 JDR3 vc1
+  EXPECT_EQ(adc_read(b, 0x180), 2048u);    // ADC2 JDR1 ib
+  EXPECT_EQ(adc_read(b, 0x184), v_code);   // ADC2 JDR2 vc2
+}
+
+TEST_F(Board, AdcChannelNotWiredIsRefused) {
+  adc_write(b, 0x308, 3u << 16);
+  adc_write(b, 0x08, 0u);
+  adc_write(b, 0x08, 1u << 28);
+  b->cycles += (uint64_t)(25e-6 * board_core_hz(b));
+  adc_write(b, 0x08, (1u << 28) | (1u << 31));
+  b->cycles += (uint64_t)(40e-6 * board_core_hz(b));
+  adc_event(b);
+  adc_write(b, 0x08, (1u << 28) | 1u);
+  b->cycles += (uint64_t)(2e-6 * board_core_hz(b));
+  adc_event(b);
+  adc_write(b, 0x4C, (3u << 9));  // software trigger, channel 3: not wired on this board
+  adc_write(b, 0x08, (1u << 28) | 1u | (1u << 3));
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("channel 3 is not wired"), std::string::npos) << msg();
+}
+
+}  // namespace
