@@ -74,6 +74,9 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->guard.flux_err_frac = R(0.15);
     cfg->guard.time_s = R(0.01);
     cfg->guard.rs_tol_frac = R(0.3);       /* a winding 30 % warmer than modelled */
+    cfg->bringup_level = BRINGUP_SPEED;
+    cfg->bringup_hz = R(5.0);
+    cfg->bringup_te_Nm = R(0.0);
     cfg->v_drop_V = R(1.0);                /* on-state drop per device, board-dependent (0: none) */
     cfg->guard.v_tol_V = R(6.0);           /* two device drops of ~1 V (2.7 V as a vector) plus dead time, x2 margin */
 
@@ -129,7 +132,9 @@ int ctl_cfg_check(const ctl_cfg *cfg)
     if (!(cfg->i_trip_A > R(0.0) && cfg->vdc_max_V > R(0.0) && cfg->vdc_min_V >= R(0.0) &&
           cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0) &&
           cfg->guard.wc_rad_s > R(0.0) && cfg->guard.flux_err_frac >= R(0.0) && cfg->guard.time_s >= R(0.0) &&
-          cfg->guard.rs_tol_frac >= R(0.0) && cfg->guard.v_tol_V >= R(0.0) && cfg->v_drop_V >= R(0.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
+          cfg->guard.rs_tol_frac >= R(0.0) && cfg->guard.v_tol_V >= R(0.0) && cfg->v_drop_V >= R(0.0) &&
+          cfg->bringup_level >= BRINGUP_GATE_TEST && cfg->bringup_level <= BRINGUP_SPEED &&
+          num_abs(cfg->bringup_hz) <= R(100.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
           cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0) && cfg->fsw_max_hz >= R(0.0) &&
           cfg->band_scale_max >= R(1.0)))
         return CTL_CFG_E_PROTECTION;
@@ -193,7 +198,8 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
     real_t vdc = x->vc1_V + x->vc2_V;
     if (vdc > cfg->vdc_max_V)
         f |= CTL_FAULT_DC_OVERVOLT;
-    if (active && vdc < cfg->vdc_min_V)
+    /* bring-up levels 1 and 2 need no DC link */
+    if (active && cfg->bringup_level > BRINGUP_ADC && vdc < cfg->vdc_min_V)
         f |= CTL_FAULT_DC_UNDERVOLT;
     if (num_abs(x->vc1_V - x->vc2_V) > cfg->np_trip_V)
         f |= CTL_FAULT_NP_IMBALANCE;
@@ -214,6 +220,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     speed_ctl_reset(&s->speed, R(0.0));
     s->run_state = CTL_MAGNETISING;
     s->t_magnetise_s = R(0.0);
+    s->bringup_theta_rad = R(0.0);
     s->psi_ref_ramped_Wb = R(0.0);
     s->speed_ref_ramped_rad_s = R(0.0);
     s->te_ref_Nm = R(0.0);
@@ -441,6 +448,52 @@ static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_ou
     out->gate_enable = true;
 }
 
+/*
+ * Bring-up levels 1-4 (dtc/bringup.h): no magnetising, no speed or torque
+ * control, no loss-of-control monitor; the actuation is a gate-test pattern,
+ * nothing (level 2: gates off), or open-loop V/f with the observer running.
+ */
+static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
+{
+    uint32_t level = cfg->bringup_level;
+    s->run_state = CTL_RUNNING;
+    s->t_magnetise_s += cfg->period_s; /* time since the start */
+    s->te_ref_Nm = R(0.0);
+    if (level == BRINGUP_ADC) {
+        output_off(s, out);
+        s->run_state = CTL_RUNNING;
+        return;
+    }
+    hal_actuation act;
+    if (level == BRINGUP_GATE_TEST) {
+        act.vector[0] = act.vector[1] = bringup_gate_pattern(s->t_magnetise_s);
+        act.duty0 = R(1.0);
+    } else {
+        real_t v_V[2], is_A[2];
+        observe(s, cfg, &in->sample, v_V, is_A);
+        real_t w_e = num_mul(R(2.0) * NUM_PI, cfg->bringup_hz);
+        s->bringup_theta_rad += num_mul(w_e, cfg->period_s);
+        if (s->bringup_theta_rad > NUM_PI)
+            s->bringup_theta_rad -= R(2.0) * NUM_PI;
+        else if (s->bringup_theta_rad < -NUM_PI)
+            s->bringup_theta_rad += R(2.0) * NUM_PI;
+        /* V/f: the back-emf of the rated flux at this frequency, plus Rs x 5 A against the drop */
+        real_t v_mag = num_mul(num_abs(w_e), cfg->dtc.psi_ref_Wb) + num_mul(cfg->motor.Rs_ohm, R(5.0));
+        act = bringup_vf(s->bringup_theta_rad, v_mag, in->sample.vc1_V, in->sample.vc2_V);
+    }
+    uint8_t prev = dtc3l_state_of(&s->last_act.vector[1]);
+    uint8_t a0 = dtc3l_pn_safe(prev, dtc3l_state_of(&act.vector[0]));
+    uint8_t a1 = dtc3l_pn_safe(a0, dtc3l_state_of(&act.vector[1]));
+    dtc3l_legs(a0, &act.vector[0]);
+    dtc3l_legs(a1, &act.vector[1]);
+    s->prev_act = s->last_act;
+    s->last_act = act;
+    s->last_vector = act.vector[1];
+    out->act = act;
+    out->gate_enable = true;
+    fill_telemetry(s, NULL, out);
+}
+
 void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
 {
     if (protect(s, cfg, in)) {
@@ -454,6 +507,10 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     }
     if (s->run_state == CTL_STOPPED)
         start(s, cfg);
+    if (cfg->bringup_level < BRINGUP_TORQUE) {
+        bringup_step(s, cfg, in, out);
+        return;
+    }
 
     real_t v_V[2], is_A[2];
     observe(s, cfg, &in->sample, v_V, is_A);
@@ -466,7 +523,9 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
     memset(&so, 0, sizeof so);
     if (s->run_state == CTL_MAGNETISING)
         magnetise(s, cfg);
-    if (s->run_state == CTL_RUNNING)
+    if (s->run_state == CTL_RUNNING && cfg->bringup_level == BRINGUP_TORQUE)
+        s->te_ref_Nm = num_limit(cfg->bringup_te_Nm, cfg->speed.te_max_Nm); /* level 5: no speed loop */
+    else if (s->run_state == CTL_RUNNING)
         control_speed(s, cfg, in, &so);
 
     uint8_t prev_state = control_torque_flux(s, cfg, &in->sample, np_dev_pred_V);

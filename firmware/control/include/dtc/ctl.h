@@ -15,6 +15,7 @@
 
 #include "dtc/num.h"
 #include "dtc/observer.h"
+#include "dtc/bringup.h"
 #include "dtc/plausibility.h"
 #include "dtc/speed_ctl.h"
 #include "dtc/dtc3l.h"
@@ -85,6 +86,10 @@ typedef struct {
     real_t te_pullout_frac;   /**< torque limit <= this x the pull-out torque at the flux reference, 0..1 */
     /* switching-frequency regulation (docs/envelope.md section 4) */
     real_t fsw_max_hz;        /**< device switching frequency above which the torque bands widen, Hz (0 = off) */
+    uint32_t bringup_level;   /**< 1 gate test, 2 ADC readout, 3 V/f, 4 V/f + observer, 5 torque control,
+                                   6 speed control (the drive); dtc/bringup.h, docs/bringup.md */
+    real_t bringup_hz;        /**< V/f electrical frequency at levels 3 and 4, Hz (sign: direction) */
+    real_t bringup_te_Nm;     /**< torque command at level 5, N m (limited to the torque limit) */
     real_t v_drop_V;          /**< on-state drop of one device, V: subtracted from the applied voltage the
                                    observer and the loss-of-control monitor use (0 = none) */
     real_t band_scale_max;    /**< largest widening of the torque bands, x (>= 1) */
@@ -153,6 +158,7 @@ typedef enum {
 typedef struct {
     observer obs;
     plaus_state plaus;        /**< sensor plausibility history */
+    real_t bringup_theta_rad; /**< V/f angle at bring-up levels 3 and 4, rad */
     speed_ctl speed;
     dtc3l dtc;
     ctl_run_state run_state;
