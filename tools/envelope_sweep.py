@@ -21,7 +21,7 @@ window's mean speed is within the tolerance of the reference.
 
 Usage: envelope_sweep.py [--out DIR] [--jobs N] [--inverter real|ideal|both]
                          [--speeds LIST] [--fractions LIST] [--extra RPM:NM ...]
-                         [--docs-png PATH]
+                         [--tol-rpm RPM] [--docs-png PATH] [--strict]
 """
 import argparse
 import csv
@@ -111,8 +111,9 @@ def make_points(speeds, fractions, extras):
         for frac in fractions:
             modes = ["noload"] if frac == 0 else ["motoring", "generating"]
             for mode in modes:
+                # rounded down to 0.01 N m: a point at 1 x never lies beyond the limit
                 pts.append({"rpm": float(rpm), "frac": frac, "mode": mode,
-                            "load_nm_abs": round(frac * rated_torque(rpm), 2)})
+                            "load_nm_abs": math.floor(frac * rated_torque(rpm) * 100 + 1e-6) / 100})
     for rpm, nm in extras:
         pts.append({"rpm": float(rpm), "frac": round(nm / rated_torque(rpm), 3),
                     "mode": "motoring" if nm >= 0 else "generating", "load_nm_abs": abs(nm)})
@@ -334,6 +335,8 @@ def main(argv):
                     metavar="RPM:NM", help="an extra point, e.g. 870:100 (a motoring load of 100 N m)")
     ap.add_argument("--tol-rpm", type=float, default=TOL_RPM)
     ap.add_argument("--docs-png", default="", help="also copy the map here")
+    ap.add_argument("--strict", action="store_true",
+                    help="exit status 1 when a point inside the rated envelope does not hold")
     a = ap.parse_args(argv)
 
     t_start = time.monotonic()
@@ -343,7 +346,7 @@ def main(argv):
         return 2
     inverters = ["real", "ideal"] if a.inverter == "both" else [a.inverter]
     os.makedirs(a.out, exist_ok=True)
-    jobs, sets = [], []
+    jobs, sets, n_inside_fail = [], [], 0
     for inv in inverters:
         pdir = os.path.join(a.out, inv, "points")
         if os.path.isdir(pdir):
@@ -370,6 +373,7 @@ def main(argv):
         inside = [p for p in fails if p["load_nm_abs"] <= rated_torque(p["rpm"]) + 1e-9]
         print(f"{inv}: {n_hold} of {len(pts)} points hold, {len(fails)} fail "
               f"({len(inside)} of them inside the rated envelope)")
+        n_inside_fail += len(inside)
         for p in fails:
             print(f"  fails: {p['rpm']:+.0f} rpm {p['mode']} {p['load_nm']:+.2f} N m: {p['cause']}")
         write_results(pts, os.path.join(a.out, inv))
@@ -383,7 +387,7 @@ def main(argv):
     print(f"results: " + ", ".join(os.path.join(a.out, inv, "results.csv") for inv in inverters))
     print(f"wall time: {wall:.1f} s for {len(done)} runs on {a.jobs} workers "
           f"({cpu:.1f} s of run time summed over the runs)")
-    return 0
+    return 1 if a.strict and n_inside_fail else 0
 
 
 if __name__ == "__main__":
