@@ -8,13 +8,15 @@ cd "$repo"
 
 tools/install-deps.sh
 
-echo "== host build"
-cmake --preset host >/dev/null
-cmake --build --preset host
-
+# The target first: the emulated board's tests link test images against the target build's
+# firmware libraries, which the host configure looks for.
 echo "== Cortex-M4F firmware build"
 cmake --preset stm32g4 >/dev/null
 cmake --build --preset stm32g4
+
+echo "== host build"
+cmake --preset host >/dev/null
+cmake --build --preset host
 
 echo "== tests"
 ctest --preset host
