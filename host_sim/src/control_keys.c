@@ -72,6 +72,7 @@ static const sim_control_key keys[] = {
     REAL("guard_v_tol_V", guard.v_tol_V, 0.0, 100.0, "V"),
     REAL("v_drop_V", v_drop_V, 0.0, 20.0, "V"),
     U32("bringup_level", bringup_level, 1.0, 6.0, "1"),
+    REAL("stall_time_s", stall_time_s, 0.0, 60.0, "s"),
     REAL("bringup_hz", bringup_hz, -100.0, 100.0, "Hz"),
     REAL("bringup_te_Nm", bringup_te_Nm, -200.0, 200.0, "N m"),
 };

@@ -6,6 +6,9 @@
 
 #include <cmath>
 
+extern "C" {
+#include "dtc/ctl.h"
+}
 #include "sim_test_util.hpp"
 
 TEST(Duty, PumpDutyRunsWithoutFaultOrRunaway)
@@ -38,15 +41,25 @@ TEST(Duty, PumpDutyRunsWithoutFaultOrRunaway)
 // the firmware reports no fault: the metrics must say so.
 TEST(Duty, OverhaulingLoadIsFlaggedAsRunaway)
 {
+    // With the stall trip off, the drive reports no fault while the load runs the motor away:
+    // what makes the flag necessary.
     auto l = simtest::parse_text("[sim]\nduration_s = 2\n[reference]\nramp = 0.2 0.4 300\n"
-                                 "[load]\nstep = 0.5 -30\n[control]\nte_max_Nm = 20\n");
+                                 "[load]\nstep = 0.5 -30\n[control]\nte_max_Nm = 20\nstall_time_s = 0\n");
     ASSERT_EQ(l.rc, 0) << l.error;
     sim_result res;
     ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;
     EXPECT_NEAR(res.metrics.runaway_limit_rpm, 750.0, 1e-9);
     EXPECT_TRUE(res.metrics.runaway);
     EXPECT_GT(res.metrics.speed_true_end_rpm, 750.0);
-    EXPECT_EQ(res.metrics.faults, 0u); // what makes the flag necessary
+    EXPECT_EQ(res.metrics.faults, 0u);
+
+    // With the default stall trip the drive reacts: the torque command pinned at the limit
+    // for 1 s trips STALL (gates off; the active load still turns the unbraked motor).
+    auto st = simtest::parse_text("[sim]\nduration_s = 2\n[reference]\nramp = 0.2 0.4 300\n"
+                                  "[load]\nstep = 0.5 -30\n[control]\nte_max_Nm = 20\n");
+    ASSERT_EQ(st.rc, 0) << st.error;
+    ASSERT_EQ(sim_run(st.sc.get(), nullptr, &res), SIM_OK) << res.error;
+    EXPECT_EQ(res.metrics.faults, uint32_t(CTL_FAULT_STALL));
 
     auto ok = simtest::parse_text("[sim]\nduration_s = 2\n[reference]\nramp = 0.2 0.4 300\n"
                                   "[load]\nstep = 0.5 -10\n[control]\nte_max_Nm = 20\n");
@@ -54,4 +67,18 @@ TEST(Duty, OverhaulingLoadIsFlaggedAsRunaway)
     ASSERT_EQ(sim_run(ok.sc.get(), nullptr, &res), SIM_OK) << res.error;
     EXPECT_FALSE(res.metrics.runaway); // held within the torque limit
     EXPECT_NEAR(res.metrics.speed_true_end_rpm, 300.0, 15.0);
+}
+
+// The capability sweep's silent runaway (tools/run-envelope.sh, real inverter): 30 rpm with a
+// 20.5 N m driving load. The sensorless estimate stays near 125 rpm while the shaft runs away,
+// so neither the overspeed trip (on the estimate) nor the loss-of-control monitor (not judged at
+// low stator frequency) sees it; the stall trip does, from the torque command pinned at the limit.
+TEST(Duty, SilentLowSpeedGeneratingRunawayTripsStall)
+{
+    auto l = simtest::parse_text("[sim]\nduration_s = 3.7\n[controller]\nname = rbfn\n"
+                                 "[reference]\nramp = 0.3 0.5 30\n[load]\nstep = 1.2 -20.5\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    sim_result res;
+    ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;
+    EXPECT_EQ(res.metrics.faults, uint32_t(CTL_FAULT_STALL));
 }

@@ -338,6 +338,8 @@ TEST(SimEngine, EveryCatalogueFaultCanBeInjectedFromAScenario)
         { "[faults]\noffset = 0.6 a 10\n", CTL_FAULT_CURRENT_SENSOR },
         { "[faults]\nopen_phase = 0.6 a\n", CTL_FAULT_PHASE_LOSS },
         { "[faults]\ngain = 0 vc1 1.1\n", CTL_FAULT_DC_DIVIDER },
+        // a load beyond the torque limit: the command pinned at the limit for stall_time_s
+        { "[control]\nte_max_Nm = 3\nstall_time_s = 0.1\n[load]\nstep = 0.45 5\n", CTL_FAULT_STALL },
     };
     for (const Case &c : cases) {
         auto l = simtest::parse_text(base + c.extra);

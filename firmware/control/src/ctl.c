@@ -76,6 +76,7 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->guard.rs_tol_frac = R(0.3);       /* a winding 30 % warmer than modelled */
     cfg->bringup_level = BRINGUP_SPEED;
     cfg->bringup_hz = R(5.0);
+    cfg->stall_time_s = R(1.0);           /* longer than a full-power load recovery in field weakening */
     cfg->bringup_te_Nm = R(0.0);
     cfg->v_drop_V = R(1.0);                /* on-state drop per device, board-dependent (0: none) */
     cfg->guard.v_tol_V = R(6.0);           /* two device drops of ~1 V (2.7 V as a vector) plus dead time, x2 margin */
@@ -134,7 +135,7 @@ int ctl_cfg_check(const ctl_cfg *cfg)
           cfg->guard.wc_rad_s > R(0.0) && cfg->guard.flux_err_frac >= R(0.0) && cfg->guard.time_s >= R(0.0) &&
           cfg->guard.rs_tol_frac >= R(0.0) && cfg->guard.v_tol_V >= R(0.0) && cfg->v_drop_V >= R(0.0) &&
           cfg->bringup_level >= BRINGUP_GATE_TEST && cfg->bringup_level <= BRINGUP_SPEED &&
-          num_abs(cfg->bringup_hz) <= R(100.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
+          num_abs(cfg->bringup_hz) <= R(100.0) && cfg->stall_time_s >= R(0.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
           cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0) && cfg->fsw_max_hz >= R(0.0) &&
           cfg->band_scale_max >= R(1.0)))
         return CTL_CFG_E_PROTECTION;
@@ -208,6 +209,8 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
         f |= CTL_FAULT_OVERSPEED;
     if (active && s->guard_trip)
         f |= CTL_FAULT_LOSS_OF_CONTROL;
+    if (active && cfg->stall_time_s > R(0.0) && s->t_at_limit_s >= cfg->stall_time_s)
+        f |= CTL_FAULT_STALL;
     real_t omega_e = num_mul(cfg->motor.pole_pairs, s->obs.omega_m_filt_rad_s);
     f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s);
     return f;
@@ -221,6 +224,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->run_state = CTL_MAGNETISING;
     s->t_magnetise_s = R(0.0);
     s->bringup_theta_rad = R(0.0);
+    s->t_at_limit_s = R(0.0);
     s->psi_ref_ramped_Wb = R(0.0);
     s->speed_ref_ramped_rad_s = R(0.0);
     s->te_ref_Nm = R(0.0);
@@ -361,6 +365,9 @@ static void magnetise(ctl_state *s, const ctl_cfg *cfg)
 }
 
 /* Speed control: ramp the reference, torque command from the speed controller. */
+/* Speed error beyond which a torque command at the limit counts towards a stall: 3 rad/s = 29 rpm. */
+#define STALL_SPEED_ERR_RAD_S R(3.0)
+
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
     real_t T = cfg->period_s;
@@ -375,6 +382,12 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
     si.te_limit_Nm = s->te_limit_Nm;
     speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
     s->te_ref_Nm = so->te_ref_Nm;
+    /* A command pinned at the limit while the speed stays away from its reference means the
+     * loop cannot hold the speed it is asked for (overload, pull-out, or an estimate that no
+     * longer moves with the shaft). At the limit but on speed is full power, not a stall. */
+    bool at_limit = num_abs(s->te_ref_Nm) >= num_mul(R(0.98), s->te_limit_Nm) &&
+                    num_abs(si.omega_ref_rad_s - si.omega_est_rad_s) > STALL_SPEED_ERR_RAD_S;
+    s->t_at_limit_s = at_limit ? s->t_at_limit_s + T : R(0.0);
 }
 
 /* Torque and flux control on the state predicted for t_{k+1}; returns the

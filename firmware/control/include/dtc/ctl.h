@@ -41,6 +41,7 @@ enum ctl_fault {
     CTL_FAULT_CURRENT_SENSOR = 1u << 10, /**< current sum of the three sensors implausible, or a reading stuck */
     CTL_FAULT_PHASE_LOSS = 1u << 11,     /**< one motor phase carries no current while the others do */
     CTL_FAULT_DC_DIVIDER = 1u << 12,     /**< capacitor voltages unequal while stopped: divider or sensor error */
+    CTL_FAULT_STALL = 1u << 13,          /**< the speed loop's torque command held at the torque limit for stall_time_s */
 };
 
 /** Fault bits that ctl_step latches (OVERRUN from ctl_in.overrun). */
@@ -48,7 +49,7 @@ enum ctl_fault {
     (CTL_FAULT_OVERCURRENT | CTL_FAULT_DC_OVERVOLT | CTL_FAULT_DC_UNDERVOLT |               \
      CTL_FAULT_NP_IMBALANCE | CTL_FAULT_OVERSPEED | CTL_FAULT_STALE_SAMPLE | CTL_FAULT_HW | \
      CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID | CTL_FAULT_LOSS_OF_CONTROL | CTL_FAULT_CURRENT_SENSOR | \
-     CTL_FAULT_PHASE_LOSS | CTL_FAULT_DC_DIVIDER)
+     CTL_FAULT_PHASE_LOSS | CTL_FAULT_DC_DIVIDER | CTL_FAULT_STALL)
 
 /** Error codes of ctl_cfg_check() (negative, first violated rule). */
 enum ctl_cfg_error {
@@ -89,6 +90,7 @@ typedef struct {
     uint32_t bringup_level;   /**< 1 gate test, 2 ADC readout, 3 V/f, 4 V/f + observer, 5 torque control,
                                    6 speed control (the drive); dtc/bringup.h, docs/bringup.md */
     real_t bringup_hz;        /**< V/f electrical frequency at levels 3 and 4, Hz (sign: direction) */
+    real_t stall_time_s;      /**< the speed loop's torque command at the limit this long trips STALL, s (0: off) */
     real_t bringup_te_Nm;     /**< torque command at level 5, N m (limited to the torque limit) */
     real_t v_drop_V;          /**< on-state drop of one device, V: subtracted from the applied voltage the
                                    observer and the loss-of-control monitor use (0 = none) */
@@ -180,6 +182,7 @@ typedef struct {
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
     ctl_guard guard;          /**< loss-of-control monitor */
     bool guard_trip;          /**< the monitor's verdict of the last step */
+    real_t t_at_limit_s;      /**< time the speed loop's torque command has been at the torque limit, s */
 } ctl_state;
 
 /** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */
