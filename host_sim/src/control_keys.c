@@ -55,6 +55,8 @@ static const sim_control_key keys[] = {
     REAL("obs_ki_speed", obs.ki_speed, 0.0, 1e12, "1"),
     REAL("obs_ki_rs", obs.ki_rs, 0.0, 1e9, "1"),
     REAL("obs_speed_lpf_hz", obs.speed_lpf_hz, 0.0, 10000.0, "Hz"),
+    REAL("obs_regen_angle_rad", obs.regen_angle_rad, 0.0, 1.5, "rad"),
+    REAL("obs_regen_speed_rad_s", obs.regen_speed_rad_s, 1e-3, 2000.0, "rad/s"),
     /* protection */
     REAL("i_trip_A", i_trip_A, 0.0, 1000.0, "A"),
     REAL("vdc_max_V", vdc_max_V, 0.0, 2000.0, "V"),
@@ -71,6 +73,7 @@ static const sim_control_key keys[] = {
     REAL("guard_rs_tol_frac", guard.rs_tol_frac, 0.0, 10.0, "1"),
     REAL("guard_v_tol_V", guard.v_tol_V, 0.0, 100.0, "V"),
     REAL("v_drop_V", v_drop_V, 0.0, 20.0, "V"),
+    REAL("dead_time_comp_s", dead_time_comp_s, 0.0, 10e-6, "s"),
     U32("bringup_level", bringup_level, 1.0, 6.0, "1"),
     REAL("stall_time_s", stall_time_s, 0.0, 60.0, "s"),
     REAL("bringup_hz", bringup_hz, -100.0, 100.0, "Hz"),

@@ -104,6 +104,9 @@ static int configure_firmware(engine *e, const scenario *sc, int controller, sim
     cfg->motor.pole_pairs = (real_t)m->pole_pairs;
     cfg->motor.J_kgm2 = (real_t)m->J_kgm2;
     cfg->motor.B_Nms = (real_t)m->B_Nms;
+    /* The power stage's dead time is commissioning data like the motor's:
+     * the board port's default is its own HRTIM dead time (docs/board.md). */
+    cfg->dead_time_comp_s = (real_t)sc->plant.inverter.dead_time_s;
     cfg->period_s = (real_t)sc->period_s;
     cfg->vdc_nom_V = (real_t)sc->plant.dc.vdc_V;
     cfg->speed.mode = (speed_mode)controller;

@@ -162,12 +162,16 @@ TEST(LossOfControl, FrozenButRightEstimateDoesNotTrip)
     EXPECT_NEAR(r.m.speed_final_rpm, 500.0, 10.0);
 }
 
-// The issue's runaway (30 rpm, 40 N m, IP) now ends in a loss-of-control
-// trip instead of an unfaulted run to -24,000 rpm.
+// The issue's runaway (30 rpm, 40 N m, IP): with the observer's
+// regenerating-mode stabilisation switched off it still diverges (the dip
+// takes the speed through zero, where the load drives the motor), and that
+// natural divergence ends in a loss-of-control trip instead of an unfaulted
+// run to -24,000 rpm.
 TEST(LossOfControl, SensorlessRunawayTrips)
 {
     double t_trip = -1.0;
-    SimRun r = run_sim("runaway_trip.ini", SCENARIO_CTL_IP, {}, [&t_trip](double t, struct drive *d) {
+    SimRun r = run_sim("runaway_trip.ini", SCENARIO_CTL_IP, {"control.obs_regen_angle_rad=0"},
+                       [&t_trip](double t, struct drive *d) {
         if (t_trip < 0.0 && (d->ctl.faults & CTL_FAULT_LOSS_OF_CONTROL) != 0u)
             t_trip = t;
     });
@@ -176,6 +180,16 @@ TEST(LossOfControl, SensorlessRunawayTrips)
     EXPECT_NE(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
     EXPECT_GE(t_trip, 2.0);
     EXPECT_LE(t_trip, 2.5);
+}
+
+// With the defaults the same case is held: no trip, no runaway, on speed.
+TEST(LossOfControl, IssueRunawayCaseIsHeldWithTheDefaults)
+{
+    SimRun r = run_sim("runaway_trip.ini", SCENARIO_CTL_IP);
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_EQ(r.m.faults, 0u);
+    EXPECT_FALSE(r.m.runaway);
+    EXPECT_NEAR(r.m.speed_true_end_rpm, 30.0, 5.0);
 }
 
 // No false trip on healthy runs: rated load at 500 rpm (both controllers),
@@ -394,6 +408,7 @@ TEST(LowSpeed, HoldsRatedTorqueAtThirtyRpmAndTwentyNmAtTenRpm)
         double rpm;
     };
     for (const Case &c : {Case{"low_speed_30rpm.ini", SCENARIO_CTL_RBFN, 30.0},
+                          Case{"low_speed_30rpm.ini", SCENARIO_CTL_IP, 30.0},
                           Case{"low_speed_10rpm.ini", SCENARIO_CTL_RBFN, 10.0},
                           Case{"low_speed_10rpm.ini", SCENARIO_CTL_IP, 10.0}}) {
         SCOPED_TRACE(std::string(c.file) + " ctl " + std::to_string(c.controller));
@@ -416,6 +431,28 @@ TEST(LowSpeed, IpAtThirtyRpmWithRatedTorqueTripsInsteadOfRunningAway)
     } else {
         EXPECT_NE(r.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
     }
+}
+
+// A load driving the motor at low speed (regenerating): the rated 41 N m
+// pulling forward at 300 rpm on the default (real) inverter. Held by both
+// controllers with integral action; without the observer's regenerating-mode
+// stabilisation the speed estimate falls behind the shaft and the load pulls
+// the motor away until the loss-of-control monitor trips.
+TEST(Regenerating, RatedLoadDrivingTheMotorAt300RpmIsHeld)
+{
+    for (int c : {SCENARIO_CTL_RBFN, SCENARIO_CTL_IP}) {
+        SCOPED_TRACE(c);
+        SimRun r = run_sim("regen_300rpm.ini", c);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        std::printf("[envelope] regen_300rpm ctl %d: %.2f rpm, estimate error %.2f rpm, np %.2f V, faults 0x%x\n", c,
+                    window_speed(r.m, "loaded"), r.m.speed_est_error_rpm, r.m.np_dev_max_v, (unsigned)r.m.faults);
+        EXPECT_EQ(r.m.faults, 0u);
+        EXPECT_FALSE(r.m.runaway);
+        EXPECT_NEAR(window_speed(r.m, "loaded"), 300.0, 2.0);
+    }
+    SimRun off = run_sim("regen_300rpm.ini", SCENARIO_CTL_RBFN, {"control.obs_regen_angle_rad=0"});
+    ASSERT_EQ(off.status, SIM_OK) << off.error;
+    EXPECT_NE(off.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
 }
 
 // NOT with the defaults (the bullet asks for Rs adaptation on by default):

@@ -15,6 +15,7 @@
  * holds FAULTED until ctl_clear_faults() finds its cause gone.
  */
 #include "dtc/ctl.h"
+#include "dtc/dead_time.h"
 
 #include <string.h>
 
@@ -59,6 +60,8 @@ void ctl_cfg_default(ctl_cfg *cfg)
     o->kp_speed = R(50.0);
     o->ki_speed = R(2000.0);
     o->ki_rs = R(0.0);
+    o->regen_angle_rad = R(1.0);      /* regenerating-mode stabilisation (observer.h) */
+    o->regen_speed_rad_s = R(100.0);  /* 477 rpm: fades out below the paper's 500 rpm point */
     o->speed_lpf_hz = R(50.0);
 
     cfg->i_trip_A = R(100.0);
@@ -78,6 +81,7 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->bringup_hz = R(5.0);
     cfg->stall_time_s = R(1.0);           /* longer than a full-power load recovery in field weakening */
     cfg->bringup_te_Nm = R(0.0);
+    cfg->dead_time_comp_s = R(1.0e-6);     /* the board's HRTIM dead time (docs/board.md) */
     cfg->v_drop_V = R(1.0);                /* on-state drop per device, board-dependent (0: none) */
     cfg->guard.v_tol_V = R(6.0);           /* two device drops of ~1 V (2.7 V as a vector) plus dead time, x2 margin */
 
@@ -128,12 +132,14 @@ int ctl_cfg_check(const ctl_cfg *cfg)
         return CTL_CFG_E_DTC;
     const observer_cfg *o = &cfg->obs;
     if (!(o->k_gain >= R(1.0) && o->kp_speed >= R(0.0) && o->ki_speed >= R(0.0) && o->ki_rs >= R(0.0) &&
-          o->speed_lpf_hz >= R(0.0)))
+          o->speed_lpf_hz >= R(0.0) && o->regen_angle_rad >= R(0.0) && o->regen_angle_rad <= R(1.5) &&
+          o->regen_speed_rad_s > R(0.0)))
         return CTL_CFG_E_OBSERVER;
     if (!(cfg->i_trip_A > R(0.0) && cfg->vdc_max_V > R(0.0) && cfg->vdc_min_V >= R(0.0) &&
           cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0) &&
           cfg->guard.wc_rad_s > R(0.0) && cfg->guard.flux_err_frac >= R(0.0) && cfg->guard.time_s >= R(0.0) &&
           cfg->guard.rs_tol_frac >= R(0.0) && cfg->guard.v_tol_V >= R(0.0) && cfg->v_drop_V >= R(0.0) &&
+          cfg->dead_time_comp_s >= R(0.0) && cfg->dead_time_comp_s <= R(10e-6) &&
           cfg->bringup_level >= BRINGUP_GATE_TEST && cfg->bringup_level <= BRINGUP_SPEED &&
           num_abs(cfg->bringup_hz) <= R(100.0) && cfg->stall_time_s >= R(0.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
           cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0) && cfg->fsw_max_hz >= R(0.0) &&
@@ -284,7 +290,7 @@ static bool protect(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 /* The leg voltage is lower than the state says by the on-state drop of the two
  * conducting devices, against the phase current: v_drop_V per device, with a
  * sign softened over +-DROP_BAND_A so a current at zero does not toggle it. */
-#define DROP_BAND_A R(1.0)
+#define DROP_BAND_A R(0.5)
 static void subtract_device_drops(const ctl_cfg *cfg, const hal_sample *x, real_t v[2])
 {
     if (!(cfg->v_drop_V > R(0.0)))
@@ -295,6 +301,19 @@ static void subtract_device_drops(const ctl_cfg *cfg, const hal_sample *x, real_
         d[k] = num_mul(R(2.0) * cfg->v_drop_V, num_sat(i[k] / DROP_BAND_A, R(-1.0), R(1.0)));
     v[0] -= num_mul(R(0.333333333), R(2.0) * d[0] - d[1] - d[2]);
     v[1] -= num_mul(NUM_INV_SQRT3, d[1] - d[2]);
+}
+
+/* The dead time's volt-seconds (dead_time.h), with the device drops' band. */
+static void add_dead_time_error(const ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t v[2])
+{
+    if (!(cfg->dead_time_comp_s > R(0.0)))
+        return;
+    const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
+    real_t dv[3];
+    dead_time_leg_error(&s->prev_act, &s->last_act, i, x->vc1_V, x->vc2_V,
+                        num_mul(cfg->dead_time_comp_s, cfg->inv_period_per_s), DROP_BAND_A, dv);
+    v[0] += num_mul(R(0.333333333), R(2.0) * dv[0] - dv[1] - dv[2]);
+    v[1] += num_mul(NUM_INV_SQRT3, dv[1] - dv[2]);
 }
 
 static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t v[2], real_t is[2])
@@ -308,6 +327,7 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
     v[0] = num_mac(d0, v0[0] - v1[0], v1[0]);
     v[1] = num_mac(d0, v0[1] - v1[1], v1[1]);
     subtract_device_drops(cfg, x, v);
+    add_dead_time_error(s, cfg, x, v);
     is[0] = num_mul(R(0.333333333), R(2.0) * x->ia_A - x->ib_A - x->ic_A);
     is[1] = num_mul(NUM_INV_SQRT3, x->ib_A - x->ic_A);
     observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);

@@ -14,8 +14,20 @@
  * G puts the observer poles at k times the motor poles (Kubota 1993, exact
  * for this structure). Adaptation (e = is - is_hat):
  *
- *   omega_hat  = kp eps + ki integral(eps),  eps = e_alpha psi_r_beta_hat - e_beta psi_r_alpha_hat
+ *   omega_hat  = kp eps + ki integral(eps),  eps = Im(conj(e') psi_r_hat) (= e_alpha psi_r_beta_hat -
+ *                e_beta psi_r_alpha_hat for e' = e), e' = e exp(-j phi),
+ *                phi = sgn(omega_hat) regen_angle (1 - |omega_hat| / regen_speed) below regen_speed, else 0
  *   dRs_hat/dt = -ki_rs (e . is_hat)
+ *
+ * Why the error is rotated at low speed: with the plain law (phi = 0) the
+ * speed adaptation of this observer is unstable in the regenerating mode at
+ * low stator frequency (a load driving the motor at 300 rpm with rated torque
+ * ran away). Rotating the current error that feeds the speed law moves the
+ * unstable region away (the idea of Hinkkanen and Luomi, "Stabilization of
+ * regenerating-mode operation in sensorless induction motor drives by
+ * full-order flux observer design", IEEE TIE 2004; the angle and its fade
+ * here were chosen by the SIL capability sweep, docs/envelope.md section 6).
+ * Near zero stator frequency no law helps: the machine is not observable there.
  *
  * Discretisation: the 2x2 complex system is advanced over one period with the
  * matrix exponential of the zero-order-hold step expanded to fourth order
@@ -60,6 +72,7 @@ typedef struct {
     real_t period_s;      /**< step T, s */
     real_t lpf_alpha;     /**< speed low-pass: 1 - exp(-2 pi f T), 0..1 */
     real_t omega_max_rad_s; /**< clamp of the electrical speed estimate, rad/s */
+    real_t inv_regen_speed; /**< 1 / regen_speed_rad_s, s/rad */
 } observer_model;
 
 typedef struct {
@@ -67,6 +80,9 @@ typedef struct {
     real_t kp_speed;          /**< speed adaptation proportional gain, (rad/s) / (A Wb) (electrical) */
     real_t ki_speed;          /**< speed adaptation integral gain, (rad/s^2) / (A Wb) (electrical) */
     real_t ki_rs;             /**< stator-resistance adaptation gain, ohm/(s A^2) (0 = off) */
+    real_t regen_angle_rad;   /**< rotation of the current error in the speed law at zero speed, rad,
+                                   0..1.5 (0 = off); see observer_step */
+    real_t regen_speed_rad_s; /**< |omega_e| (electrical) where that rotation has faded to 0, rad/s, > 0 */
     real_t speed_lpf_hz;      /**< low-pass filter of the estimated speed for the speed loop, Hz (0 = none) */
     observer_model m;         /**< derived by observer_cfg_derive(); do not edit */
 } observer_cfg;
