@@ -7,11 +7,14 @@ point can be re-run by hand with `dtc-sim run FILE`), every point is run with
 table, written as results.csv / results.json and drawn as a datasheet-style
 capability map (OUT/capability.png).
 
-Grid (default): speeds +-{30, 300, 870, 1740, 2200, 2610} rpm x torque
+Grid (default): speeds 0 and +-{30, 300, 870, 1740, 2200, 2610} rpm x torque
 fractions {0, 0.25, 0.5, 0.75, 1} of the rated torque limit at that speed
 (41 N m up to base speed, 7457 W / omega above), each non-zero torque both
 motoring (the load opposes the rotation) and generating (an active load
-drives the rotation): 12 x (1 + 4 x 2) = 108 points.
+drives the rotation; at 0 rpm: the two directions of the load): 13 x (1 + 4 x 2)
+= 117 points. Each point's stator frequency (rotor plus slip, from the motor's
+parameters) is reported: within 1 Hz of zero a sensorless drive cannot hold a
+loaded point in steady state (not observable), and failures there say so.
 
 Each point: ramp 0 -> speed, load step once the speed has settled, mean
 speed over a late window, NP deviation and switching frequency from half a
@@ -53,7 +56,7 @@ VDC_V = 311.0
 POLE_PAIRS = 2
 NP_LIMIT_V = 0.02 * VDC_V  # 2 % of Vdc, the issue's neutral-point figure (not a trip)
 
-DEFAULT_SPEEDS = [30, 300, 870, 1740, 2200, 2610, -30, -300, -870, -1740, -2200, -2610]
+DEFAULT_SPEEDS = [0, 30, 300, 870, 1740, 2200, 2610, -30, -300, -870, -1740, -2200, -2610]
 DEFAULT_FRACTIONS = [0.0, 0.25, 0.5, 0.75, 1.0]
 # Speed tolerance of "holds": the issue's low-speed figure (30 rpm / 41 N m "within 5 rpm",
 # docs/envelope.md section 6), applied everywhere; 2 % of base speed (34.8 rpm) would pass
@@ -81,6 +84,29 @@ INVERTERS = {
     # The ideal inverter of the paper's case files.
     "ideal": "\n[inverter]\ndead_time_s = 0\nv_on_V = 0\n\n[control]\nv_drop_V = 0\n",
 }
+
+
+# Steady-state slip of the 10 hp motor (host_sim/plant/src/plant_config.c: Rr 0.158 ohm,
+# Lm 41.6 mH, Lr = Ls 43.02 mH): with the rotor flux psi_r, omega_slip = (2/3) Rr Te / (p psi_r^2)
+# (rotor-flux orientation), psi_r = psi_s Lm / Ls at the rated stator flux (or the
+# field-weakening flux above base speed).
+RR_OHM = 0.158
+LM_OVER_LS = 0.0416 / 0.04302
+# Within this stator frequency of zero an induction machine is not observable from its
+# terminals in steady state (the rotor's EMF vanishes from the stator equations): a
+# sensorless drive can pass through but not hold such a point. Points there are reported
+# as such; they still count as failures when they fail.
+ZERO_FS_HZ = 1.0
+
+
+def stator_frequency_hz(rpm, load_nm):
+    """Stator frequency of a point, Hz: rotor (electrical) plus slip. load_nm is the [load]
+    step (a torque opposing positive speed): the motor's torque is +load_nm in steady state."""
+    w_r = POLE_PAIRS * rpm * math.pi / 30.0
+    psi_s = PSI_RATED_WB if w_r == 0 else min(PSI_RATED_WB, FW_VOLTAGE_FRAC * VDC_V / math.sqrt(3) / abs(w_r))
+    psi_r = psi_s * LM_OVER_LS
+    w_slip = 2.0 / 3.0 * RR_OHM * load_nm / (POLE_PAIRS * psi_r * psi_r)
+    return (w_r + w_slip) / (2.0 * math.pi)
 
 
 def rated_torque(rpm):
@@ -182,6 +208,10 @@ def judge(p, tol):
                       % (m.get("speed_true_max_abs_rpm", float("nan")), m.get("speed_true_end_rpm", float("nan"))))
     if not causes and not abs(p["err_rpm"]) <= tol:  # NaN fails too
         causes.append("speed error %+.1f rpm" % p["err_rpm"])
+    p["fs_hz"] = stator_frequency_hz(p["rpm"], p["load_nm"])
+    p["zero_fs"] = abs(p["fs_hz"]) < ZERO_FS_HZ and p["load_nm"] != 0.0
+    if causes and p["zero_fs"]:
+        causes.append("at f_s %+.2f Hz (zero stator frequency)" % p["fs_hz"])
     p["holds"] = not causes
     p["cause"] = ", ".join(causes)
     return p
@@ -212,7 +242,7 @@ def print_table(pts, title):
 
 
 def write_results(pts, out):
-    cols = ["name", "rpm", "mode", "frac", "load_nm", "speed_rpm", "err_rpm", "steady_err_rpm",
+    cols = ["name", "rpm", "mode", "frac", "load_nm", "fs_hz", "speed_rpm", "err_rpm", "steady_err_rpm",
             "np_v", "fsw_hz", "is_rms_a", "te_nm", "faults", "runaway", "holds", "cause", "ini"]
     with open(os.path.join(out, "results.csv"), "w", newline="", encoding="utf-8") as f:
         w = csv.DictWriter(f, fieldnames=cols, extrasaction="ignore")
@@ -371,8 +401,10 @@ def main(argv):
                          f"holds = no fault, no runaway, |mean speed - reference| <= {a.tol_rpm:.1f} rpm over the last {WINDOW_S:.1f} s")
         fails = [p for p in pts if not p["holds"]]
         inside = [p for p in fails if p["load_nm_abs"] <= rated_torque(p["rpm"]) + 1e-9]
+        zero = [p for p in inside if p["zero_fs"]]
         print(f"{inv}: {n_hold} of {len(pts)} points hold, {len(fails)} fail "
-              f"({len(inside)} of them inside the rated envelope)")
+              f"({len(inside)} of them inside the rated envelope, {len(zero)} of those within "
+              f"{ZERO_FS_HZ:.0f} Hz of zero stator frequency)")
         n_inside_fail += len(inside)
         for p in fails:
             print(f"  fails: {p['rpm']:+.0f} rpm {p['mode']} {p['load_nm']:+.2f} N m: {p['cause']}")

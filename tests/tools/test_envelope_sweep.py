@@ -28,7 +28,7 @@ def test_grid_and_torque_limit():
     assert sweep.rated_torque(2610) == pytest.approx(27.28, abs=0.01)   # 7457 W / 273.3 rad/s
     assert sweep.rated_torque(-2200) == pytest.approx(32.37, abs=0.01)
     pts = sweep.make_points(sweep.DEFAULT_SPEEDS, sweep.DEFAULT_FRACTIONS, [])
-    assert len(pts) == 108 and len({p["name"] for p in pts}) == 108
+    assert len(pts) == 117 and len({p["name"] for p in pts}) == 117
     assert {p["rpm"] for p in pts} == {float(s) for s in sweep.DEFAULT_SPEEDS}
     assert max(abs(p["rpm"]) for p in pts) == 1.5 * sweep.BASE_RPM
     # Signs of [load] step (a torque opposing positive speed): motoring opposes the rotation.
@@ -36,6 +36,17 @@ def test_grid_and_torque_limit():
     assert by[(870.0, "motoring", 1.0)] == 41.0 and by[(870.0, "generating", 1.0)] == -41.0
     assert by[(-870.0, "motoring", 1.0)] == -41.0 and by[(-870.0, "generating", 1.0)] == 41.0
     assert all(abs(p["load_nm"]) <= sweep.rated_torque(p["rpm"]) + 1e-9 for p in pts)
+
+
+def test_stator_frequency():
+    # No load: the rotor's electrical frequency, 2 pole pairs: 1740 rpm -> 58 Hz.
+    assert sweep.stator_frequency_hz(1740, 0.0) == pytest.approx(58.0)
+    # Rated 41 N m at rated flux: slip = (2/3) Rr Te / (p psi_r^2), psi_r = 0.45 x 41.6/43.02 Wb,
+    # by hand 5.70 rad/s per 20.5 N m -> 1.815 Hz at 41 N m (the nameplate's 1800 - 1740 rpm
+    # is 2.0 Hz: the estimate is within 10 %).
+    assert sweep.stator_frequency_hz(0, 41.0) == pytest.approx(1.815, abs=0.01)
+    # Generating at 30 rpm with 20.5 N m: 1 Hz of rotor less 0.91 Hz of slip.
+    assert sweep.stator_frequency_hz(30, -20.5) == pytest.approx(0.093, abs=0.01)
 
 
 def test_reduced_sweep(tmp_path):
