@@ -72,7 +72,7 @@ def test_reduced_sweep(tmp_path):
         assert g[10] == "0x000"
     # 100 N m is beyond the drive's own limit (te_max 80 N m): the speed cannot be held.
     assert rows[6][11].startswith("FAILS"), rows[6]
-    assert "6 of 7 points hold, 1 fail (0 of them inside the rated envelope)" in r.stdout
+    assert "6 of 7 points hold, 1 fail (0 of them inside the rated envelope, 0 of those within 1 Hz of zero stator frequency)" in r.stdout
     assert re.search(r"wall time: \d+\.\d s for 7 runs", r.stdout)
 
     png = out / "capability.png"
@@ -93,4 +93,4 @@ def test_strict_fails_when_a_rated_point_fails(tmp_path):
                         "--speeds", "870", "--fractions", "0", "--tol-rpm", "0.0001", "--strict"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 1, r.stdout
-    assert "0 of 1 points hold, 1 fail (1 of them inside the rated envelope)" in r.stdout
+    assert "0 of 1 points hold, 1 fail (1 of them inside the rated envelope, 0 of those within 1 Hz of zero stator frequency)" in r.stdout
