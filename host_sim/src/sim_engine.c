@@ -21,6 +21,7 @@
 #include "open_loop.h"
 #include "plant/plant.h"
 #include "sim/control_keys.h"
+#include "tick_recorder.h"
 #include "trace.h"
 
 #define PI 3.14159265358979323846
@@ -38,6 +39,7 @@ typedef struct {
     bool acc_init;
     sim_trace trace;
     bool trace_open;
+    tick_recorder rec;                           /* --record-samples (rec.f NULL: off) */
     scenario_fault faults[SCENARIO_MAX_ENTRIES]; /* sorted by time (stable) */
     int n_faults;
     double factor[SCENARIO_EV_KINDS];            /* parameter factors applied so far */
@@ -406,7 +408,11 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         hal_actuation act = prev;
         bool gates_on = false;
         if (firmware) {
+            if (e->rec.f != NULL)
+                tick_recorder_inputs(&e->rec, k, &e->board, &e->drv);
             hal_host_run_tick(&e->board);
+            if (e->rec.f != NULL)
+                tick_recorder_outputs(&e->rec, &e->drv);
             drive_background(&e->drv);
         }
         if (o->on_tick != NULL)
@@ -512,6 +518,8 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
         return res->status;
     if (o.metrics_path != NULL && check_writable(o.metrics_path, res) != SIM_OK)
         return res->status;
+    if (o.record_path != NULL && !firmware)
+        return set_error(res, SIM_EINPUT, "--record-samples needs the firmware (inverter supply, not open loop)");
 
     engine *e = calloc(1, sizeof *e);
     if (e == NULL)
@@ -548,6 +556,12 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
             goto out;
         }
         drive_set_run(&e->drv, true);
+        if (o.record_path != NULL &&
+            tick_recorder_open(&e->rec, o.record_path, sc->source, &e->drv, period_us, res->error,
+                               sizeof res->error) != 0) {
+            rc = res->status = SIM_EINPUT;
+            goto out;
+        }
     }
 
     if (metrics_acc_init(&e->acc, sc, sc->period_s) != 0) {
@@ -592,7 +606,14 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
         }
     }
 
+    if (e->rec.f != NULL && tick_recorder_close(&e->rec, true, res->error, sizeof res->error) != 0) {
+        rc = res->status = SIM_ERUNTIME;
+        goto out;
+    }
+
 out:
+    if (e->rec.f != NULL)
+        tick_recorder_close(&e->rec, false, NULL, 0);
     if (e->trace_open)
         trace_close(&e->trace, false, NULL, 0);
     if (e->acc_init)
