@@ -7,7 +7,8 @@
 #    the nameplate and field-weakening runs (level changes, high speed, flux
 #    reference below nominal), 30 rpm (low level, small vectors, NP balancing,
 #    vector substitutions), a rated torque step at 500 rpm, the loss-of-control
-#    trip (runaway_trip) and CASE2 with an over-current trip at 3 s (faulted).
+#    trip (runaway_trip), CASE2 with an over-current trip at 3 s (faulted) and
+#    CASE2 with the run command 0.3 s late (stopped).
 # 2. Replays all recordings in one run of dtc-pil.elf (Cortex-M4F, same
 #    toolchain and flags as the target image) under qemu-system-arm mps2-an386
 #    with exact instruction counting (-icount shift=7): the real interrupt path
@@ -59,26 +60,22 @@ done
 
 mkdir -p "$rec"
 scn=$root/host_sim/scenarios
-# name  scenario  [extra dtc-sim options]
-runs="case2|$scn/case2.ini|
-nameplate|$scn/nameplate.ini|
-field_weakening|$scn/field_weakening.ini|
-low_speed_30rpm|$scn/low_speed_30rpm.ini|
-rated_step_500|$scn/rated_step_500.ini|
-runaway_trip|$scn/runaway_trip.ini|
-case2_overcurrent|$scn/case2.ini|--set faults.offset=3.0 a 120"
+names="case2 nameplate field_weakening low_speed_30rpm rated_step_500 runaway_trip case2_overcurrent case2_stopped"
+# record NAME CONTROLLER: one closed-loop SIL run into $rec/NAME_CONTROLLER.rec
+record() {
+  out=$rec/$1_$2.rec
+  case $1 in
+    case2_overcurrent) set -- "$scn/case2.ini" --controller "$2" --set "faults.offset=3.0 a 120" ;;
+    case2_stopped) set -- "$scn/case2.ini" --controller "$2" --start-delay 0.3 --duration 1.0 ;;
+    *) set -- "$scn/$1.ini" --controller "$2" ;;
+  esac
+  "$sim" run "$@" --quiet --record-samples "$out"
+}
 
 files=""
 for ctl in ip nominal rbfn; do
-  echo "$runs" | while IFS='|' read -r name ini extra; do
-    out=$rec/${name}_$ctl.rec
-    if [ -n "$extra" ]; then
-      "$sim" run "$ini" --controller "$ctl" --quiet --record-samples "$out" --set "${extra#--set }"
-    else
-      "$sim" run "$ini" --controller "$ctl" --quiet --record-samples "$out"
-    fi
-  done
-  for name in $(echo "$runs" | cut -d'|' -f1); do
+  for name in $names; do
+    record "$name" "$ctl"
     files="$files,arg=$rec/${name}_$ctl.rec"
   done
 done

@@ -357,6 +357,7 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
     for (int k = 0; k < SCENARIO_EV_KINDS; k++)
         e->factor[k] = 1.0;
     double last_ref_rpm = NAN;
+    bool started = false;
     drive_snapshot snap;
     memset(&snap, 0, sizeof snap);
 
@@ -403,6 +404,10 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         if (firmware && ref_rpm != last_ref_rpm)
             drive_set_speed_ref(&e->drv, (float)(ref_rpm * RPM_TO_RAD_S));
         last_ref_rpm = ref_rpm;
+        if (firmware && !started && t + T_EPS >= o->start_delay_s) {
+            drive_set_run(&e->drv, true); /* the run command (--start-delay) */
+            started = true;
+        }
 
         /* 3. the interrupt, then one background pass */
         hal_actuation act = prev;
@@ -518,6 +523,8 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
         return res->status;
     if (o.metrics_path != NULL && check_writable(o.metrics_path, res) != SIM_OK)
         return res->status;
+    if (!(o.start_delay_s >= 0.0 && o.start_delay_s <= 600.0))
+        return set_error(res, SIM_EINPUT, "start delay %g s is outside 0..600", o.start_delay_s);
     if (o.record_path != NULL && !firmware)
         return set_error(res, SIM_EINPUT, "--record-samples needs the firmware (inverter supply, not open loop)");
 
@@ -555,7 +562,6 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
             rc = set_error(res, SIM_EINPUT, "hal_tick_start refused a %u us period", (unsigned)period_us);
             goto out;
         }
-        drive_set_run(&e->drv, true);
         if (o.record_path != NULL &&
             tick_recorder_open(&e->rec, o.record_path, sc->source, &e->drv, period_us, res->error,
                                sizeof res->error) != 0) {
