@@ -6,7 +6,15 @@
 
 #include <string.h>
 
+#include "npc_plan.h"
+
 #define PIL_NVM_SIZE 4096u
+/* The target's timer set-up (hal/stm32g4/hal_stm32g4.c): the HRTIM counts at
+ * 170 MHz; switching keeps out of the sampling window and the last pulse of a
+ * period is at least 2 us. */
+#define PIL_COUNT_HZ 170000000u
+#define PIL_KEEPOUT_END_NS 7000u
+#define PIL_MIN_PULSE_NS 2000u
 
 typedef struct {
     hal_tick_handler handler;
@@ -22,7 +30,15 @@ typedef struct {
     bool fault_input;
     bool tick_missed;
     uint32_t millis;
+    npc_timing tm;            /* timer counts of the period, keep-out and minimum pulse */
+    uint8_t last_leg[3];      /* leg states at the end of the programmed period */
+    uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
 } pil_board;
+
+/* Stand-ins for the six timers' SET/RST/CMP1 registers and the update-disable
+ * bit: hal_actuate programs them as the target programs the HRTIM. */
+static volatile uint32_t g_pil_timer[6][3];
+static volatile uint32_t g_pil_update_disable;
 
 static pil_board g_pil;
 
@@ -62,6 +78,11 @@ int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us)
     g_pil.handler = handler;
     g_pil.ctx = ctx;
     g_pil.tick_running = true;
+    g_pil.tm.per = (uint32_t)((uint64_t)period_us * PIL_COUNT_HZ / 1000000u);
+    g_pil.tm.keepout = (uint32_t)((uint64_t)PIL_KEEPOUT_END_NS * PIL_COUNT_HZ / 1000000000u);
+    g_pil.tm.min_pulse = (uint32_t)((uint64_t)PIL_MIN_PULSE_NS * PIL_COUNT_HZ / 1000000000u);
+    for (unsigned leg = 0u; leg < 3u; leg++)
+        g_pil.last_leg[leg] = (uint8_t)HAL_LEG_O;
     return HAL_OK;
 }
 
@@ -101,6 +122,26 @@ int hal_actuate(const hal_actuation *act)
     if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */
         return HAL_EINVAL;
     g_pil.act = *act;
+    if (g_pil.tm.per == 0u)
+        return HAL_OK; /* tick not started: nothing to program */
+    /* The target's work (hal_stm32g4.c hal_actuate): plan each leg's switching
+     * events for the period and write them to the timers. */
+    uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
+    g_pil_update_disable = 1u;
+    for (unsigned leg = 0u; leg < 3u; leg++) {
+        npc_leg_plan plan;
+        npc_plan_leg(&g_pil.tm, g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg], t0, &plan);
+        g_pil.pn_fixups += plan.fixups;
+        for (unsigned k = 0u; k < 2u; k++) {
+            unsigned tim = 2u * leg + k;
+            g_pil_timer[tim][0] = plan.set[k];
+            g_pil_timer[tim][1] = plan.rst[k];
+            if (plan.t != 0u && plan.t != g_pil.tm.per)
+                g_pil_timer[tim][2] = plan.t;
+        }
+        g_pil.last_leg[leg] = plan.end;
+    }
+    g_pil_update_disable = 0u;
     return HAL_OK;
 }
 

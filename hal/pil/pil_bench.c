@@ -367,16 +367,18 @@ static int replay(const char *path, uint32_t site_overhead)
     line_str(&l, "  ");
     line_str(&l, base_name(path));
     line_str(&l, " = ");
-    line_str(&l, head.name);
+    line_str(&l, base_name(head.name));
     line_str(&l, " (");
     line_str(&l, k_mode_name[head.speed_mode]);
     line_str(&l, "): ");
     line_u32(&l, n_ticks);
-    line_str(&l, " ticks, max ");
-    line_u32(&l, file_stat.max);
+    line_str(&l, " ticks, min ");
+    line_u32(&l, file_stat.min);
     line_str(&l, ", mean ");
     line_tenths(&l, stat_mean_tenths(&file_stat));
-    line_str(&l, first_diff == NULL ? "; outputs bit-identical to the host build" : "; DIFFERS from the host build");
+    line_str(&l, ", max ");
+    line_u32(&l, file_stat.max);
+    line_str(&l, first_diff == NULL ? "; bit-identical to the host build" : "; DIFFERS from the host build");
     line_flush(&l);
     if (first_diff != NULL) {
         line_str(&l, "    first difference at tick ");
@@ -596,7 +598,7 @@ int main(void)
     line_u32(&l, g_isr_stack_bytes);
     line_str(&l, " bytes below the measuring site's SP");
     line_flush(&l);
-    line_str(&l, status == EXIT_OK ? "every recording: outputs bit-identical to the host build"
+    line_str(&l, status == EXIT_OK ? "every recording: outputs bit-identical to the host build's at every tick"
                                    : "OUTPUTS DIFFER from the host build (see above)");
     line_flush(&l);
     return status;

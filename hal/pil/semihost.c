@@ -117,7 +117,10 @@ void line_tenths(pil_line *l, uint32_t tenths)
 
 void line_flush(pil_line *l)
 {
-    line_char(l, '\n');
+    /* A full line is cut, never its end. */
+    if (l->len + 2u > sizeof l->buf)
+        l->len = sizeof l->buf - 2u;
+    l->buf[l->len++] = '\n';
     l->buf[l->len] = '\0';
     semihost_write0(l->buf);
     l->len = 0u;

@@ -41,7 +41,7 @@ __attribute__((noreturn)) void semihost_exit(int code);
 /* ---- a small line builder, so the PIL programs need no printf ---- */
 
 typedef struct {
-    char buf[160];
+    char buf[256];
     size_t len;
 } pil_line;
 
