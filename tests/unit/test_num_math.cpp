@@ -101,4 +101,39 @@ TEST(NumMath, SinCosEdges)
     EXPECT_EQ(num_cosf(-std::numeric_limits<float>::infinity()), 0.0f);
 }
 
+TEST(NumMath, Atan2AbsoluteErrorEverywhere)
+{
+    // Directions all around the circle and magnitudes from 1e-30 to 1e30.
+    double worst = 0.0;
+    float at_y = 0.0f, at_x = 0.0f;
+    for (int m = -30; m <= 30; m += 6) {
+        double r = std::pow(10.0, m);
+        for (int i = 0; i < 200000; ++i) {
+            double th = -3.14159265358979 + 6.28318530717959 * (i + 0.5) / 200000.0;
+            float x = static_cast<float>(r * std::cos(th)), y = static_cast<float>(r * std::sin(th));
+            double e = std::fabs(static_cast<double>(num_atan2f(y, x)) -
+                                 std::atan2(static_cast<double>(y), static_cast<double>(x)));
+            if (e > worst) {
+                worst = e;
+                at_y = y;
+                at_x = x;
+            }
+        }
+    }
+    EXPECT_LE(worst, 4e-7) << "at (" << at_x << ", " << at_y << ")";
+}
+
+TEST(NumMath, Atan2Edges)
+{
+    const float inf = std::numeric_limits<float>::infinity();
+    EXPECT_EQ(num_atan2f(0.0f, 0.0f), 0.0f);
+    EXPECT_EQ(num_atan2f(0.0f, 1.0f), 0.0f);
+    EXPECT_NEAR(num_atan2f(0.0f, -1.0f), 3.14159265, 4e-7);
+    EXPECT_NEAR(num_atan2f(1.0f, 0.0f), 1.57079633, 4e-7);
+    EXPECT_NEAR(num_atan2f(-1.0f, 0.0f), -1.57079633, 4e-7);
+    EXPECT_NEAR(num_atan2f(inf, inf), 0.78539816, 4e-7);
+    EXPECT_NEAR(num_atan2f(1.0f, -inf), 3.14159265, 4e-7);
+    EXPECT_TRUE(std::isnan(num_atan2f(std::numeric_limits<float>::quiet_NaN(), 1.0f)));
+}
+
 } // namespace

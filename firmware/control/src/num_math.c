@@ -6,6 +6,7 @@
 #include "dtc/num_math.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
 
 /* ln 2 split so that k * LN2_HI is exact for |k| <= 256 (LN2_HI has 15
@@ -118,4 +119,48 @@ float num_cosf(float x)
     /* cos(r) = sin(pi/2 - r), pi/2 - r in [-pi/2, 3 pi/2]. */
     float r = reduce_two_pi(x);
     return sin_folded((PI_2_HI - r) + PI_2_LO);
+}
+
+/* atan(t) for |t| <= tan(pi/12) + a little: odd Taylor polynomial to t^11
+ * (truncation below 3e-9). */
+static float atan_poly(float t)
+{
+    float t2 = t * t;
+    float p = -0.09090909361839294f;
+    p = p * t2 + 0.1111111119389534f;
+    p = p * t2 - 0.1428571492433548f;
+    p = p * t2 + 0.20000000298023224f;
+    p = p * t2 - 0.3333333432674408f;
+    return t + (t * t2) * p;
+}
+
+#define TAN_PI_12 0.2679491937160492f
+#define SQRT3 1.7320507764816284f
+#define PI_6 0.5235987901687622f
+
+float num_atan2f(float y, float x)
+{
+    if (x != x || y != y)
+        return x + y; /* NaN */
+    float ax = x < 0.0f ? -x : x;
+    float ay = y < 0.0f ? -y : y;
+    if (ax == 0.0f && ay == 0.0f)
+        return 0.0f;
+    if (ax > 3.4e38f || ay > 3.4e38f) {
+        /* an infinity: only the direction counts */
+        ax = ax > 3.4e38f ? 1.0f : 0.0f;
+        ay = ay > 3.4e38f ? 1.0f : 0.0f;
+    }
+    bool steep = ay > ax;
+    float a = steep ? ax / ay : ay / ax; /* 0..1 */
+    float r;
+    if (a > TAN_PI_12) /* atan(a) = pi/6 + atan((sqrt3 a - 1) / (a + sqrt3)) */
+        r = PI_6 + atan_poly((SQRT3 * a - 1.0f) / (a + SQRT3));
+    else
+        r = atan_poly(a);
+    if (steep)
+        r = (PI_2_HI - r) + PI_2_LO;
+    if (x < 0.0f)
+        r = (PI_HI - r) + PI_LO;
+    return y < 0.0f ? -r : r;
 }

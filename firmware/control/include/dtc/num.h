@@ -62,7 +62,7 @@ static inline real_t num_sin(real_t x) { return num_sinf(x); }
 static inline real_t num_cos(real_t x) { return num_cosf(x); }
 
 /** Angle of (x, y) in rad, in [-pi, pi]. */
-static inline real_t num_atan2(real_t y, real_t x) { return atan2f(y, x); }
+static inline real_t num_atan2(real_t y, real_t x) { return num_atan2f(y, x); }
 
 /** sign(x): -1, 0 or +1. */
 static inline real_t num_sign(real_t x) { return x > R(0.0) ? R(1.0) : (x < R(0.0) ? R(-1.0) : R(0.0)); }
