@@ -22,11 +22,15 @@
 # usage: tools/pil_bench.sh
 # env:   DTC_PIL_NO_BUILD=1   use the existing builds (build/stm32g4, build/host)
 #        DTC_PIL_REC_DIR      where to keep the recordings (default build/host/pil-rec)
-# exit:  dtc-pil's status (0 ok, 1 counter self-check failed, 2 bad recording,
+# exit:  dtc-pil's status (0 ok, 1 counter self-check failed, 2 bad recording or usage,
 #        3 exception on the emulated core, 4 outputs differ from the host
 #        build's), 124 on timeout, 127 missing tools, or dtc-sim's status.
 set -eu
 
+if [ $# -ne 0 ]; then
+  echo "usage: tools/pil_bench.sh   (no arguments; env DTC_PIL_NO_BUILD, DTC_PIL_REC_DIR)" >&2
+  exit 2
+fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 elf=$root/build/stm32g4/dtc-pil.elf
 sim=$root/build/host/bin/dtc-sim
