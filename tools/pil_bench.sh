@@ -1,26 +1,41 @@
 #!/bin/sh
-# Processor-in-the-loop benchmark: build dtc-pil.elf with the Cortex-M4F
-# toolchain (preset stm32g4) and run it under qemu-system-arm (mps2-an386)
-# with exact instruction counting (-icount shift=7). Prints instructions per
-# control tick (min / mean / max) for each speed controller.
+# Processor-in-the-loop benchmark of the WHOLE control interrupt (issue 11).
 #
-# usage: tools/pil_bench.sh [ticks]        ticks: control ticks per controller
-#                                           (1..1000000, default 5000 = 1 s)
-# env:   DTC_PIL_BUILD  build directory (default build/stm32g4)
-#        DTC_PIL_NO_BUILD=1  run the existing ELF without rebuilding
-# exit:  the program's status (0 ok, 1 counter self-check failed, 2 usage,
-#        3 exception on the emulated core), 124 on timeout, 127 missing tools.
+# 1. Records closed-loop SIL runs with the host build (dtc-sim run SCENARIO
+#    --record-samples REC): every controller (ip, nominal, rbfn) over scenarios
+#    that visit every run state and the worst cases: CASE2 (start, load step),
+#    the nameplate and field-weakening runs (level changes, high speed, flux
+#    reference below nominal), 30 rpm (low level, small vectors, NP balancing,
+#    vector substitutions), a rated torque step at 500 rpm, the loss-of-control
+#    trip (runaway_trip), CASE2 with an over-current trip at 3 s (faulted) and
+#    CASE2 with the run command 0.3 s late (stopped).
+# 2. Replays all recordings in one run of dtc-pil.elf (Cortex-M4F, same
+#    toolchain and flags as the target image) under qemu-system-arm mps2-an386
+#    with exact instruction counting (-icount shift=7): the real interrupt path
+#    (sample read -> ctl_step -> actuation -> telemetry snapshot -> scope armed)
+#    fed with the recorded samples, its outputs compared bit for bit with the
+#    host build's.
+# Prints min / mean / max instructions per interrupt per controller and run
+# state (the worst over everything run), the worst ticks, an estimate in
+# cycles and microseconds at 170 MHz, and the interrupt's stack high-water.
+#
+# usage: tools/pil_bench.sh
+# env:   DTC_PIL_NO_BUILD=1   use the existing builds (build/stm32g4, build/host)
+#        DTC_PIL_REC_DIR      where to keep the recordings (default build/host/pil-rec)
+# exit:  dtc-pil's status (0 ok, 1 counter self-check failed, 2 bad recording or usage,
+#        3 exception on the emulated core, 4 outputs differ from the host
+#        build's), 124 on timeout, 127 missing tools, or dtc-sim's status.
 set -eu
 
+if [ $# -ne 0 ]; then
+  echo "usage: tools/pil_bench.sh   (no arguments; env DTC_PIL_NO_BUILD, DTC_PIL_REC_DIR)" >&2
+  exit 2
+fi
 root=$(cd "$(dirname "$0")/.." && pwd)
-build=${DTC_PIL_BUILD:-$root/build/stm32g4}
-ticks=${1:-5000}
+elf=$root/build/stm32g4/dtc-pil.elf
+sim=$root/build/host/bin/dtc-sim
+rec=${DTC_PIL_REC_DIR:-$root/build/host/pil-rec}
 
-case $ticks in
-  ''|*[!0-9]*) echo "pil_bench.sh: ticks must be a positive integer, got '$ticks'" >&2; exit 2 ;;
-esac
-
-# A fresh machine has none of the tools: install them when we can (Debian).
 missing=""
 for tool in arm-none-eabi-gcc qemu-system-arm cmake ninja; do
   command -v "$tool" >/dev/null 2>&1 || missing="$missing $tool"
@@ -37,26 +52,42 @@ if [ -n "$missing" ]; then
 fi
 
 if [ "${DTC_PIL_NO_BUILD:-0}" != 1 ]; then
-  if [ "$build" = "$root/build/stm32g4" ]; then
-    (cd "$root" && cmake --preset stm32g4 >/dev/null && cmake --build --preset stm32g4 --target dtc-pil) >&2
-  else
-    cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-      -DCMAKE_TOOLCHAIN_FILE="$root/cmake/arm-none-eabi.cmake" >/dev/null
-    cmake --build "$build" --target dtc-pil >&2
+  (cd "$root" && cmake --preset stm32g4 >/dev/null && cmake --build --preset stm32g4 --target dtc-pil) >&2
+  (cd "$root" && cmake --preset host >/dev/null && cmake --build --preset host --target dtc-sim) >&2
+fi
+for f in "$elf" "$sim"; do
+  if [ ! -x "$f" ] && [ ! -f "$f" ]; then
+    echo "pil_bench.sh: $f not found (build the stm32g4 and host presets)" >&2
+    exit 2
   fi
-fi
+done
 
-elf=$build/dtc-pil.elf
-if [ ! -f "$elf" ]; then
-  echo "pil_bench.sh: $elf not found" >&2
-  exit 2
-fi
+mkdir -p "$rec"
+scn=$root/host_sim/scenarios
+names="case2 nameplate field_weakening low_speed_30rpm rated_step_500 runaway_trip case2_overcurrent case2_stopped"
+# record NAME CONTROLLER: one closed-loop SIL run into $rec/NAME_CONTROLLER.rec
+record() {
+  out=$rec/$1_$2.rec
+  case $1 in
+    case2_overcurrent) set -- "$scn/case2.ini" --controller "$2" --set "faults.offset=3.0 a 120" ;;
+    case2_stopped) set -- "$scn/case2.ini" --controller "$2" --start-delay 0.3 --duration 1.0 ;;
+    *) set -- "$scn/$1.ini" --controller "$2" ;;
+  esac
+  "$sim" run "$@" --quiet --record-samples "$out"
+}
 
-# Semihosting output arrives on QEMU's stderr; pass it to our stdout.
-# The emulated program's exit status becomes QEMU's (SYS_EXIT_EXTENDED).
+files=""
+for ctl in ip nominal rbfn; do
+  for name in $names; do
+    record "$name" "$ctl"
+    files="$files,arg=$rec/${name}_$ctl.rec"
+  done
+done
+
+echo "recorded with $sim; replaying on $elf"
 status=0
-timeout 900 qemu-system-arm -M mps2-an386 -nographic -monitor none -serial none \
-  -semihosting-config enable=on,target=native,arg=dtc-pil,arg="$ticks" \
+timeout 1800 qemu-system-arm -M mps2-an386 -nographic -monitor none -serial none \
+  -semihosting-config "enable=on,target=native,arg=dtc-pil$files" \
   -icount shift=7 -kernel "$elf" 2>&1 || status=$?
 if [ "$status" = 124 ]; then
   echo "pil_bench.sh: QEMU timed out" >&2

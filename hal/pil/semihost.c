@@ -4,7 +4,11 @@
  */
 #include "semihost.h"
 
+#define SYS_OPEN 0x01
+#define SYS_CLOSE 0x02
 #define SYS_WRITE0 0x04
+#define SYS_READ 0x06
+#define SYS_FLEN 0x0C
 #define SYS_GET_CMDLINE 0x15
 #define SYS_EXIT_EXTENDED 0x20
 #define ADP_STOPPED_APPLICATION_EXIT 0x20026u
@@ -29,6 +33,37 @@ int semihost_cmdline(char *buf, size_t size)
         return -1;
     }
     return 0;
+}
+
+int semihost_open_read(const char *path)
+{
+    uint32_t n = 0u;
+    while (path[n] != '\0')
+        n++;
+    /* Mode 1 = "rb" (ARM semihosting, SYS_OPEN). */
+    uint32_t block[3] = {(uint32_t)(uintptr_t)path, 1u, n};
+    return semihost_call(SYS_OPEN, block);
+}
+
+int32_t semihost_read(int handle, void *buf, uint32_t len)
+{
+    uint32_t block[3] = {(uint32_t)handle, (uint32_t)(uintptr_t)buf, len};
+    int left = semihost_call(SYS_READ, block); /* bytes NOT read */
+    if (left < 0 || (uint32_t)left > len)
+        return -1;
+    return (int32_t)(len - (uint32_t)left);
+}
+
+int32_t semihost_flen(int handle)
+{
+    uint32_t block[1] = {(uint32_t)handle};
+    return semihost_call(SYS_FLEN, block);
+}
+
+void semihost_close(int handle)
+{
+    uint32_t block[1] = {(uint32_t)handle};
+    (void)semihost_call(SYS_CLOSE, block);
 }
 
 void semihost_exit(int code)
@@ -82,7 +117,10 @@ void line_tenths(pil_line *l, uint32_t tenths)
 
 void line_flush(pil_line *l)
 {
-    line_char(l, '\n');
+    /* A full line is cut, never its end. */
+    if (l->len + 2u > sizeof l->buf)
+        l->len = sizeof l->buf - 2u;
+    l->buf[l->len++] = '\n';
     l->buf[l->len] = '\0';
     semihost_write0(l->buf);
     l->len = 0u;

@@ -22,13 +22,26 @@ void semihost_write0(const char *s);
  */
 int semihost_cmdline(char *buf, size_t size);
 
+/** Open host file @p path for binary reading (SYS_OPEN, mode "rb").
+ *  @return a handle >= 0, or -1. */
+int semihost_open_read(const char *path);
+
+/** Read up to @p len bytes (SYS_READ). @return bytes read (0 at the end), or -1. */
+int32_t semihost_read(int handle, void *buf, uint32_t len);
+
+/** Length of an open file, bytes (SYS_FLEN). @return -1 on error. */
+int32_t semihost_flen(int handle);
+
+/** Close a handle (SYS_CLOSE). */
+void semihost_close(int handle);
+
 /** End the emulation with exit status @p code (SYS_EXIT_EXTENDED). */
 __attribute__((noreturn)) void semihost_exit(int code);
 
 /* ---- a small line builder, so the PIL programs need no printf ---- */
 
 typedef struct {
-    char buf[160];
+    char buf[256];
     size_t len;
 } pil_line;
 

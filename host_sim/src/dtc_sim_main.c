@@ -43,6 +43,10 @@ static const char usage[] =
     "  --controller NAME     ip | nominal | rbfn (overrides [controller] name)\n"
     "  --csv OUT.csv         write the trace (one row per [sim] trace_interval_s)\n"
     "  --metrics OUT.json    write the metrics\n"
+    "  --start-delay SECONDS keep the drive stopped (no run command) for SECONDS (0..600)\n"
+    "  --record-samples OUT.rec\n"
+    "                        record every control tick's interrupt inputs and outputs\n"
+    "                        (binary, docs/pil.md) for the PIL replay (tools/pil_bench.sh)\n"
     "  --set SECTION.KEY=VALUE\n"
     "                        override a scenario key (repeatable); for a repeated key\n"
     "                        (reference.step, load.step, events.J_scale, metrics.window, ...)\n"
@@ -152,6 +156,7 @@ static int cmd_run(int argc, char **argv)
             quiet = true;
         } else if (strcmp(a, "--controller") == 0 || strcmp(a, "--csv") == 0 || strcmp(a, "--metrics") == 0 ||
                    strcmp(a, "--set") == 0 || strcmp(a, "--can") == 0 || strcmp(a, "--nvm") == 0 ||
+                   strcmp(a, "--record-samples") == 0 || strcmp(a, "--start-delay") == 0 ||
                    strcmp(a, "--duration") == 0) {
             if (!has_next)
                 return bad_usage("%s needs a value", a);
@@ -168,6 +173,13 @@ static int cmd_run(int argc, char **argv)
                 o.can_iface = v;
             } else if (strcmp(a, "--nvm") == 0) {
                 o.nvm_path = v;
+            } else if (strcmp(a, "--record-samples") == 0) {
+                o.record_path = v;
+            } else if (strcmp(a, "--start-delay") == 0) {
+                char *end;
+                o.start_delay_s = strtod(v, &end);
+                if (end == v || *end != '\0' || !(o.start_delay_s >= 0.0 && o.start_delay_s <= 600.0))
+                    return bad_usage("--start-delay: '%s' is not a time in 0..600 s", v);
             } else if (strcmp(a, "--duration") == 0) {
                 duration = v;
             } else {
@@ -195,7 +207,11 @@ static int cmd_run(int argc, char **argv)
         (o.metrics_path != NULL &&
          !sim_output_allowed("--metrics", o.metrics_path, file, o.csv_path, why, sizeof why)) ||
         (o.nvm_path != NULL && !sim_output_allowed("--nvm", o.nvm_path, file, o.csv_path, why, sizeof why)) ||
-        (o.nvm_path != NULL && !sim_output_allowed("--nvm", o.nvm_path, file, o.metrics_path, why, sizeof why)))
+        (o.nvm_path != NULL && !sim_output_allowed("--nvm", o.nvm_path, file, o.metrics_path, why, sizeof why)) ||
+        (o.record_path != NULL &&
+         !sim_output_allowed("--record-samples", o.record_path, file, o.csv_path, why, sizeof why)) ||
+        (o.record_path != NULL &&
+         !sim_output_allowed("--record-samples", o.record_path, file, o.metrics_path, why, sizeof why)))
         return bad_usage("%s", why);
 
     char dur_set[64];

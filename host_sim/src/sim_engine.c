@@ -21,6 +21,7 @@
 #include "open_loop.h"
 #include "plant/plant.h"
 #include "sim/control_keys.h"
+#include "tick_recorder.h"
 #include "trace.h"
 
 #define PI 3.14159265358979323846
@@ -38,6 +39,7 @@ typedef struct {
     bool acc_init;
     sim_trace trace;
     bool trace_open;
+    tick_recorder rec;                           /* --record-samples (rec.f NULL: off) */
     scenario_fault faults[SCENARIO_MAX_ENTRIES]; /* sorted by time (stable) */
     int n_faults;
     double factor[SCENARIO_EV_KINDS];            /* parameter factors applied so far */
@@ -358,6 +360,7 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
     for (int k = 0; k < SCENARIO_EV_KINDS; k++)
         e->factor[k] = 1.0;
     double last_ref_rpm = NAN;
+    bool started = false;
     drive_snapshot snap;
     memset(&snap, 0, sizeof snap);
 
@@ -404,12 +407,20 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         if (firmware && ref_rpm != last_ref_rpm)
             drive_set_speed_ref(&e->drv, (float)(ref_rpm * RPM_TO_RAD_S));
         last_ref_rpm = ref_rpm;
+        if (firmware && !started && t + T_EPS >= o->start_delay_s) {
+            drive_set_run(&e->drv, true); /* the run command (--start-delay) */
+            started = true;
+        }
 
         /* 3. the interrupt, then one background pass */
         hal_actuation act = prev;
         bool gates_on = false;
         if (firmware) {
+            if (e->rec.f != NULL)
+                tick_recorder_inputs(&e->rec, k, &e->board, &e->drv);
             hal_host_run_tick(&e->board);
+            if (e->rec.f != NULL)
+                tick_recorder_outputs(&e->rec, &e->drv);
             drive_background(&e->drv);
         }
         if (o->on_tick != NULL)
@@ -515,6 +526,10 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
         return res->status;
     if (o.metrics_path != NULL && check_writable(o.metrics_path, res) != SIM_OK)
         return res->status;
+    if (!(o.start_delay_s >= 0.0 && o.start_delay_s <= 600.0))
+        return set_error(res, SIM_EINPUT, "start delay %g s is outside 0..600", o.start_delay_s);
+    if (o.record_path != NULL && !firmware)
+        return set_error(res, SIM_EINPUT, "--record-samples needs the firmware (inverter supply, not open loop)");
 
     engine *e = calloc(1, sizeof *e);
     if (e == NULL)
@@ -550,7 +565,12 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
             rc = set_error(res, SIM_EINPUT, "hal_tick_start refused a %u us period", (unsigned)period_us);
             goto out;
         }
-        drive_set_run(&e->drv, true);
+        if (o.record_path != NULL &&
+            tick_recorder_open(&e->rec, o.record_path, sc->source, &e->drv, period_us, res->error,
+                               sizeof res->error) != 0) {
+            rc = res->status = SIM_EINPUT;
+            goto out;
+        }
     }
 
     if (metrics_acc_init(&e->acc, sc, sc->period_s) != 0) {
@@ -595,7 +615,14 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
         }
     }
 
+    if (e->rec.f != NULL && tick_recorder_close(&e->rec, true, res->error, sizeof res->error) != 0) {
+        rc = res->status = SIM_ERUNTIME;
+        goto out;
+    }
+
 out:
+    if (e->rec.f != NULL)
+        tick_recorder_close(&e->rec, false, NULL, 0);
     if (e->trace_open)
         trace_close(&e->trace, false, NULL, 0);
     if (e->acc_init)

@@ -54,7 +54,7 @@ TEST(DtcSimCli, HelpDocumentsEveryOption)
     auto r = sim("--help");
     EXPECT_EQ(r.status, 0);
     for (const char *opt : { "run FILE", "bench", "--controller", "--csv", "--metrics", "--set", "--realtime",
-                             "--can", "--nvm", "--duration", "exit status" })
+                             "--can", "--nvm", "--duration", "--record-samples", "--start-delay", "exit status" })
         EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
 }
 
@@ -80,6 +80,9 @@ TEST(DtcSimCli, UsageErrorsExitTwo)
     r = sim("run " + q(ok) + " --set sim.nokey=1");
     EXPECT_EQ(r.status, 2);
     EXPECT_EQ(r.output.rfind("--set sim.nokey: unknown key", 0), 0u) << r.output;
+    r = sim("run " + q(ok) + " --start-delay -1");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("--start-delay"), std::string::npos) << r.output;
     r = sim("run " + q(ok) + " --csv " + q(d.file("no/such/dir/x.csv")));
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.output.find("cannot create"), std::string::npos) << r.output;

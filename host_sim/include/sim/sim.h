@@ -55,6 +55,12 @@ enum sim_status {
 typedef struct {
     const char *csv_path;      /**< trace file (written to PATH.partial, renamed at the end); NULL: none */
     const char *metrics_path;  /**< metrics JSON (same .partial scheme); NULL: none */
+    /** Recorded-tick file (hal/pil/tick_record.h; same .partial scheme): every tick's
+     *  interrupt inputs and outputs, for the PIL replay (tools/pil_bench.sh). NULL: none. */
+    const char *record_path;
+    /** Seconds before the run command (drive_set_run(true)); until then the drive
+     *  stays stopped (gates off) while the plant and the scenario run. 0: from the start. */
+    double start_delay_s;
     int controller;            /**< -1: the scenario's [controller]; else scenario_controller */
     bool realtime;             /**< pace ticks to the wall clock (absolute deadlines) */
     bool run_forever;          /**< realtime only: ignore the duration, run until *stop is set */

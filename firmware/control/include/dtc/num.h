@@ -12,6 +12,8 @@
 
 #include <math.h>
 
+#include "dtc/num_math.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -49,17 +51,18 @@ static inline real_t num_abs(real_t x) { return fabsf(x); }
 /** sqrt(x); x <= 0 (and NaN) gives 0, so a rounding-negative argument is safe. */
 static inline real_t num_sqrt(real_t x) { return sqrtf(x > R(0.0) ? x : R(0.0)); }
 
-/** e^x; overflows to +inf above about 88.7. */
-static inline real_t num_exp(real_t x) { return expf(x); }
+/** e^x; overflows to +inf above about 88.7. The project's own (dtc/num_math.h), so
+ *  every build returns the same bits. */
+static inline real_t num_exp(real_t x) { return num_expf(x); }
 
 /** sin(x), x in rad. */
-static inline real_t num_sin(real_t x) { return sinf(x); }
+static inline real_t num_sin(real_t x) { return num_sinf(x); }
 
 /** cos(x), x in rad. */
-static inline real_t num_cos(real_t x) { return cosf(x); }
+static inline real_t num_cos(real_t x) { return num_cosf(x); }
 
 /** Angle of (x, y) in rad, in [-pi, pi]. */
-static inline real_t num_atan2(real_t y, real_t x) { return atan2f(y, x); }
+static inline real_t num_atan2(real_t y, real_t x) { return num_atan2f(y, x); }
 
 /** sign(x): -1, 0 or +1. */
 static inline real_t num_sign(real_t x) { return x > R(0.0) ? R(1.0) : (x < R(0.0) ? R(-1.0) : R(0.0)); }

@@ -1,0 +1,202 @@
+/**
+ * @file hal_pil.c
+ * @brief HAL binding of the PIL programs (hal_pil.h).
+ */
+#include "hal_pil.h"
+
+#include <string.h>
+
+#include "npc_plan.h"
+
+#define PIL_NVM_SIZE 4096u
+/* The target's timer set-up (hal/stm32g4/hal_stm32g4.c): the HRTIM counts at
+ * 170 MHz; switching keeps out of the sampling window and the last pulse of a
+ * period is at least 2 us. */
+#define PIL_COUNT_HZ 170000000u
+#define PIL_KEEPOUT_END_NS 7000u
+#define PIL_MIN_PULSE_NS 2000u
+
+typedef struct {
+    hal_tick_handler handler;
+    void *ctx;
+    bool tick_running;
+    hal_sample next;       /* what the ADC converted for the coming tick */
+    bool next_fresh;
+    hal_sample sample;     /* latched by the tick interrupt */
+    bool sample_pending;   /* cleared by the one allowed read */
+    uint32_t seq;
+    hal_actuation act;
+    bool gates_on;
+    bool fault_input;
+    bool tick_missed;
+    uint32_t millis;
+    npc_timing tm;            /* timer counts of the period, keep-out and minimum pulse */
+    uint8_t last_leg[3];      /* leg states at the end of the programmed period */
+    uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
+} pil_board;
+
+/* Stand-ins for the six timers' SET/RST/CMP1 registers and the update-disable
+ * bit: hal_actuate programs them as the target programs the HRTIM. */
+static volatile uint32_t g_pil_timer[6][3];
+static volatile uint32_t g_pil_update_disable;
+
+static pil_board g_pil;
+
+void hal_pil_board_reset(void) { memset(&g_pil, 0, sizeof g_pil); }
+
+void hal_pil_set_inputs(const hal_sample *s, bool fresh, bool fault_input, bool tick_missed)
+{
+    g_pil.next = *s;
+    g_pil.next_fresh = fresh;
+    g_pil.fault_input = fault_input;
+    g_pil.tick_missed = tick_missed;
+    if (fault_input)
+        g_pil.gates_on = false; /* the hardware path: the fault line turns the gates off */
+}
+
+void hal_pil_tick_irq(void)
+{
+    /* The target's sample_latch() converts six ADC results here; the PIL
+     * board hands over the recorded, already converted sample. */
+    if (g_pil.next_fresh) {
+        g_pil.sample = g_pil.next;
+        g_pil.sample_pending = true;
+        g_pil.next_fresh = false;
+    }
+    if (g_pil.handler != NULL)
+        g_pil.handler(g_pil.ctx);
+}
+
+bool hal_pil_gates_on(void) { return g_pil.gates_on; }
+
+/* ------------------------------------------------------------ the contract */
+
+int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us)
+{
+    if (handler == NULL || period_us < 50u || period_us > 1000u)
+        return HAL_EINVAL;
+    g_pil.handler = handler;
+    g_pil.ctx = ctx;
+    g_pil.tick_running = true;
+    g_pil.tm.per = (uint32_t)((uint64_t)period_us * PIL_COUNT_HZ / 1000000u);
+    g_pil.tm.keepout = (uint32_t)((uint64_t)PIL_KEEPOUT_END_NS * PIL_COUNT_HZ / 1000000000u);
+    g_pil.tm.min_pulse = (uint32_t)((uint64_t)PIL_MIN_PULSE_NS * PIL_COUNT_HZ / 1000000000u);
+    for (unsigned leg = 0u; leg < 3u; leg++)
+        g_pil.last_leg[leg] = (uint8_t)HAL_LEG_O;
+    return HAL_OK;
+}
+
+void hal_tick_stop(void)
+{
+    g_pil.gates_on = false;
+    g_pil.tick_running = false;
+    g_pil.handler = NULL;
+}
+
+bool hal_tick_missed(void)
+{
+    bool m = g_pil.tick_missed;
+    g_pil.tick_missed = false;
+    return m;
+}
+
+int hal_sample_read(hal_sample *out)
+{
+    if (out == NULL)
+        return HAL_EINVAL;
+    if (!g_pil.sample_pending)
+        return HAL_EAGAIN;
+    *out = g_pil.sample;
+    g_pil.sample_pending = false;
+    return HAL_OK;
+}
+
+int hal_actuate(const hal_actuation *act)
+{
+    if (act == NULL)
+        return HAL_EINVAL;
+    for (unsigned v = 0u; v < 2u; v++)
+        for (unsigned k = 0u; k < 3u; k++)
+            if (act->vector[v].leg[k] > (uint8_t)HAL_LEG_P)
+                return HAL_EINVAL;
+    if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */
+        return HAL_EINVAL;
+    g_pil.act = *act;
+    if (g_pil.tm.per == 0u)
+        return HAL_OK; /* tick not started: nothing to program */
+    /* The target's work (hal_stm32g4.c hal_actuate): plan each leg's switching
+     * events for the period and write them to the timers. */
+    uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
+    g_pil_update_disable = 1u;
+    for (unsigned leg = 0u; leg < 3u; leg++) {
+        npc_leg_plan plan;
+        npc_plan_leg(&g_pil.tm, g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg], t0, &plan);
+        g_pil.pn_fixups += plan.fixups;
+        for (unsigned k = 0u; k < 2u; k++) {
+            unsigned tim = 2u * leg + k;
+            g_pil_timer[tim][0] = plan.set[k];
+            g_pil_timer[tim][1] = plan.rst[k];
+            if (plan.t != 0u && plan.t != g_pil.tm.per)
+                g_pil_timer[tim][2] = plan.t;
+        }
+        g_pil.last_leg[leg] = plan.end;
+    }
+    g_pil_update_disable = 0u;
+    return HAL_OK;
+}
+
+void hal_gate_enable(bool enable) { g_pil.gates_on = enable && !g_pil.fault_input && g_pil.tick_running; }
+
+bool hal_gate_enabled(void) { return g_pil.gates_on; }
+
+bool hal_fault_input_active(void) { return g_pil.fault_input; }
+
+/* No cycle counter on this QEMU (DWT CYCCNT reads 0): the drive's timing
+ * statistic stays 0; the bench counts instructions with SysTick instead. */
+uint32_t hal_cycles(void) { return 0u; }
+
+uint32_t hal_cycles_hz(void) { return 170000000u; }
+
+uint32_t hal_millis(void) { return g_pil.millis; }
+
+int hal_can_open(uint32_t bitrate_bps)
+{
+    return (bitrate_bps == 125000u || bitrate_bps == 250000u || bitrate_bps == 500000u || bitrate_bps == 1000000u)
+               ? HAL_OK
+               : HAL_EINVAL;
+}
+
+int hal_can_send(const hal_can_frame *frame)
+{
+    if (frame == NULL || frame->id > 0x7FFu || frame->dlc > 8u)
+        return HAL_EINVAL;
+    return HAL_OK; /* no bus: dropped */
+}
+
+int hal_can_recv(hal_can_frame *frame)
+{
+    (void)frame;
+    return HAL_EAGAIN;
+}
+
+uint32_t hal_nvm_size(void) { return PIL_NVM_SIZE; }
+
+int hal_nvm_read(uint32_t offset, void *buf, size_t len)
+{
+    if (offset > PIL_NVM_SIZE || len > PIL_NVM_SIZE - offset)
+        return HAL_ENOSPC;
+    memset(buf, 0xFF, len); /* erased: the drive starts from its defaults */
+    return HAL_OK;
+}
+
+int hal_nvm_write(uint32_t offset, const void *buf, size_t len)
+{
+    (void)buf;
+    if (offset > PIL_NVM_SIZE || len > PIL_NVM_SIZE - offset)
+        return HAL_ENOSPC;
+    return HAL_EIO; /* the replay never stores parameters */
+}
+
+int hal_watchdog_start(uint32_t timeout_ms) { return (timeout_ms >= 1u && timeout_ms <= 4000u) ? HAL_OK : HAL_EINVAL; }
+
+void hal_watchdog_kick(void) {}

@@ -1,0 +1,139 @@
+// The project's own exp, sin, cos (firmware/control/include/dtc/num_math.h)
+// against the double-precision libm, over the ranges the header states.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+#include "dtc/num_math.h"
+
+namespace {
+
+// Every step-th float of magnitude up to max_mag, both signs (and 0), walked
+// by bit pattern so that small magnitudes get as many points as large ones.
+template <typename F> void walk_floats(float max_mag, uint32_t step, F f)
+{
+    uint32_t top;
+    std::memcpy(&top, &max_mag, sizeof top);
+    for (uint32_t u = 0; u <= top; u += step) {
+        float x;
+        std::memcpy(&x, &u, sizeof x);
+        f(x);
+        f(-x);
+    }
+}
+
+TEST(NumMath, ExpRelativeErrorBound)
+{
+    double worst = 0.0, at = 0.0;
+    uint64_t n = 0;
+    walk_floats(88.0f, 499u, [&](float x) {
+        if (x < -87.0f)
+            return;
+        double ref = std::exp(static_cast<double>(x));
+        double err = std::fabs(static_cast<double>(num_expf(x)) - ref) / ref;
+        if (err > worst) {
+            worst = err;
+            at = x;
+        }
+        n++;
+    });
+    EXPECT_GT(n, 1000000u);
+    EXPECT_LE(worst, 3e-7) << "at x = " << at;
+    // The bound is not slack beyond reason: a float result is at best 0.5 ulp.
+    EXPECT_GE(worst, 2e-8);
+}
+
+TEST(NumMath, ExpEdges)
+{
+    EXPECT_EQ(num_expf(0.0f), 1.0f);
+    EXPECT_EQ(num_expf(-87.5f), 0.0f);
+    EXPECT_EQ(num_expf(-1e30f), 0.0f);
+    EXPECT_EQ(num_expf(-std::numeric_limits<float>::infinity()), 0.0f);
+    EXPECT_TRUE(std::isinf(num_expf(88.8f)));
+    EXPECT_TRUE(std::isinf(num_expf(std::numeric_limits<float>::infinity())));
+    EXPECT_TRUE(std::isnan(num_expf(std::numeric_limits<float>::quiet_NaN())));
+    // The largest finite results (k = 128 takes the two-step scaling).
+    float big = num_expf(88.72f);
+    EXPECT_TRUE(std::isfinite(big));
+    EXPECT_NEAR(static_cast<double>(big) / std::exp(static_cast<double>(88.72f)), 1.0, 3e-7);
+}
+
+void check_trig(float max_mag, uint32_t step, double bound)
+{
+    double worst_s = 0.0, worst_c = 0.0;
+    float at_s = 0.0f, at_c = 0.0f;
+    walk_floats(max_mag, step, [&](float x) {
+        double es = std::fabs(static_cast<double>(num_sinf(x)) - std::sin(static_cast<double>(x)));
+        double ec = std::fabs(static_cast<double>(num_cosf(x)) - std::cos(static_cast<double>(x)));
+        if (es > worst_s) {
+            worst_s = es;
+            at_s = x;
+        }
+        if (ec > worst_c) {
+            worst_c = ec;
+            at_c = x;
+        }
+    });
+    EXPECT_LE(worst_s, bound) << "sin at x = " << at_s;
+    EXPECT_LE(worst_c, bound) << "cos at x = " << at_c;
+}
+
+TEST(NumMath, SinCosAbsoluteErrorOverTheVfAngleRange)
+{
+    check_trig(2.0f * 3.14159265f, 401u, 4e-7);
+}
+
+TEST(NumMath, SinCosAbsoluteErrorUpTo1000)
+{
+    check_trig(1000.0f, 1499u, 2e-6);
+}
+
+TEST(NumMath, SinCosEdges)
+{
+    EXPECT_EQ(num_sinf(0.0f), 0.0f);
+    EXPECT_NEAR(num_cosf(0.0f), 1.0f, 1e-7);
+    EXPECT_TRUE(std::isnan(num_sinf(std::numeric_limits<float>::quiet_NaN())));
+    EXPECT_TRUE(std::isnan(num_cosf(std::numeric_limits<float>::quiet_NaN())));
+    EXPECT_EQ(num_sinf(1e6f), 0.0f); // documented: beyond 1e5 not reduced
+    EXPECT_EQ(num_cosf(-std::numeric_limits<float>::infinity()), 0.0f);
+}
+
+TEST(NumMath, Atan2AbsoluteErrorEverywhere)
+{
+    // Directions all around the circle and magnitudes from 1e-30 to 1e30.
+    double worst = 0.0;
+    float at_y = 0.0f, at_x = 0.0f;
+    for (int m = -30; m <= 30; m += 6) {
+        double r = std::pow(10.0, m);
+        for (int i = 0; i < 200000; ++i) {
+            double th = -3.14159265358979 + 6.28318530717959 * (i + 0.5) / 200000.0;
+            float x = static_cast<float>(r * std::cos(th)), y = static_cast<float>(r * std::sin(th));
+            double e = std::fabs(static_cast<double>(num_atan2f(y, x)) -
+                                 std::atan2(static_cast<double>(y), static_cast<double>(x)));
+            if (e > worst) {
+                worst = e;
+                at_y = y;
+                at_x = x;
+            }
+        }
+    }
+    EXPECT_LE(worst, 4e-7) << "at (" << at_x << ", " << at_y << ")";
+}
+
+TEST(NumMath, Atan2Edges)
+{
+    const float inf = std::numeric_limits<float>::infinity();
+    EXPECT_EQ(num_atan2f(0.0f, 0.0f), 0.0f);
+    EXPECT_EQ(num_atan2f(0.0f, 1.0f), 0.0f);
+    EXPECT_NEAR(num_atan2f(0.0f, -1.0f), 3.14159265, 4e-7);
+    EXPECT_NEAR(num_atan2f(1.0f, 0.0f), 1.57079633, 4e-7);
+    EXPECT_NEAR(num_atan2f(-1.0f, 0.0f), -1.57079633, 4e-7);
+    EXPECT_NEAR(num_atan2f(inf, inf), 0.78539816, 4e-7);
+    EXPECT_NEAR(num_atan2f(1.0f, -inf), 3.14159265, 4e-7);
+    EXPECT_TRUE(std::isnan(num_atan2f(std::numeric_limits<float>::quiet_NaN(), 1.0f)));
+}
+
+} // namespace
