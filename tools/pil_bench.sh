@@ -6,8 +6,11 @@
 #    that visit every run state and the worst cases: CASE2 (start, load step),
 #    the nameplate and field-weakening runs (level changes, high speed, flux
 #    reference below nominal), 30 rpm (low level, small vectors, NP balancing,
-#    vector substitutions), a rated torque step at 500 rpm, the loss-of-control
-#    trip (runaway_trip), CASE2 with an over-current trip at 3 s (faulted) and
+#    vector substitutions), a rated torque step at 500 rpm, a load driving the
+#    motor at 300 rpm (regen_300rpm: the observer's regenerating-mode rotation),
+#    the loss-of-control trip (runaway_trip with that rotation off, as
+#    LossOfControl.SensorlessRunawayTrips forces it), CASE2 with an over-current
+#    trip at 3 s (faulted) and
 #    CASE2 with the run command 0.3 s late (stopped).
 # 2. Replays all recordings in one run of dtc-pil.elf (Cortex-M4F, same
 #    toolchain and flags as the target image) under qemu-system-arm mps2-an386
@@ -64,13 +67,14 @@ done
 
 mkdir -p "$rec"
 scn=$root/host_sim/scenarios
-names="case2 nameplate field_weakening low_speed_30rpm rated_step_500 runaway_trip case2_overcurrent case2_stopped"
+names="case2 nameplate field_weakening low_speed_30rpm rated_step_500 regen_300rpm runaway_trip case2_overcurrent case2_stopped"
 # record NAME CONTROLLER: one closed-loop SIL run into $rec/NAME_CONTROLLER.rec
 record() {
   out=$rec/$1_$2.rec
   case $1 in
     case2_overcurrent) set -- "$scn/case2.ini" --controller "$2" --set "faults.offset=3.0 a 120" ;;
     case2_stopped) set -- "$scn/case2.ini" --controller "$2" --start-delay 0.3 --duration 1.0 ;;
+    runaway_trip) set -- "$scn/runaway_trip.ini" --controller "$2" --set control.obs_regen_angle_rad=0 ;;
     *) set -- "$scn/$1.ini" --controller "$2" ;;
   esac
   "$sim" run "$@" --quiet --record-samples "$out"
