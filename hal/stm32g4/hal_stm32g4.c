@@ -145,6 +145,7 @@ typedef struct {
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     volatile bool gates_on;
     volatile bool fault_latched; /* set by the HRTIM fault ISR, reported once */
+    uint32_t fault_inner_cycles; /* BOARD_FAULT_INNER_DELAY_NS in core cycles, set before the fault is armed */
     uint32_t fault_trips;
     /* watchdog */
     bool wdg_started;
@@ -322,7 +323,7 @@ static void gpio_init(void)
 static void hrtim_outputs_off(void)
 {
     HRTIM_ODISR = HRTIM_OUT_OUTER;
-    delay_ns(BOARD_FAULT_INNER_DELAY_NS);
+    delay_ns(BOARD_DEAD_TIME_NS); /* not urgent here: the full dead time between outer and inner */
     HRTIM_ODISR = HRTIM_OUT_INNER;
 }
 
@@ -381,15 +382,24 @@ static void hrtim_arm_fault(void)
     HRTIM_FLTINR1 |= HRTIM_FLTINR1_FLT3LCK;
     HRTIM_ICR = HRTIM_ICR_FLT3C;
     HRTIM_IER |= HRTIM_IER_FLT3IE;
+    /* The handler's delay, precomputed: no division between the fault and the inner switches. */
+    g_board.fault_inner_cycles =
+        (uint32_t)(((uint64_t)BOARD_FAULT_INNER_DELAY_NS * g_board.sysclk_hz + 999999999u) / 1000000000u);
     nvic_enable(IRQN_HRTIM1_FLT, PRIO_HRTIM_FAULT);
 }
 
 /** HRTIM fault interrupt: the outer switches are already off in hardware;
- * after BOARD_FAULT_INNER_DELAY_NS the inner ones follow. Context: interrupt,
- * most urgent. */
+ * BOARD_FAULT_INNER_DELAY_NS after the handler's entry the inner ones follow.
+ * The first action is the time stamp, the wait is a precomputed cycle count
+ * (bounded by its own loop count should the cycle counter stop), the second
+ * a single store of a constant. Context: interrupt, most urgent (priority 0:
+ * pre-empts the control tick; nothing in the firmware masks it). */
 void HRTIM1_FLT_IRQHandler(void)
 {
-    delay_ns(BOARD_FAULT_INNER_DELAY_NS);
+    const uint32_t t0 = DWT_CYCCNT;
+    const uint32_t wait = g_board.fault_inner_cycles;
+    for (uint32_t n = 0u; n < wait && DWT_CYCCNT - t0 < wait; n++) {
+    }
     HRTIM_ODISR = HRTIM_OUT_ALL;
     /* One interrupt per trip: a line held low must not starve the tick.
      * hal_gate_enable(true) re-arms it once the line is high again. */
