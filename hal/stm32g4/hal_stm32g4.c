@@ -147,7 +147,8 @@ typedef struct {
     volatile bool fault_latched; /* set by the HRTIM fault ISR, reported once */
     uint32_t fault_inner_cycles; /* BOARD_FAULT_INNER_DELAY_NS in core cycles, set before the fault is armed */
     uint32_t fault_trips;
-    /* watchdog */
+    /* watchdog and reset cause */
+    uint32_t reset_cause;         /* enum hal_reset_cause, from RCC_CSR at board_init */
     bool wdg_started;
     volatile bool wdg_tick_alive; /* set by the tick ISR */
     /* CAN */
@@ -608,6 +609,32 @@ static bool adc_calibrate_offsets(void)
 
 /* ------------------------------------------------------------ board_init */
 
+/*
+ * RCC_CSR reset flags -> one cause (RM0440, RCC chapter, RCC_CSR). An internal
+ * reset also drives NRST, so PINRSTF comes with every other flag; a power-on
+ * sets BORRSTF and PINRSTF. The most specific flag wins.
+ */
+static uint32_t reset_cause_from_csr(uint32_t csr)
+{
+    if ((csr & RCC_CSR_IWDGRSTF) != 0u)
+        return HAL_RESET_WATCHDOG;
+    if ((csr & RCC_CSR_WWDGRSTF) != 0u)
+        return HAL_RESET_WINDOW_WATCHDOG;
+    if ((csr & RCC_CSR_SFTRSTF) != 0u)
+        return HAL_RESET_SOFTWARE;
+    if ((csr & RCC_CSR_LPWRRSTF) != 0u)
+        return HAL_RESET_LOW_POWER;
+    if ((csr & RCC_CSR_OBLRSTF) != 0u)
+        return HAL_RESET_OPTION_LOAD;
+    if ((csr & RCC_CSR_BORRSTF) != 0u)
+        return HAL_RESET_POWER_ON;
+    if ((csr & RCC_CSR_PINRSTF) != 0u)
+        return HAL_RESET_PIN;
+    return HAL_RESET_UNKNOWN;
+}
+
+uint32_t hal_reset_cause(void) { return g_board.reset_cause; }
+
 void board_init(void)
 {
     SCB_VTOR = (uint32_t)(uintptr_t)__isr_vector_start;
@@ -616,7 +643,9 @@ void board_init(void)
     SCB_SHCSR |= SCB_SHCSR_MEMFAULTENA | SCB_SHCSR_BUSFAULTENA | SCB_SHCSR_USGFAULTENA;
     SCB_CCR |= SCB_CCR_DIV_0_TRP;
 
-    if ((RCC_CSR & RCC_CSR_IWDGRSTF) != 0u)
+    g_board.reset_cause = reset_cause_from_csr(RCC_CSR);
+    RCC_CSR |= RCC_CSR_RMVF; /* clear the flags: the next start reports its own cause */
+    if (g_board.reset_cause == HAL_RESET_WATCHDOG)
         g_board.faults |= BOARD_FAULT_WDG_RESET;
     /* Option bytes this board depends on (docs/board.md, NUCLEO caveats):
      * boot not taken from PB8 (= CAN RX), flash in dual-bank mode. */
@@ -704,6 +733,16 @@ void ADC1_2_IRQHandler(void)
     HRTIM_MICR = HRTIM_MICR_MCMP1C;
     if ((ADC_REG(ADC1_BASE, ADC_ISR_OFS) & ADC_ISR_JEOS) == 0u)
         return; /* spurious */
+#ifdef BOARD_TEST_STALL_TICK_MS
+    /* TEST BUILD ONLY (dtc-fw-stalltest.elf, never dtc-fw.elf): BOARD_TEST_STALL_TICK_MS
+     * after a start that was not a watchdog reset, the control tick stops itself for good
+     * (its interrupt disabled, as a hung sampling chain would leave it); the background keeps
+     * running and asking for watchdog refreshes, which the two-flag scheme must refuse. */
+    if (g_board.reset_cause != HAL_RESET_WATCHDOG && g_board.millis >= BOARD_TEST_STALL_TICK_MS) {
+        NVIC_ICER(IRQN_ADC1_2 >> 5) = 1u << (IRQN_ADC1_2 & 31u);
+        return;
+    }
+#endif
     sample_latch();
     g_board.wdg_tick_alive = true;
     if (g_board.handler != NULL)

@@ -11,6 +11,15 @@ flashable image (build/stm32g4/dtc-fw.elf, byte for byte, with its control tick 
   package's reading of the EDS, not the firmware's). Every power-on runs the control tick
   (ADC1_2 interrupts > 0) and ends without an emulated reset.
 
+    test_twin_dtctune.py watchdog DTC_BOARD ELF EDS WORKDIR STALL_ELF
+  power-on with ELF: reset_cause (0x2510:7) = 1 (power-on), set and save a value; power-on with
+  STALL_ELF (the same image built with the test-only hook BOARD_TEST_STALL_TICK_MS: 300 ms after a
+  start that was not a watchdog reset its control tick stops; the background keeps running) on
+  the same --nvm file. A second node on vcan0 (python-can) sees: boot-up, boot-up again (the
+  twin's IWDG reset the MCU: the background alone may not refresh it), then the EMCY 0x6010
+  (CiA 301 "software reset (watchdog)"); reset_cause = 4 (watchdog); the saved value is back;
+  the control tick runs again and the board is not reset a second time.
+
 Exit status 0 when every step passes."""
 import os
 import re
@@ -21,6 +30,8 @@ import time
 
 PARAM = "rbfn_gamma_w"
 PARAM_INDEX, PARAM_SUB = 0x2100, 2
+RESET_POWER_ON, RESET_WATCHDOG = 1, 4  # reset_cause (0x2510:7), hal.h enum hal_reset_cause
+EMCY_WATCHDOG_RESET = 0x6010           # CiA 301 emergency error code "software reset (watchdog)"
 
 
 def allow_overcommit():
@@ -105,6 +116,8 @@ def tune(exe, elf, eds, work):
     try:
         rc, out = dtctune(eds, "get", PARAM)
         check(rc == 0 and value_of(out) == default, f"first power-on: {PARAM} is the EDS default {default:g}")
+        rc, out = dtctune(eds, "get", "reset_cause")
+        check(rc == 0 and value_of(out) == RESET_POWER_ON, "reset_cause 1 (power-on)")
         new = default + 250.0
         rc, out = dtctune(eds, "set", PARAM, f"{new:g}")
         check(rc == 0, f"set {PARAM} {new:g}")
@@ -137,16 +150,78 @@ def tune(exe, elf, eds, work):
         stats_checks(*b.off(), "power-on 3")
 
 
+def watchdog(exe, elf, eds, work, stall_elf):
+    import can
+    nvm = os.path.join(work, "twin.nvm")
+    if os.path.exists(nvm):
+        os.remove(nvm)
+    default = eds_default(eds)
+    new = default + 500.0
+    b = Board(exe, elf, nvm, os.path.join(work, "power-on-1.log"))
+    try:
+        rc, out = dtctune(eds, "get", "reset_cause")
+        check(rc == 0 and value_of(out) == RESET_POWER_ON, "power-on: reset_cause 1 (power-on)")
+        rc, out = dtctune(eds, "set", PARAM, f"{new:g}")
+        check(rc == 0, f"set {PARAM} {new:g}")
+        rc, out = dtctune(eds, "save")
+        check(rc == 0, "save (0x1010)")
+    finally:
+        stats_checks(*b.off(), "power-on 1")
+
+    bus = can.Bus(interface="socketcan", channel="vcan0")
+    frames = []
+    b = Board(exe, stall_elf, nvm, os.path.join(work, "power-on-stall.log"))
+    try:
+        deadline = time.monotonic() + 30.0
+        while time.monotonic() < deadline:
+            m = bus.recv(timeout=0.5)
+            if m is None:
+                continue
+            frames.append((m.arbitration_id, bytes(m.data)))
+            print(f"  bus: {m.arbitration_id:03X} [{len(m.data)}] {bytes(m.data).hex(' ')}", flush=True)
+            if 0x081 <= m.arbitration_id <= 0x0FF and len(m.data) == 8:
+                break
+        bus.shutdown()
+        boots = [i for i, (cid, d) in enumerate(frames) if 0x701 <= cid <= 0x77F and d == b"\x00"]
+        emcy = [i for i, (cid, d) in enumerate(frames) if 0x081 <= cid <= 0x0FF and len(d) == 8]
+        check(len(boots) == 2, f"two boot-up messages: power-on and after the watchdog reset ({len(boots)})")
+        code = int.from_bytes(frames[emcy[0]][1][0:2], "little") if emcy else None
+        check(emcy and code == EMCY_WATCHDOG_RESET, f"EMCY 0x6010 on the bus (code {code:#06x})" if emcy else "EMCY on the bus")
+        check(len(boots) == 2 and emcy and boots[1] < emcy[0], "the EMCY follows the second boot-up")
+        rc, out = dtctune(eds, "get", "reset_cause")
+        check(rc == 0 and value_of(out) == RESET_WATCHDOG, "reset_cause 4 (independent watchdog)")
+        rc, out = dtctune(eds, "get", PARAM)
+        check(rc == 0 and value_of(out) == new, f"after the watchdog reset {PARAM} = the saved {new:g}")
+        rc, out = dtctune(eds, "get", "persist_status")
+        check(rc == 0 and value_of(out) == 0, "persist_status 0 (the stored set loaded)")
+        time.sleep(3.0)  # > 0.3 s of emulated time: a tick that stalled again would reset again
+    finally:
+        rc, text = b.off()
+    check(rc == 0, f"stall image: dtc-board exit status {rc}")
+    m = re.search(r"([\d.]+) s simulated.* (\d+) resets", text)
+    check(m is not None and int(m.group(2)) == 1, "exactly one emulated reset (by the IWDG)")
+    check(m is not None and float(m.group(1)) > 1.0, f"ran {m.group(1) if m else '?'} s of emulated time (> 1 s)")
+    t = re.search(r"control tick \(ADC1_2\): (\d+) interrupts", text)
+    sim = float(m.group(1)) if m else 0.0
+    # before the stall at most 0.3 s of ticks (1500); afterwards the tick runs to the end
+    check(t is not None and int(t.group(1)) > 1500 + 5000 * (sim - 0.3 - 0.1 - 0.1) * 0.9,
+          f"the control tick runs again after the reset ({t.group(1) if t else '?'} interrupts in {sim:.2f} s)")
+
+
 def main():
-    if len(sys.argv) != 6 or sys.argv[1] not in ("tune",):
+    if len(sys.argv) < 6 or sys.argv[1] not in ("tune", "watchdog") or (sys.argv[1] == "watchdog") != (len(sys.argv) == 7):
         sys.exit(__doc__)
     mode, exe, elf, eds, work = sys.argv[1:6]
-    if not os.path.exists(elf):
-        print(f"skipped: {elf} not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)")
-        return 77
+    for image in sys.argv[3:4] + sys.argv[6:7]:
+        if not os.path.exists(image):
+            print(f"skipped: {image} not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)")
+            return 77
     os.makedirs(work, exist_ok=True)
     allow_overcommit()
-    tune(exe, elf, eds, work)
+    if mode == "tune":
+        tune(exe, elf, eds, work)
+    else:
+        watchdog(exe, elf, eds, work, sys.argv[6])
     for f in fails:
         print("FAIL:", f)
     print(f"twin {mode} session:", "ok" if not fails else f"{len(fails)} failure(s)")
