@@ -59,6 +59,13 @@ void board_init(void);
  */
 void board_safe_state(void);
 
+/**
+ * Every exception nobody claimed ends here (startup_stm32g474.c): the safe
+ * state, then wait for the watchdog. The NMI handler calls it for every NMI
+ * that is not a flash ECC error of a parameter read. Context: exception.
+ */
+void Default_Handler(void);
+
 /** @return the board_fault bits recorded since reset. Context: ANY. */
 uint32_t board_faults(void);
 

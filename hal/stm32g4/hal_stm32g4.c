@@ -151,6 +151,10 @@ typedef struct {
     uint32_t reset_cause;         /* enum hal_reset_cause, from RCC_CSR at board_init */
     bool wdg_started;
     volatile bool wdg_tick_alive; /* set by the tick ISR */
+    /* NVM reads: a double ECC error there is an interrupted write, not a broken chip */
+    volatile bool nvm_reading;    /* the background is reading the parameter pages */
+    volatile bool nvm_ecc_hit;    /* the NMI saw FLASH_ECCR.ECCD meanwhile */
+    uint32_t nvm_ecc_errors;
     /* CAN */
     bool can_open;
     uint32_t can_busoff_ms;
@@ -1080,15 +1084,56 @@ static int nvm_check(uint32_t offset, const void *buf, size_t len)
     return HAL_OK;
 }
 
+/*
+ * Reads of the parameter pages go between these two: a power loss during an
+ * erase or a program leaves double words whose ECC does not match, and reading
+ * one raises the NMI with FLASH_ECCR.ECCD (RM0440, FLASH chapter, "Error code
+ * correction"). Inside the window the NMI handler takes that as "this copy is
+ * unreadable" instead of a fatal error. @return false if an ECC error was seen.
+ * Context: BG.
+ */
+static void nvm_read_begin(void)
+{
+    g_board.nvm_ecc_hit = false;
+    g_board.nvm_reading = true;
+    __asm volatile("" ::: "memory");
+}
+
+static bool nvm_read_end(void)
+{
+    __asm volatile("dsb\n\tisb" ::: "memory"); /* the last read's NMI is taken by now */
+    g_board.nvm_reading = false;
+    return !g_board.nvm_ecc_hit;
+}
+
+/** NMI: a double ECC error while the background reads the parameter pages is
+ * cleared and reported to that read (the data are unusable, the persist layer
+ * falls back to the other slot); any other cause (clock security system, an
+ * ECC error in code or constants) forces the safe state. Context: NMI. */
+void NMI_Handler(void)
+{
+    uint32_t ecc = FLASH_ECCR;
+    if ((ecc & FLASH_ECCR_ECCD) != 0u && g_board.nvm_reading) {
+        FLASH_ECCR = (ecc & FLASH_ECCR_ECCCIE) | FLASH_ECCR_ECCD; /* rc_w1 */
+        g_board.nvm_ecc_hit = true;
+        g_board.nvm_ecc_errors++;
+        g_board.faults |= BOARD_FAULT_NVM;
+        return;
+    }
+    Default_Handler();
+}
+
 int hal_nvm_read(uint32_t offset, void *buf, size_t len)
 {
     int rc = nvm_check(offset, buf, len);
     if (rc != HAL_OK)
         return rc;
     /* Flash is memory-mapped: reading is a copy (erased bytes read 0xFF). */
-    if (len != 0u)
-        memcpy(buf, __nvm_start + offset, len);
-    return HAL_OK;
+    if (len == 0u)
+        return HAL_OK;
+    nvm_read_begin();
+    memcpy(buf, __nvm_start + offset, len);
+    return nvm_read_end() ? HAL_OK : HAL_EIO;
 }
 
 /* Let the watchdog through during long flash operations: the caller is the
@@ -1166,6 +1211,7 @@ static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src
 {
     const uint8_t *flash = (const uint8_t *)(uintptr_t)page_addr;
     flash_dcache_reset();
+    nvm_read_begin();
     memcpy(g_page_buf, flash, NVM_PAGE_SIZE);
     memcpy(g_page_buf + from, src, n);
 
@@ -1178,6 +1224,10 @@ static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src
                 need_erase = true;
         }
     }
+    /* A double word with a broken ECC (an interrupted write) may even read as
+     * erased but cannot be programmed: only an erase makes the page usable. */
+    if (!nvm_read_end())
+        need_erase = true;
     uint32_t lo = need_erase ? 0u : from & ~7u;
     uint32_t hi = need_erase ? NVM_PAGE_SIZE : from + n;
     if (need_erase && !flash_erase_page(page_addr))
@@ -1195,7 +1245,9 @@ static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src
         }
     }
     flash_dcache_reset();
-    return memcmp(flash + from, src, n) == 0; /* read back through the bus */
+    nvm_read_begin();
+    bool same = memcmp(flash + from, src, n) == 0; /* read back through the bus */
+    return nvm_read_end() && same;
 }
 
 /*

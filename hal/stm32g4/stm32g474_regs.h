@@ -158,7 +158,10 @@
 #define FLASH_KEYR REG32(FLASH_BASE_R + 0x08u)  /* @svd FLASH.FLASH_KEYR */
 #define FLASH_SR REG32(FLASH_BASE_R + 0x10u)    /* @svd FLASH.FLASH_SR */
 #define FLASH_CR REG32(FLASH_BASE_R + 0x14u)    /* @svd FLASH.FLASH_CR */
+#define FLASH_ECCR REG32(FLASH_BASE_R + 0x18u)  /* @svd FLASH.FLASH_ECCR */
 #define FLASH_OPTR REG32(FLASH_BASE_R + 0x20u)  /* @svd FLASH.FLASH_OPTR */
+#define FLASH_ECCR_ECCCIE (1u << 24)            /* @svd FLASH.FLASH_ECCR.ECCCIE */
+#define FLASH_ECCR_ECCD (1u << 31)              /* @svd FLASH.FLASH_ECCR.ECCD */
 #define FLASH_ACR_LATENCY_MASK (0xFu << 0)      /* @svd FLASH.FLASH_ACR.LATENCY */
 #define FLASH_ACR_LATENCY_4WS (4u << 0)         /* @svd FLASH.FLASH_ACR.LATENCY=4 */
 #define FLASH_ACR_PRFTEN (1u << 8)              /* @svd FLASH.FLASH_ACR.PRFTEN */
