@@ -118,7 +118,7 @@ static void install_flash_read_hook(board *b) {
   uc_hook h;
   uc_hook_add(b->uc, &h, UC_HOOK_MEM_READ, (void *)hook_flash_read, b, FLASH_BASE, FLASH_BASE + FLASH_SIZE - 1u);
   /* code translated before the hook existed reads without it: drop the translations */
-  uc_ctl_flush_tlb(b->uc);
+  uc_ctl_remove_cache(b->uc, FLASH_BASE, FLASH_BASE + FLASH_SIZE);
   b->cut.hooked = true;
 }
 
