@@ -25,7 +25,7 @@
  * Chosen so that every output is off within 1 us of the fault line while the
  * outer-to-inner gap stays as long as that allows (see docs/board.md, "Fault").
  */
-#define BOARD_FAULT_INNER_DELAY_NS 750u
+#define BOARD_FAULT_INNER_DELAY_NS 600u
 
 /** Board fault bits recorded by the binding (board_faults()). */
 enum board_fault {

@@ -7,7 +7,7 @@
                                   1 us +- one HRTIM tick (1/170 MHz); the control tick ran.
   test_twin.py fault              the gate drivers' fault line pulled low mid-run: outer switches
                                   (S1, S4) off within 60 ns (docs/board.md: 20-60 ns), inner ones
-                                  (S2, S3) at least BOARD_FAULT_INNER_DELAY_NS = 0.75 us after the
+                                  (S2, S3) at least BOARD_FAULT_INNER_DELAY_NS = 0.6 us after the
                                   outer ones and all within 1 us of the line; the core reports
                                   CTL_FAULT_HW, the board BOARD_FAULT_HRTIM, and a node on the CAN
                                   bus receives the EMCY 0x2320 (CiA 301 "current, device output
@@ -28,7 +28,7 @@ ELF = os.environ.get("DTC_FW_ELF", os.path.join(SRC, "build", "stm32g4", "dtc-fw
 CASE2 = os.path.join(SRC, "host_sim", "scenarios", "case2.ini")
 T_HRTIM = 1.0 / 170e6
 DEAD_TIME = 1.0e-6            # BOARD_DEAD_TIME_NS (hal/stm32g4/board.h)
-INNER_DELAY = 0.75e-6         # BOARD_FAULT_INNER_DELAY_NS
+INNER_DELAY = 0.6e-6          # BOARD_FAULT_INNER_DELAY_NS
 ALL_OFF_WITHIN = 1.0e-6       # issue 9: outputs inactive within a microsecond
 EMCY_HW = 0x2320              # tools/params/parameters.toml [[emcy]] CTL_FAULT_HW
 ERR_REG_CURRENT = 1 << 1      # CiA 301 0x1001 bit 1
