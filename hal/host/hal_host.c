@@ -393,6 +393,9 @@ int hal_watchdog_start(uint32_t timeout_ms)
     return HAL_OK;
 }
 
+/* The host board starts as from power: it has no reset of its own. */
+uint32_t hal_reset_cause(void) { return HAL_RESET_POWER_ON; }
+
 void hal_watchdog_kick(void)
 {
     hal_host_board *b = g_board;

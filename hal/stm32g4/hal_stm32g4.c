@@ -145,10 +145,16 @@ typedef struct {
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     volatile bool gates_on;
     volatile bool fault_latched; /* set by the HRTIM fault ISR, reported once */
+    uint32_t fault_inner_cycles; /* BOARD_FAULT_INNER_DELAY_NS in core cycles, set before the fault is armed */
     uint32_t fault_trips;
-    /* watchdog */
+    /* watchdog and reset cause */
+    uint32_t reset_cause;         /* enum hal_reset_cause, from RCC_CSR at board_init */
     bool wdg_started;
     volatile bool wdg_tick_alive; /* set by the tick ISR */
+    /* NVM reads: a double ECC error there is an interrupted write, not a broken chip */
+    volatile bool nvm_reading;    /* the background is reading the parameter pages */
+    volatile bool nvm_ecc_hit;    /* the NMI saw FLASH_ECCR.ECCD meanwhile */
+    uint32_t nvm_ecc_errors;
     /* CAN */
     bool can_open;
     uint32_t can_busoff_ms;
@@ -322,7 +328,7 @@ static void gpio_init(void)
 static void hrtim_outputs_off(void)
 {
     HRTIM_ODISR = HRTIM_OUT_OUTER;
-    delay_ns(BOARD_FAULT_INNER_DELAY_NS);
+    delay_ns(BOARD_DEAD_TIME_NS); /* not urgent here: the full dead time between outer and inner */
     HRTIM_ODISR = HRTIM_OUT_INNER;
 }
 
@@ -381,15 +387,24 @@ static void hrtim_arm_fault(void)
     HRTIM_FLTINR1 |= HRTIM_FLTINR1_FLT3LCK;
     HRTIM_ICR = HRTIM_ICR_FLT3C;
     HRTIM_IER |= HRTIM_IER_FLT3IE;
+    /* The handler's delay, precomputed: no division between the fault and the inner switches. */
+    g_board.fault_inner_cycles =
+        (uint32_t)(((uint64_t)BOARD_FAULT_INNER_DELAY_NS * g_board.sysclk_hz + 999999999u) / 1000000000u);
     nvic_enable(IRQN_HRTIM1_FLT, PRIO_HRTIM_FAULT);
 }
 
 /** HRTIM fault interrupt: the outer switches are already off in hardware;
- * after BOARD_FAULT_INNER_DELAY_NS the inner ones follow. Context: interrupt,
- * most urgent. */
+ * BOARD_FAULT_INNER_DELAY_NS after the handler's entry the inner ones follow.
+ * The first action is the time stamp, the wait is a precomputed cycle count
+ * (bounded by its own loop count should the cycle counter stop), the second
+ * a single store of a constant. Context: interrupt, most urgent (priority 0:
+ * pre-empts the control tick; nothing in the firmware masks it). */
 void HRTIM1_FLT_IRQHandler(void)
 {
-    delay_ns(BOARD_FAULT_INNER_DELAY_NS);
+    const uint32_t t0 = DWT_CYCCNT;
+    const uint32_t wait = g_board.fault_inner_cycles;
+    for (uint32_t n = 0u; n < wait && DWT_CYCCNT - t0 < wait; n++) {
+    }
     HRTIM_ODISR = HRTIM_OUT_ALL;
     /* One interrupt per trip: a line held low must not starve the tick.
      * hal_gate_enable(true) re-arms it once the line is high again. */
@@ -598,6 +613,32 @@ static bool adc_calibrate_offsets(void)
 
 /* ------------------------------------------------------------ board_init */
 
+/*
+ * RCC_CSR reset flags -> one cause (RM0440, RCC chapter, RCC_CSR). An internal
+ * reset also drives NRST, so PINRSTF comes with every other flag; a power-on
+ * sets BORRSTF and PINRSTF. The most specific flag wins.
+ */
+static uint32_t reset_cause_from_csr(uint32_t csr)
+{
+    if ((csr & RCC_CSR_IWDGRSTF) != 0u)
+        return HAL_RESET_WATCHDOG;
+    if ((csr & RCC_CSR_WWDGRSTF) != 0u)
+        return HAL_RESET_WINDOW_WATCHDOG;
+    if ((csr & RCC_CSR_SFTRSTF) != 0u)
+        return HAL_RESET_SOFTWARE;
+    if ((csr & RCC_CSR_LPWRRSTF) != 0u)
+        return HAL_RESET_LOW_POWER;
+    if ((csr & RCC_CSR_OBLRSTF) != 0u)
+        return HAL_RESET_OPTION_LOAD;
+    if ((csr & RCC_CSR_BORRSTF) != 0u)
+        return HAL_RESET_POWER_ON;
+    if ((csr & RCC_CSR_PINRSTF) != 0u)
+        return HAL_RESET_PIN;
+    return HAL_RESET_UNKNOWN;
+}
+
+uint32_t hal_reset_cause(void) { return g_board.reset_cause; }
+
 void board_init(void)
 {
     SCB_VTOR = (uint32_t)(uintptr_t)__isr_vector_start;
@@ -606,7 +647,9 @@ void board_init(void)
     SCB_SHCSR |= SCB_SHCSR_MEMFAULTENA | SCB_SHCSR_BUSFAULTENA | SCB_SHCSR_USGFAULTENA;
     SCB_CCR |= SCB_CCR_DIV_0_TRP;
 
-    if ((RCC_CSR & RCC_CSR_IWDGRSTF) != 0u)
+    g_board.reset_cause = reset_cause_from_csr(RCC_CSR);
+    RCC_CSR |= RCC_CSR_RMVF; /* clear the flags: the next start reports its own cause */
+    if (g_board.reset_cause == HAL_RESET_WATCHDOG)
         g_board.faults |= BOARD_FAULT_WDG_RESET;
     /* Option bytes this board depends on (docs/board.md, NUCLEO caveats):
      * boot not taken from PB8 (= CAN RX), flash in dual-bank mode. */
@@ -694,6 +737,16 @@ void ADC1_2_IRQHandler(void)
     HRTIM_MICR = HRTIM_MICR_MCMP1C;
     if ((ADC_REG(ADC1_BASE, ADC_ISR_OFS) & ADC_ISR_JEOS) == 0u)
         return; /* spurious */
+#ifdef BOARD_TEST_STALL_TICK_MS
+    /* TEST BUILD ONLY (dtc-fw-stalltest.elf, never dtc-fw.elf): BOARD_TEST_STALL_TICK_MS
+     * after a start that was not a watchdog reset, the control tick stops itself for good
+     * (its interrupt disabled, as a hung sampling chain would leave it); the background keeps
+     * running and asking for watchdog refreshes, which the two-flag scheme must refuse. */
+    if (g_board.reset_cause != HAL_RESET_WATCHDOG && g_board.millis >= BOARD_TEST_STALL_TICK_MS) {
+        NVIC_ICER(IRQN_ADC1_2 >> 5) = 1u << (IRQN_ADC1_2 & 31u);
+        return;
+    }
+#endif
     sample_latch();
     g_board.wdg_tick_alive = true;
     if (g_board.handler != NULL)
@@ -1031,15 +1084,56 @@ static int nvm_check(uint32_t offset, const void *buf, size_t len)
     return HAL_OK;
 }
 
+/*
+ * Reads of the parameter pages go between these two: a power loss during an
+ * erase or a program leaves double words whose ECC does not match, and reading
+ * one raises the NMI with FLASH_ECCR.ECCD (RM0440, FLASH chapter, "Error code
+ * correction"). Inside the window the NMI handler takes that as "this copy is
+ * unreadable" instead of a fatal error. @return false if an ECC error was seen.
+ * Context: BG.
+ */
+static void nvm_read_begin(void)
+{
+    g_board.nvm_ecc_hit = false;
+    g_board.nvm_reading = true;
+    __asm volatile("" ::: "memory");
+}
+
+static bool nvm_read_end(void)
+{
+    __asm volatile("dsb\n\tisb" ::: "memory"); /* the last read's NMI is taken by now */
+    g_board.nvm_reading = false;
+    return !g_board.nvm_ecc_hit;
+}
+
+/** NMI: a double ECC error while the background reads the parameter pages is
+ * cleared and reported to that read (the data are unusable, the persist layer
+ * falls back to the other slot); any other cause (clock security system, an
+ * ECC error in code or constants) forces the safe state. Context: NMI. */
+void NMI_Handler(void)
+{
+    uint32_t ecc = FLASH_ECCR;
+    if ((ecc & FLASH_ECCR_ECCD) != 0u && g_board.nvm_reading) {
+        FLASH_ECCR = (ecc & FLASH_ECCR_ECCCIE) | FLASH_ECCR_ECCD; /* rc_w1 */
+        g_board.nvm_ecc_hit = true;
+        g_board.nvm_ecc_errors++;
+        g_board.faults |= BOARD_FAULT_NVM;
+        return;
+    }
+    Default_Handler();
+}
+
 int hal_nvm_read(uint32_t offset, void *buf, size_t len)
 {
     int rc = nvm_check(offset, buf, len);
     if (rc != HAL_OK)
         return rc;
     /* Flash is memory-mapped: reading is a copy (erased bytes read 0xFF). */
-    if (len != 0u)
-        memcpy(buf, __nvm_start + offset, len);
-    return HAL_OK;
+    if (len == 0u)
+        return HAL_OK;
+    nvm_read_begin();
+    memcpy(buf, __nvm_start + offset, len);
+    return nvm_read_end() ? HAL_OK : HAL_EIO;
 }
 
 /* Let the watchdog through during long flash operations: the caller is the
@@ -1117,6 +1211,7 @@ static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src
 {
     const uint8_t *flash = (const uint8_t *)(uintptr_t)page_addr;
     flash_dcache_reset();
+    nvm_read_begin();
     memcpy(g_page_buf, flash, NVM_PAGE_SIZE);
     memcpy(g_page_buf + from, src, n);
 
@@ -1129,6 +1224,10 @@ static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src
                 need_erase = true;
         }
     }
+    /* A double word with a broken ECC (an interrupted write) may even read as
+     * erased but cannot be programmed: only an erase makes the page usable. */
+    if (!nvm_read_end())
+        need_erase = true;
     uint32_t lo = need_erase ? 0u : from & ~7u;
     uint32_t hi = need_erase ? NVM_PAGE_SIZE : from + n;
     if (need_erase && !flash_erase_page(page_addr))
@@ -1146,7 +1245,9 @@ static bool nvm_write_page(uint32_t page_addr, uint32_t from, const uint8_t *src
         }
     }
     flash_dcache_reset();
-    return memcmp(flash + from, src, n) == 0; /* read back through the bus */
+    nvm_read_begin();
+    bool same = memcmp(flash + from, src, n) == 0; /* read back through the bus */
+    return nvm_read_end() && same;
 }
 
 /*

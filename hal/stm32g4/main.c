@@ -16,8 +16,10 @@ static drive g_drive;
 
 int main(void)
 {
-    drive_init(&g_drive);
+    /* The watchdog first: a start-up that hangs (e.g. in an exception while
+     * reading the parameter store) ends in a reset, not in a dead drive. */
     (void)hal_watchdog_start(WATCHDOG_TIMEOUT_MS);
+    drive_init(&g_drive);
 
     if (hal_tick_start(drive_isr, &g_drive, CONTROL_PERIOD_US) != HAL_OK) {
         /* Cannot control: stay safe and let the watchdog restart the chip. */

@@ -133,7 +133,14 @@
 #define RCC_CCIPR_ADC12SEL_MASK (3u << 28)  /* @svd RCC.RCC_CCIPR.ADC12SEL */
 #define RCC_CCIPR_ADC12SEL_SYSCLK (2u << 28) /* @svd RCC.RCC_CCIPR.ADC12SEL=2 */
 #define RCC_CSR_LSION (1u << 0)    /* @svd RCC.RCC_CSR.LSION */
+#define RCC_CSR_RMVF (1u << 23)     /* @svd RCC.RCC_CSR.RMVF */
+#define RCC_CSR_OBLRSTF (1u << 25)  /* @svd RCC.RCC_CSR.OBLRSTF */
+#define RCC_CSR_PINRSTF (1u << 26)  /* @svd RCC.RCC_CSR.PINRSTF */
+#define RCC_CSR_BORRSTF (1u << 27)  /* @svd RCC.RCC_CSR.BORRSTF */
+#define RCC_CSR_SFTRSTF (1u << 28)  /* @svd RCC.RCC_CSR.SFTRSTF */
 #define RCC_CSR_IWDGRSTF (1u << 29) /* @svd RCC.RCC_CSR.IWDGRSTF */
+#define RCC_CSR_WWDGRSTF (1u << 30) /* @svd RCC.RCC_CSR.WWDGRSTF */
+#define RCC_CSR_LPWRRSTF (1u << 31) /* @svd RCC.RCC_CSR.LPWRRSTF */
 
 /* ------------------------------------------------ PWR (RM0440 6.4) */
 #define PWR_BASE 0x40007000u                /* @svd-base PWR */
@@ -151,7 +158,10 @@
 #define FLASH_KEYR REG32(FLASH_BASE_R + 0x08u)  /* @svd FLASH.FLASH_KEYR */
 #define FLASH_SR REG32(FLASH_BASE_R + 0x10u)    /* @svd FLASH.FLASH_SR */
 #define FLASH_CR REG32(FLASH_BASE_R + 0x14u)    /* @svd FLASH.FLASH_CR */
+#define FLASH_ECCR REG32(FLASH_BASE_R + 0x18u)  /* @svd FLASH.FLASH_ECCR */
 #define FLASH_OPTR REG32(FLASH_BASE_R + 0x20u)  /* @svd FLASH.FLASH_OPTR */
+#define FLASH_ECCR_ECCCIE (1u << 24)            /* @svd FLASH.FLASH_ECCR.ECCCIE */
+#define FLASH_ECCR_ECCD (1u << 31)              /* @svd FLASH.FLASH_ECCR.ECCD */
 #define FLASH_ACR_LATENCY_MASK (0xFu << 0)      /* @svd FLASH.FLASH_ACR.LATENCY */
 #define FLASH_ACR_LATENCY_4WS (4u << 0)         /* @svd FLASH.FLASH_ACR.LATENCY=4 */
 #define FLASH_ACR_PRFTEN (1u << 8)              /* @svd FLASH.FLASH_ACR.PRFTEN */

@@ -9,6 +9,7 @@
 #include "board_twin/board.h"
 #include "board_twin/elf.h"
 #include "board_twin/pinmap.h"
+#include "board_twin/twin.h"
 
 namespace {
 
@@ -282,4 +283,47 @@ TEST(twin, gpio_configuration_against_a_board_table) {
       << "PB1 in the table but never configured";
   EXPECT_EQ(check("| PA8 | Alt | 13 | X | - |\n"), -100) << "bad mode must not parse";
   board_close(b);
+}
+
+// The twin's power cut (board_flash_power_cut) during a double-word program, torn: after the
+// power-on the half-programmed double word reads with a broken ECC: FLASH_ECCR.ECCD, BK_ECC =
+// bank 2, ADDR_ECC = its bank-relative address, and the NMI; a page erase repairs it. A clean
+// cut leaves the double word erased and raises nothing.
+TEST(twin, power_cut_torn_program_gives_ecc_double_error_and_nmi) {
+  for (int torn = 0; torn < 2; torn++) {
+    board_config cfg;
+    board_config_default(&cfg);
+    std::string path = image("ecc");
+    cfg.elf_path = path.c_str();
+    char err[512];
+    board *b = board_open(&cfg, err, sizeof err);
+    ASSERT_NE(b, nullptr) << err;
+    board_flash_power_cut(b, 1, torn);
+    ASSERT_EQ(board_run(b, 1.0), BOARD_POWER_OFF) << board_message(b);
+    EXPECT_EQ(board_flash_ops(b), 1u);
+    board_flash_power_cut(b, 0, 0);
+    board_power_on(b);
+    ASSERT_EQ(board_run(b, 1.0), BOARD_EXITED) << board_message(b);
+    uint32_t r[8];
+    for (uint32_t i = 0; i < 8; i++) board_read_symbol(b, "tb_result", 4 * i, &r[i]);
+    if (torn) {
+      EXPECT_GE(r[0], 1u) << "NMI on the read of the torn double word";
+      EXPECT_EQ(r[1], (1u << 31) | (1u << 21) | 0x3F828u) << "ECCD, BK_ECC = bank 2, ADDR_ECC 0x3F828";
+      EXPECT_TRUE((r[2] & 0x12345678u) == 0x12345678u && (r[3] & 0x9ABCDEF0u) == 0x9ABCDEF0u)
+          << "programming only clears bits: the target's ones are ones";
+      EXPECT_TRUE((r[2] != 0xFFFFFFFFu || r[3] != 0xFFFFFFFFu) && (r[2] != 0x12345678u || r[3] != 0x9ABCDEF0u))
+          << "half programmed: neither erased nor the target";
+      EXPECT_GE(board_flash_ecc_errors(b), 1u);
+      EXPECT_EQ(r[6], 0xFFFFFFFFu) << "erased";
+      EXPECT_EQ(r[7], 0u) << "no NMI after the erase";
+    } else {
+      EXPECT_EQ(r[0], 0u) << "a clean cut: the program never happened";
+      EXPECT_EQ(r[2], 0xFFFFFFFFu);
+      EXPECT_EQ(r[3], 0xFFFFFFFFu);
+      EXPECT_EQ(r[5], 0x12345678u) << "programmed on the next boot";
+      EXPECT_EQ(board_flash_ecc_errors(b), 0u);
+    }
+    EXPECT_EQ(r[4] & (1u << 31), 0u) << "ECCD cleared by writing 1";
+    board_close(b);
+  }
 }

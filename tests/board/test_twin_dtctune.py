@@ -1,19 +1,37 @@
 #!/usr/bin/env python3
-"""A tuning session with dtctune against the twin over real SocketCAN (vcan0; inside User-Mode
-Linux where the host kernel has no CAN): the real drive + CANopen firmware (canopen_image.elf,
-the target's firmware libraries with the port's HAL) runs on the emulated STM32G474 under
-`dtc-board exec --can vcan0 --realtime --nvm FILE`.
-  get -> set -> get (read back) -> save (0x1010, the firmware's flash store on the twin's
-  flash model) -> power-cycle (SIGTERM, new dtc-board process on the same --nvm file) -> get.
-    test_twin_dtctune.py DTC_BOARD IMAGE EDS WORKDIR
+"""Sessions with dtctune against the twin over real SocketCAN (vcan0; inside User-Mode Linux
+where the host kernel has no CAN), as a drive engineer would run them against a board: the
+flashable image (build/stm32g4/dtc-fw.elf, byte for byte, with its control tick running) under
+`dtc-board exec --can vcan0 --realtime --nvm FILE`, one dtc-board process per power-on.
+
+    test_twin_dtctune.py tune DTC_BOARD ELF EDS WORKDIR
+  get -> set -> get (read back) -> save (0x1010, the firmware's flash store on the twin's flash
+  model) -> power-cycle (SIGTERM, new dtc-board on the same --nvm file) -> get = the saved value
+  -> restore-defaults (0x1011) -> power-cycle -> get = the EDS default (the python canopen
+  package's reading of the EDS, not the firmware's). Every power-on runs the control tick
+  (ADC1_2 interrupts > 0) and ends without an emulated reset.
+
+    test_twin_dtctune.py watchdog DTC_BOARD ELF EDS WORKDIR STALL_ELF
+  power-on with ELF: reset_cause (0x2510:7) = 1 (power-on), set and save a value; power-on with
+  STALL_ELF (the same image built with the test-only hook BOARD_TEST_STALL_TICK_MS: 300 ms after a
+  start that was not a watchdog reset its control tick stops; the background keeps running) on
+  the same --nvm file. A second node on vcan0 (python-can) sees: boot-up, boot-up again (the
+  twin's IWDG reset the MCU: the background alone may not refresh it), then the EMCY 0x6010
+  (CiA 301 "software reset (watchdog)"); reset_cause = 4 (watchdog); the saved value is back;
+  the control tick runs again and the board is not reset a second time.
+
 Exit status 0 when every step passes."""
 import os
+import re
 import signal
 import subprocess
 import sys
 import time
 
 PARAM = "rbfn_gamma_w"
+PARAM_INDEX, PARAM_SUB = 0x2100, 2
+RESET_POWER_ON, RESET_WATCHDOG = 1, 4  # reset_cause (0x2510:7), hal.h enum hal_reset_cause
+EMCY_WATCHDOG_RESET = 0x6010           # CiA 301 emergency error code "software reset (watchdog)"
 
 
 def allow_overcommit():
@@ -29,6 +47,15 @@ def allow_overcommit():
         print("note:", e)
 
 
+fails = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what, flush=True)
+    if not cond:
+        fails.append(what)
+
+
 def dtctune(eds, *args):
     cmd = [sys.executable, "-m", "dtctune", "--eds", eds, "--timeout", "3", *args]
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
@@ -37,62 +64,167 @@ def dtctune(eds, *args):
     return r.returncode, out
 
 
-def power_on(exe, elf, nvm):
-    p = subprocess.Popen([exe, "exec", "--elf", elf, "--can", "vcan0", "--can-bitrate", "500000", "--realtime",
-                          "--nvm", nvm, "--seconds", "600", "--stats"])
-    time.sleep(1.5)  # boot: clocks, drive_init, CANopen boot-up (about 0.1 s of emulated time)
-    return p
+def value_of(out):
+    try:
+        return float(out.split()[-1])
+    except (ValueError, IndexError):
+        return None
 
 
-def power_off(p):
-    p.send_signal(signal.SIGTERM)
-    return p.wait(timeout=30)
+def eds_default(eds):
+    import canopen
+    od = canopen.import_od(eds)
+    return float(od[PARAM_INDEX][PARAM_SUB].default)
 
 
-def main():
-    exe, elf, eds, work = sys.argv[1:5]
-    os.makedirs(work, exist_ok=True)
+class Board:
+    """One power-on of the emulated board: a dtc-board exec process."""
+
+    def __init__(self, exe, elf, nvm, log):
+        self.log = log
+        self.f = open(log, "w")
+        self.p = subprocess.Popen([exe, "exec", "--elf", elf, "--can", "vcan0", "--can-bitrate", "500000",
+                                   "--realtime", "--nvm", nvm, "--seconds", "600", "--stats"],
+                                  stderr=self.f, stdout=self.f)
+        time.sleep(2.0)  # boot: clocks, ADC calibration, 64 offset periods, CANopen boot-up
+
+    def off(self):
+        """Power-off (SIGTERM: the --nvm file is written). @return (exit status, stats text)."""
+        self.p.send_signal(signal.SIGTERM)
+        rc = self.p.wait(timeout=60)
+        self.f.close()
+        with open(self.log) as f:
+            text = f.read()
+        print(text.strip(), flush=True)
+        return rc, text
+
+
+def stats_checks(rc, text, what):
+    check(rc == 0, f"{what}: dtc-board exit status {rc}")
+    m = re.search(r"control tick \(ADC1_2\): (\d+) interrupts", text)
+    check(m is not None and int(m.group(1)) > 100, f"{what}: the image's control tick ran ({m.group(0) if m else 'no count'})")
+    m = re.search(r"(\d+) resets", text)
+    check(m is not None and int(m.group(1)) == 0, f"{what}: no emulated reset")
+
+
+def tune(exe, elf, eds, work):
     nvm = os.path.join(work, "twin.nvm")
     if os.path.exists(nvm):
         os.remove(nvm)
-    allow_overcommit()
-    fails = []
-    p = power_on(exe, elf, nvm)
+    default = eds_default(eds)
+    b = Board(exe, elf, nvm, os.path.join(work, "power-on-1.log"))
     try:
-        rc, before = dtctune(eds, "get", PARAM)
-        if rc != 0:
-            fails.append(f"get {PARAM}: {before}")
-        try:
-            new = float(before.split()[-1]) + 250.0
-        except (ValueError, IndexError):
-            new = 2250.0
+        rc, out = dtctune(eds, "get", PARAM)
+        check(rc == 0 and value_of(out) == default, f"first power-on: {PARAM} is the EDS default {default:g}")
+        rc, out = dtctune(eds, "get", "reset_cause")
+        check(rc == 0 and value_of(out) == RESET_POWER_ON, "reset_cause 1 (power-on)")
+        new = default + 250.0
         rc, out = dtctune(eds, "set", PARAM, f"{new:g}")
-        if rc != 0:
-            fails.append(f"set {PARAM} {new:g}: {out}")
+        check(rc == 0, f"set {PARAM} {new:g}")
         rc, out = dtctune(eds, "get", PARAM)
-        if rc != 0 or f"{new:g}" not in out:
-            fails.append(f"read back {PARAM}: {out}")
+        check(rc == 0 and value_of(out) == new, f"read back {PARAM} = {new:g}")
         rc, out = dtctune(eds, "save")
-        if rc != 0:
-            fails.append(f"save: {out}")
+        check(rc == 0, "save (0x1010)")
     finally:
-        rc = power_off(p)
-    if rc != 0:
-        fails.append(f"dtc-board (first power-on) exit status {rc}")
-    if not os.path.exists(nvm):
-        fails.append("no NVM file after power-off")
-    p = power_on(exe, elf, nvm)
+        stats_checks(*b.off(), "power-on 1")
+    check(os.path.exists(nvm), "NVM file written at power-off")
+
+    b = Board(exe, elf, nvm, os.path.join(work, "power-on-2.log"))
     try:
         rc, out = dtctune(eds, "get", PARAM)
-        if rc != 0 or f"{new:g}" not in out:
-            fails.append(f"after power-cycle {PARAM}: {out} (want {new:g})")
+        check(rc == 0 and value_of(out) == new, f"after a power cycle {PARAM} = the saved {new:g}")
+        rc, out = dtctune(eds, "restore-defaults")
+        check(rc == 0, "restore-defaults (0x1011)")
+        rc, out = dtctune(eds, "get", PARAM)
+        check(rc == 0 and value_of(out) == default, f"after the restore {PARAM} = the default {default:g}")
     finally:
-        rc = power_off(p)
-    if rc != 0:
-        fails.append(f"dtc-board (second power-on) exit status {rc}")
+        stats_checks(*b.off(), "power-on 2")
+
+    b = Board(exe, elf, nvm, os.path.join(work, "power-on-3.log"))
+    try:
+        rc, out = dtctune(eds, "get", PARAM)
+        check(rc == 0 and value_of(out) == default, f"after another power cycle {PARAM} = the default {default:g}")
+        rc, out = dtctune(eds, "get", "persist_status")
+        check(rc == 0 and value_of(out) == 0, "persist_status 0: a stored set (the empty one) was loaded")
+    finally:
+        stats_checks(*b.off(), "power-on 3")
+
+
+def watchdog(exe, elf, eds, work, stall_elf):
+    import can
+    nvm = os.path.join(work, "twin.nvm")
+    if os.path.exists(nvm):
+        os.remove(nvm)
+    default = eds_default(eds)
+    new = default + 500.0
+    b = Board(exe, elf, nvm, os.path.join(work, "power-on-1.log"))
+    try:
+        rc, out = dtctune(eds, "get", "reset_cause")
+        check(rc == 0 and value_of(out) == RESET_POWER_ON, "power-on: reset_cause 1 (power-on)")
+        rc, out = dtctune(eds, "set", PARAM, f"{new:g}")
+        check(rc == 0, f"set {PARAM} {new:g}")
+        rc, out = dtctune(eds, "save")
+        check(rc == 0, "save (0x1010)")
+    finally:
+        stats_checks(*b.off(), "power-on 1")
+
+    bus = can.Bus(interface="socketcan", channel="vcan0")
+    frames = []
+    b = Board(exe, stall_elf, nvm, os.path.join(work, "power-on-stall.log"))
+    try:
+        deadline = time.monotonic() + 30.0
+        while time.monotonic() < deadline:
+            m = bus.recv(timeout=0.5)
+            if m is None:
+                continue
+            frames.append((m.arbitration_id, bytes(m.data)))
+            print(f"  bus: {m.arbitration_id:03X} [{len(m.data)}] {bytes(m.data).hex(' ')}", flush=True)
+            if 0x081 <= m.arbitration_id <= 0x0FF and len(m.data) == 8:
+                break
+        bus.shutdown()
+        boots = [i for i, (cid, d) in enumerate(frames) if 0x701 <= cid <= 0x77F and d == b"\x00"]
+        emcy = [i for i, (cid, d) in enumerate(frames) if 0x081 <= cid <= 0x0FF and len(d) == 8]
+        check(len(boots) == 2, f"two boot-up messages: power-on and after the watchdog reset ({len(boots)})")
+        code = int.from_bytes(frames[emcy[0]][1][0:2], "little") if emcy else None
+        check(emcy and code == EMCY_WATCHDOG_RESET, f"EMCY 0x6010 on the bus (code {code:#06x})" if emcy else "EMCY on the bus")
+        check(len(boots) == 2 and emcy and boots[1] < emcy[0], "the EMCY follows the second boot-up")
+        rc, out = dtctune(eds, "get", "reset_cause")
+        check(rc == 0 and value_of(out) == RESET_WATCHDOG, "reset_cause 4 (independent watchdog)")
+        rc, out = dtctune(eds, "get", PARAM)
+        check(rc == 0 and value_of(out) == new, f"after the watchdog reset {PARAM} = the saved {new:g}")
+        rc, out = dtctune(eds, "get", "persist_status")
+        check(rc == 0 and value_of(out) == 0, "persist_status 0 (the stored set loaded)")
+        time.sleep(3.0)  # > 0.3 s of emulated time: a tick that stalled again would reset again
+    finally:
+        rc, text = b.off()
+    check(rc == 0, f"stall image: dtc-board exit status {rc}")
+    m = re.search(r"([\d.]+) s simulated.* (\d+) resets", text)
+    check(m is not None and int(m.group(2)) == 1, "exactly one emulated reset (by the IWDG)")
+    check(m is not None and float(m.group(1)) > 1.0, f"ran {m.group(1) if m else '?'} s of emulated time (> 1 s)")
+    t = re.search(r"control tick \(ADC1_2\): (\d+) interrupts", text)
+    sim = float(m.group(1)) if m else 0.0
+    # before the stall at most 0.3 s of ticks (1500); afterwards the tick runs to the end
+    check(t is not None and int(t.group(1)) > 1500 + 5000 * (sim - 0.3 - 0.1 - 0.1) * 0.9,
+          f"the control tick runs again after the reset ({t.group(1) if t else '?'} interrupts in {sim:.2f} s)")
+
+
+def main():
+    if len(sys.argv) < 6 or sys.argv[1] not in ("tune", "watchdog") or (sys.argv[1] == "watchdog") != (len(sys.argv) == 7):
+        sys.exit(__doc__)
+    mode, exe, elf, eds, work = sys.argv[1:6]
+    for image in sys.argv[3:4] + sys.argv[6:7]:
+        if not os.path.exists(image):
+            print(f"skipped: {image} not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)")
+            return 77
+    os.makedirs(work, exist_ok=True)
+    allow_overcommit()
+    if mode == "tune":
+        tune(exe, elf, eds, work)
+    else:
+        watchdog(exe, elf, eds, work, sys.argv[6])
     for f in fails:
         print("FAIL:", f)
-    print("twin tuning session:", "ok" if not fails else f"{len(fails)} failure(s)")
+    print(f"twin {mode} session:", "ok" if not fails else f"{len(fails)} failure(s)")
     return 1 if fails else 0
 
 

@@ -33,6 +33,7 @@ void drive_init(drive *d)
     d->period_cycles[0] = d->period_cycles[1] = period_in_cycles(&d->cfg[0]);
     d->cfg_active = 0u;
     scope_init(&d->scope);
+    d->reset_cause = (uint8_t)hal_reset_cause();
     drive_co_init(d);
     (void)persist_load(d); /* defaults, then the stored set; status in d->persist */
     ctl_init(&d->ctl, drive_cfg(d));

@@ -416,6 +416,11 @@ static void app_booted(void *ctx)
     drive *d = ctx;
     if (d->persist.status == PERSIST_CORRUPT)
         co_emcy_event(&d->co, &co_emcy_table[CO_EMCY_PARAM_SET_LOST], true);
+    /* After a watchdog reset, once per start (not after NMT resets): an event, not latched. */
+    if (d->reset_cause == HAL_RESET_WATCHDOG && !d->reset_cause_sent) {
+        d->reset_cause_sent = true;
+        co_emcy_event(&d->co, &co_emcy_table[CO_EMCY_WATCHDOG_RESET], false);
+    }
 }
 
 /* ------------------------------------------------------------ public */

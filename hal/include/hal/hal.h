@@ -138,6 +138,26 @@ int hal_watchdog_start(uint32_t timeout_ms);
 /** Refresh the watchdog. Context: BG (the background loop proves it is alive). */
 void hal_watchdog_kick(void);
 
+/* ------------------------------------------------------------ reset cause */
+
+/** Why the processor last started (one value, the most specific cause). */
+enum hal_reset_cause {
+    HAL_RESET_UNKNOWN = 0,   /**< the binding cannot tell */
+    HAL_RESET_POWER_ON = 1,  /**< power-on or brown-out */
+    HAL_RESET_PIN = 2,       /**< the reset pin (button, debugger) */
+    HAL_RESET_SOFTWARE = 3,  /**< a reset requested by software */
+    HAL_RESET_WATCHDOG = 4,  /**< the independent watchdog expired */
+    HAL_RESET_WINDOW_WATCHDOG = 5, /**< the window watchdog */
+    HAL_RESET_LOW_POWER = 6, /**< an illegal low-power mode entry */
+    HAL_RESET_OPTION_LOAD = 7,     /**< the option bytes were reloaded */
+};
+
+/**
+ * @return the cause of the last reset (enum hal_reset_cause), as read by the
+ * binding's start-up code; constant until the next reset. Context: ANY.
+ */
+uint32_t hal_reset_cause(void);
+
 #ifdef __cplusplus
 }
 #endif

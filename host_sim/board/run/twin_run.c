@@ -27,6 +27,7 @@
 #include <time.h>
 
 #include "board_twin/board.h"
+#include "board_twin/can.h"
 #include "board_twin/twin.h"
 #include "dtc/drive.h"
 #include "metrics.h"
@@ -82,6 +83,36 @@ static void wr_u8(fw *f, size_t off, uint8_t v) {
 }
 
 static const fw_layout *L;
+
+/* A second node on the twin's CAN bus (hal_host's loopback backend): it acknowledges the image's
+ * frames, as a bus with a master does, and keeps the emergency messages (0x081-0x0FF) it sees,
+ * so the fault test checks the EMCY from the bus side. */
+#define MAX_EMCY 32
+typedef struct {
+  hal_host_can_loopback q;
+  hal_host_can_backend be;
+  uint64_t frames;
+  int n_emcy;
+  struct { double t_s; uint16_t cob_id; uint16_t code; uint8_t reg; uint32_t faults; } emcy[MAX_EMCY];
+} can_listener;
+
+static void can_drain(board *b, can_listener *c, double t0) {
+  hal_can_frame fr;
+  while (hal_host_can_loopback_take(&c->q, &fr) == HAL_OK) {
+    c->frames++;
+    if (fr.id >= 0x081u && fr.id <= 0x0FFu && fr.dlc == 8u && c->n_emcy < MAX_EMCY) {
+      int i = c->n_emcy++;
+      c->emcy[i].t_s = board_time_s(b) - t0; /* seen by the listener at the latest now */
+      c->emcy[i].cob_id = fr.id;
+      c->emcy[i].code = (uint16_t)(fr.data[0] | (fr.data[1] << 8));
+      c->emcy[i].reg = fr.data[2];
+      c->emcy[i].faults = (uint32_t)fr.data[3] | ((uint32_t)fr.data[4] << 8) | ((uint32_t)fr.data[5] << 16) |
+                          ((uint32_t)fr.data[6] << 24);
+    }
+  }
+}
+
+static can_listener g_can;
 
 static void read_snapshot(fw *f, drive_snapshot *s) {
   /* seq + ctl_telemetry + floats: no enums, the same layout on both sides (checked by size) */
@@ -160,6 +191,9 @@ int twin_run_main(int argc, char **argv) {
   if (!b) { fprintf(stderr, "dtc-board: %s\n", err); return 2; }
   int rc = 0;
   if (board_attach_plant(b, &sc.plant) != 0) { fprintf(stderr, "dtc-board: %s: invalid plant configuration\n", path); board_close(b); return 2; }
+  memset(&g_can, 0, sizeof g_can);
+  hal_host_can_loopback_init(&g_can.q, &g_can.be);
+  board_can_attach(b, &g_can.be, 0u);
   fw f = {b, 0};
   uint32_t size = 0;
   if (board_symbol(b, "g_drive", &f.drv, &size) != 0) { fprintf(stderr, "dtc-board: %s has no g_drive symbol\n", elf); board_close(b); return 2; }
@@ -264,6 +298,7 @@ int twin_run_main(int argc, char **argv) {
     }
     if (b && board_time_s(b) < tk + 0.75 * T - 1e-9) { fprintf(stderr, "dtc-board: %s\n", board_message(b)); rc = 1; break; }
     read_snapshot(&f, &snap);
+    can_drain(b, &g_can, t0);
     if (fault_done && faults_after == 0) faults_after = snap.tel.faults;
     double eps_t = (-ps->cfg.motor.B_Nms / ps->cfg.motor.J_kgm2 + m0.B_Nms / m0.J_kgm2) * tr.omega_m_rad_s +
                    (1.0 / ps->cfg.motor.J_kgm2 - 1.0 / m0.J_kgm2) * tr.te_Nm - ps->t_load_Nm / ps->cfg.motor.J_kgm2;
@@ -302,7 +337,8 @@ int twin_run_main(int argc, char **argv) {
     m.wall_seconds = w;
     if (metrics_path) {
       if (sim_write_metrics_json(&m, metrics_path, err, sizeof err) != SIM_OK) { fprintf(stderr, "%s\n", err); rc = 1; }
-      else rc = twin_metrics_extend(b, metrics_path, &m, fault_board_t, faults_after, err, sizeof err);
+      else rc = twin_metrics_extend(b, metrics_path, &m, fault_board_t >= 0 ? fault_board_t - t0 : -1.0, faults_after,
+                                    err, sizeof err);
       if (rc) fprintf(stderr, "%s\n", err);
     }
     if (!quiet)
@@ -370,6 +406,18 @@ int twin_metrics_extend(board *b, const char *path, const sim_metrics *m, double
     cJSON_AddNumberToObject(s, "mean", (double)st.total / (double)st.count);
     cJSON_AddNumberToObject(s, "worst", (double)st.worst);
     cJSON_AddNumberToObject(s, "best", (double)st.best);
+  }
+  cJSON *can = cJSON_AddObjectToObject(bd, "can");
+  cJSON_AddNumberToObject(can, "frames_out", (double)g_can.frames);
+  cJSON *em = cJSON_AddArrayToObject(can, "emcy");
+  for (int i = 0; i < g_can.n_emcy; i++) {
+    cJSON *e = cJSON_CreateObject();
+    cJSON_AddNumberToObject(e, "t_s", g_can.emcy[i].t_s);
+    cJSON_AddNumberToObject(e, "cob_id", g_can.emcy[i].cob_id);
+    cJSON_AddNumberToObject(e, "code", g_can.emcy[i].code);
+    cJSON_AddNumberToObject(e, "error_register", g_can.emcy[i].reg);
+    cJSON_AddNumberToObject(e, "faults", (double)g_can.emcy[i].faults);
+    cJSON_AddItemToArray(em, e);
   }
   cJSON_AddNumberToObject(bd, "sim_seconds_per_wall_second", m->wall_seconds > 0 ? m->sim_seconds / m->wall_seconds : 0.0);
   uint32_t bf = 0;

@@ -71,6 +71,20 @@ typedef struct {
   uint8_t dirty[256];  /* 2 KiB pages touched by erase/program, to persist */
 } flash_state;
 
+/* Power cuts during flash operations and the double-word ECC they break (flash.c). Not reset
+ * by a system reset: the array's state outlives the core. */
+typedef struct {
+  uint64_t ops;        /* erase and program operations started since board_open */
+  uint64_t cut_at;     /* cut the power when operation number cut_at starts (1-based); 0: never */
+  int cut_torn;        /* 1: the operation is left half done, 0: it never takes effect */
+  bool cut;            /* the power is off: board_run returns BOARD_POWER_OFF until board_power_on */
+  uint8_t ecc_bad[FLASH_SIZE / 8u / 8u]; /* one bit per 64-bit double word: ECC does not match */
+  uint32_t n_bad;      /* double words marked */
+  bool want_hook;      /* a double word was marked: install the data-read hook */
+  bool hooked;         /* the data-read hook on the flash is installed */
+  uint64_t ecc_errors; /* reads of a marked double word (ECCD, NMI) */
+} flash_cut_state;
+
 typedef struct {
   uint32_t moder, otyper, ospeedr, pupdr, idr_in, odr, lckr, afr[2];
   uint32_t lck_seq;    /* LCKR key sequence stage */
@@ -130,6 +144,7 @@ struct board {
   rcc_state rcc;
   pwr_state pwr;
   flash_state fl;
+  flash_cut_state cut;
   gpio_port gpio[7];
   iwdg_state iwdg;
   tim6_state tim6;
@@ -148,6 +163,8 @@ void board_request_reset(board *b, uint32_t csr_flags);
 void board_end_slice(board *b);
 void board_reschedule(board *b); /* a model's next event may have moved earlier */
 void board_flash_update(board *b, uint32_t off, uint32_t len); /* shadow -> emulator */
+void board_flash_read_hook(board *b); /* install the data-read hook on the flash (ECC errors) */
+void flash_data_read(board *b, uint32_t addr, unsigned size); /* flash.c: a data read of the array */
 void board_clock_changed(board *b); /* HCLK may have changed */
 
 /* scs.c */

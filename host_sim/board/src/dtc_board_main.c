@@ -15,6 +15,7 @@
 #include "board_twin/board.h"
 #include "board_twin/can.h"
 #include "board_twin/pinmap.h"
+#include "board_twin/twin.h"
 #include "twin_run.h"
 #include <signal.h>
 #include <stdio.h>
@@ -113,6 +114,13 @@ int main(int argc, char **argv) {
             "HCLK %.3f MHz, %u resets\n", board_time_s(b), w, board_time_s(b) / (w > 0 ? w : 1e-9),
             (unsigned long long)board_instructions(b), (double)board_instructions(b) / (w > 0 ? w : 1e-9) / 1e6,
             board_core_hz(b) / 1e6, board_resets(b));
+  if (stats) {
+    board_irq_stat tick;
+    board_irq_get(b, 16 + 18, &tick); /* ADC1_2: the image's control tick */
+    fprintf(stderr, "dtc-board: control tick (ADC1_2): %llu interrupts, %.0f instructions mean, %llu worst\n",
+            (unsigned long long)tick.count, tick.count ? (double)tick.total / (double)tick.count : 0.0,
+            (unsigned long long)tick.worst);
+  }
   if (stats) {
     board_can_status cs;
     board_can_get_status(b, &cs);

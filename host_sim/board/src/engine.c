@@ -102,6 +102,33 @@ static bool hook_write_prot(uc_engine *uc, uc_mem_type type, uint64_t addr, int 
   return false;
 }
 
+static void system_reset(board *b, bool power_on);
+
+static void hook_flash_read(uc_engine *uc, uc_mem_type type, uint64_t addr, int size, int64_t value, void *u) {
+  (void)uc; (void)type; (void)value;
+  flash_data_read(u, (uint32_t)addr, (unsigned)size);
+}
+
+/* Only once the array has a double word with a broken ECC: a read hook costs every load.
+ * Requested from inside Unicorn's callbacks, installed by board_run between slices. */
+void board_flash_read_hook(board *b) { b->cut.want_hook = true; }
+
+static void install_flash_read_hook(board *b) {
+  if (b->cut.hooked || !b->cut.want_hook) return;
+  uc_hook h;
+  uc_hook_add(b->uc, &h, UC_HOOK_MEM_READ, (void *)hook_flash_read, b, FLASH_BASE, FLASH_BASE + FLASH_SIZE - 1u);
+  /* code translated before the hook existed reads without it: drop the translations */
+  uc_ctl_remove_cache(b->uc, FLASH_BASE, FLASH_BASE + FLASH_SIZE);
+  b->cut.hooked = true;
+}
+
+void board_power_on(board *b) {
+  b->cut.cut = false;
+  b->fault = false;
+  system_reset(b, true);
+  b->resets++;
+}
+
 typedef struct {
   uint32_t base;
   const char *name;
@@ -444,6 +471,8 @@ board_status board_run(board *b, double seconds) {
   double t_end = board_now(b) + seconds;
   for (;;) {
     if (b->exited) return BOARD_EXITED;
+    install_flash_read_hook(b);
+    if (b->cut.cut) return BOARD_POWER_OFF;
     if (b->fault) return BOARD_FAULT;
     if (b->reset_request) {
       uint32_t flags = b->reset_flags;

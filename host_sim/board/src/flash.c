@@ -7,7 +7,11 @@
  * saved to --nvm FILE (after each completed operation and at reset/close); at start-up the
  * saved pages are laid over the freshly loaded ELF. So whatever pages the firmware uses as
  * NVM persist, without the twin knowing which ones they are. File: "DTCNVM01", then
- * records {uint32 LE global page index 0..255, 2048 bytes}. */
+ * records {uint32 LE global page index 0..255, 2048 bytes}.
+ *
+ * Power cuts (test hook, board_flash_power_cut): the supply fails when a chosen erase/program
+ * starts, the operation undone or half done; half-done double words carry a broken ECC, whose
+ * read sets FLASH_ECCR.ECCD and raises the NMI (double errors are detected, not corrected). */
 #include "board_priv.h"
 #include <math.h>
 #include <stdlib.h>
@@ -99,7 +103,81 @@ uint32_t flash_read(board *b, uint32_t off) {
   return 0;
 }
 
+/* ---- power cuts and ECC ---- */
+
+static bool ecc_is_bad(const board *b, uint32_t off) { return (b->cut.ecc_bad[off / 64u] >> ((off / 8u) % 8u)) & 1u; }
+
+static void ecc_mark(board *b, uint32_t off, bool bad) {
+  uint8_t *by = &b->cut.ecc_bad[off / 64u], bit = (uint8_t)(1u << ((off / 8u) % 8u));
+  if (bad && !(*by & bit)) { *by |= bit; b->cut.n_bad++; }
+  if (!bad && (*by & bit)) { *by &= (uint8_t)~bit; b->cut.n_bad--; }
+}
+
+/* A deterministic pattern per double word and cut (the bits an interrupted operation did not
+ * reach): about half the bits. */
+static uint32_t cut_pattern(const board *b, uint32_t off, unsigned half) {
+  uint32_t x = (uint32_t)b->cut.cut_at * 0x9E3779B9u ^ (off + half * 4u) * 0x85EBCA6Bu;
+  x ^= x >> 15; x *= 0x2C1B3C6Du; x ^= x >> 12;
+  return x;
+}
+
+/* The supply fails while operation `op` runs: leave it undone or half done. */
+static void power_cut(board *b, int op, uint32_t off, uint32_t len, uint32_t w0, uint32_t w1) {
+  b->cut.cut = true;
+  if (b->cut.cut_torn) {
+    if (op == OP_PROG) { /* programming clears bits: some of the target's zeros are still ones */
+      uint32_t w[2] = {w0 | (cut_pattern(b, off, 0) & ~w0), w1 | (cut_pattern(b, off, 1) & ~w1)};
+      memcpy(b->flash + off, w, 8);
+    } else {             /* erasing sets bits: some are still as they were */
+      for (uint32_t a = off; a < off + len; a += 4) {
+        uint32_t v;
+        memcpy(&v, b->flash + a, 4);
+        v |= cut_pattern(b, a & ~7u, (a >> 2) & 1u);
+        memcpy(b->flash + a, &v, 4);
+      }
+    }
+    for (uint32_t a = off; a < off + len; a += 8) { /* a dword still all ones reads as erased */
+      uint32_t w[2];
+      memcpy(w, b->flash + a, 8);
+      if (op == OP_PROG || w[0] != 0xFFFFFFFFu || w[1] != 0xFFFFFFFFu) ecc_mark(b, a, true);
+    }
+    for (uint32_t p = off / PAGE; p <= (off + len - 1) / PAGE; p++) b->fl.dirty[p] = 1;
+    board_flash_update(b, off, len);
+    board_flash_read_hook(b);
+  }
+  if (b->cfg.nvm_path) flash_nvm_save(b);
+  board_end_slice(b);
+}
+
+/* A data read of the flash array (hook installed once a double word is marked): a marked
+ * double word sets ECCD with its address (bank-relative, only when ECCD is clear) and raises
+ * the NMI (RM0440 §5.3, FLASH_ECCR). The data read is the array's content. */
+void flash_data_read(board *b, uint32_t addr, unsigned size) {
+  uint32_t off = addr - FLASH_BASE;
+  for (uint32_t a = off & ~7u; a < off + size; a += 8) {
+    if (a >= FLASH_SIZE || !ecc_is_bad(b, a)) continue;
+    b->cut.ecc_errors++;
+    if (!(b->fl.eccr & (1u << 31)))
+      b->fl.eccr = (b->fl.eccr & (1u << 24)) | (1u << 31) | ((a >= BANK_SIZE ? 1u : 0u) << 21) | ((a % BANK_SIZE) & 0x7FFFFu);
+    scs_set_pending(b, 2);
+    return;
+  }
+}
+
+void board_flash_power_cut(board *b, uint64_t op, int torn) {
+  b->cut.cut_at = op;
+  b->cut.cut_torn = torn;
+}
+uint64_t board_flash_ops(const board *b) { return b->cut.ops; }
+uint64_t board_flash_ecc_errors(const board *b) { return b->cut.ecc_errors; }
+
 static void start_op(board *b, int op, uint32_t off, uint32_t len, double dt) {
+  b->cut.ops++;
+  if (b->cut.cut_at != 0 && b->cut.ops == b->cut.cut_at) {
+    b->cut.cut_at = 0;
+    power_cut(b, op, off, len, b->fl.op_w0, b->fl.op_w1);
+    return;
+  }
   b->fl.op = op;
   b->fl.op_off = off;
   b->fl.op_len = len;
@@ -115,6 +193,8 @@ static void complete_op(board *b) {
   } else {
     memset(b->flash + b->fl.op_off, 0xFF, b->fl.op_len);
   }
+  if (b->cut.n_bad) /* an erased or freshly programmed double word has a good ECC again */
+    for (uint32_t a = b->fl.op_off; a < b->fl.op_off + b->fl.op_len; a += 8) ecc_mark(b, a, false);
   for (uint32_t p = b->fl.op_off / PAGE; p <= (b->fl.op_off + b->fl.op_len - 1) / PAGE; p++) f->dirty[p] = 1;
   board_flash_update(b, b->fl.op_off, b->fl.op_len);
   if (f->cr & CR_EOPIE) f->sr |= SR_EOP; /* EOP only with EOPIE (§5.7.5) */

@@ -96,6 +96,8 @@ typedef struct drive {
     co_dev co;                      /**< CANopen device, run by drive_background (drive_co.c) */
     co_app co_app;                  /**< the drive's side of the CANopen interface (drive_co.c) */
     persist_state persist;          /**< stored parameter set (status for 0x2510:1) */
+    uint8_t reset_cause;            /**< hal_reset_cause() at drive_init (0x2510:7) */
+    bool reset_cause_sent;          /**< the EMCY of a watchdog reset went out (once per start) */
     drive_snapshot bg_snap;         /**< background copy of snap, taken once per drive_background pass */
 } drive;
 

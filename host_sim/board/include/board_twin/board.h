@@ -24,6 +24,7 @@ typedef enum {
   BOARD_TIME_UP = 0, /* ran the requested time */
   BOARD_EXITED = 1,  /* the image exited through semihosting; see board_exit_code() */
   BOARD_FAULT = 2,   /* strictness stop: see board_message() */
+  BOARD_POWER_OFF = 3, /* a power cut armed with board_flash_power_cut happened; see board_power_on */
 } board_status;
 
 void board_config_default(board_config *cfg);
@@ -61,6 +62,21 @@ typedef struct {
   int changed;      /* differs, or differed, from the reset state */
 } board_pin;
 size_t board_pins(const board *b, board_pin *out, size_t max);
+
+/* Power-cut injection into the flash (test hook of the twin, nothing in the firmware):
+ * when flash operation number `op` (1-based count of page erases and double-word programs
+ * started since board_open, see board_flash_ops) starts, the supply fails. torn = 0: the
+ * operation never takes effect; torn = 1: it is left half done (a page partly erased, a double
+ * word partly programmed: bits of a deterministic pattern not yet changed) and the touched
+ * double words no longer match their ECC, so a later read of one sets FLASH_ECCR.ECCD and
+ * raises the NMI (RM0440 §5.3: double ECC errors are not corrected). board_run then returns
+ * BOARD_POWER_OFF; board_power_on starts the MCU again from power-on reset (RAM cleared, RCC_CSR
+ * BORRSTF|PINRSTF), the flash array as the cut left it. op = 0 disarms. */
+void board_flash_power_cut(board *b, uint64_t op, int torn);
+uint64_t board_flash_ops(const board *b);
+void board_power_on(board *b);
+/* Reads of a double word with a broken ECC since board_open. */
+uint64_t board_flash_ecc_errors(const board *b);
 
 
 
