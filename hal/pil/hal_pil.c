@@ -200,3 +200,6 @@ int hal_nvm_write(uint32_t offset, const void *buf, size_t len)
 int hal_watchdog_start(uint32_t timeout_ms) { return (timeout_ms >= 1u && timeout_ms <= 4000u) ? HAL_OK : HAL_EINVAL; }
 
 void hal_watchdog_kick(void) {}
+
+/* The bench starts from a power-on reset every time (QEMU -kernel). */
+uint32_t hal_reset_cause(void) { return HAL_RESET_POWER_ON; }
