@@ -148,38 +148,112 @@ typedef struct {
 
 /* ------------------------------------------------ vectors (dtc3l_vectors.c) */
 
-/** Leg codes of @p state (0..26) into @p v. Context: ANY. */
-void dtc3l_legs(uint8_t state, hal_vector *v);
+/* Facts about each of the 27 states, precomputed (const, in flash) so that the
+ * interrupt looks a state up and never decomposes its index into base-3 digits.
+ * tests/unit/test_dtc3l.cpp checks every entry against the plant's inverter
+ * model and an independent base-3 decomposition. */
+
+extern const hal_vector dtc3l_state_legs[DTC3L_N_STATES];        /**< leg codes of each state */
+extern const real_t dtc3l_np_legs[DTC3L_N_STATES][3];           /**< 1 for a leg at O (its phase current
+                                                                     flows from the neutral point), else 0 */
+extern const uint32_t dtc3l_pn_step_mask[DTC3L_N_STATES];       /**< bit `to` set: from -> to steps a leg P<->N */
+extern const uint8_t dtc3l_changes[DTC3L_N_STATES][DTC3L_N_STATES];    /**< leg commutations from -> to */
+extern const uint8_t dtc3l_pn_safe_to[DTC3L_N_STATES][DTC3L_N_STATES]; /**< to with P<->N legs held at O */
+
+/** Leg codes of @p state (0..26; others: OOO) into @p v. Context: ANY. */
+static inline void dtc3l_legs(uint8_t state, hal_vector *v)
+{
+    *v = dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
+}
 
 /** State number of @p v; 0xFF when a leg code is above HAL_LEG_P. Context: ANY. */
-uint8_t dtc3l_state_of(const hal_vector *v);
+static inline uint8_t dtc3l_state_of(const hal_vector *v)
+{
+    if (v->leg[0] > HAL_LEG_P || v->leg[1] > HAL_LEG_P || v->leg[2] > HAL_LEG_P)
+        return 0xFFu;
+    return (uint8_t)(v->leg[0] * 9u + v->leg[1] * 3u + v->leg[2]);
+}
 
-/** Space vector 0..18 of @p state. Context: ANY. */
-uint8_t dtc3l_state_sv(uint8_t state);
+extern const uint8_t dtc3l_state_sv_of[DTC3L_N_STATES];            /**< space vector of each state */
+extern const uint8_t dtc3l_sv_state_list[DTC3L_N_VECTORS][3];      /**< states of each sv, preferred first; 0xFF pads */
+
+/** Space vector 0..18 of @p state (others: 0). Context: ANY. */
+static inline uint8_t dtc3l_state_sv(uint8_t state)
+{
+    return state < DTC3L_N_STATES ? dtc3l_state_sv_of[state] : 0u;
+}
 
 /** Class of space vector @p sv. Context: ANY. */
-dtc3l_class dtc3l_sv_class(uint8_t sv);
+static inline dtc3l_class dtc3l_sv_class(uint8_t sv)
+{
+    if (sv == 0u || sv >= DTC3L_N_VECTORS)
+        return DTC3L_CLASS_ZERO;
+    if (sv <= 6u)
+        return DTC3L_CLASS_SMALL;
+    return sv <= 12u ? DTC3L_CLASS_MEDIUM : DTC3L_CLASS_LARGE;
+}
 
-/** States realising @p sv, preferred first (OOO; P-type small); returns the count 1..3. Context: ANY. */
-uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3]);
+/** States realising @p sv (others: the zero vector), preferred first (OOO;
+ *  P-type small); returns the count 1..3. Context: ANY. */
+static inline uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3])
+{
+    const uint8_t *l = dtc3l_sv_state_list[sv < DTC3L_N_VECTORS ? sv : 0u];
+    states[0] = l[0];
+    states[1] = l[1];
+    states[2] = l[2];
+    return (uint8_t)(sv == 0u || sv >= DTC3L_N_VECTORS ? 3u : (sv <= 6u ? 2u : 1u));
+}
 
 /**
- * Stator voltage (alpha, beta; isolated star) of @p state for the capacitor
- * voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
+ * Stator voltage (alpha, beta; isolated star) of @p state (others: OOO) for
+ * the capacitor voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
  */
-void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2]);
+static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
+{
+    const hal_vector *l = &dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
+    const real_t v_leg_of[3] = {-vc2_V, R(0.0), vc1_V}; /* by leg code N, O, P */
+    real_t va = v_leg_of[l->leg[0]], vb = v_leg_of[l->leg[1]], vc = v_leg_of[l->leg[2]];
+    /* Clarke of the leg voltages: the common mode drops out, as in an isolated star. */
+    v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
+    v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
+}
 
-/** Neutral-point current drawn by @p state: the sum of the phase currents of its legs at O, A. Context: ANY. */
-real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3]);
+/** Neutral-point current drawn by @p state (others: 0): the sum of the phase
+ *  currents of its legs at O, A. Context: ANY. */
+static inline real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3])
+{
+    if (state >= DTC3L_N_STATES)
+        return R(0.0);
+    const real_t *k = dtc3l_np_legs[state];
+    return num_mul(k[0], i_abc[0]) + num_mul(k[1], i_abc[1]) + num_mul(k[2], i_abc[2]);
+}
 
-/** True when going from @p from to @p to steps some leg directly between P and N. Context: ANY. */
-bool dtc3l_pn_step(uint8_t from, uint8_t to);
+/** True when going from @p from to @p to steps some leg directly between P and N
+ *  (false when either is not a state). Context: ANY. */
+static inline bool dtc3l_pn_step(uint8_t from, uint8_t to)
+{
+    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
+        return false;
+    return ((dtc3l_pn_step_mask[from] >> to) & 1u) != 0u;
+}
 
-/** Number of leg commutations from @p from to @p to (N<->O and O<->P count 1). Context: ANY. */
-uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to);
+/** Number of leg commutations from @p from to @p to (N<->O and O<->P count 1;
+ *  0 when either is not a state). Context: ANY. */
+static inline uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to)
+{
+    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
+        return 0u;
+    return dtc3l_changes[from][to];
+}
 
-/** @p to with every leg that would step between P and N from @p from held at O. Context: ANY. */
-uint8_t dtc3l_pn_safe(uint8_t from, uint8_t to);
+/** @p to with every leg that would step between P and N from @p from held at O
+ *  (OOO when either is not a state). Context: ANY. */
+static inline uint8_t dtc3l_pn_safe(uint8_t from, uint8_t to)
+{
+    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
+        return DTC3L_STATE_OOO;
+    return dtc3l_pn_safe_to[from][to];
+}
 
 /* ---------------------------------------------------- table (dtc3l_table.c) */
 
