@@ -502,6 +502,34 @@ TEST(Dtc3lNp, RedundantSmallVectorDrivesNeutralPointTowardBalance)
 }
 
 // Inside the band the choice costs the fewest commutations.
+// The zero vector inside the band: the zero state with the fewest
+// commutations and no P<->N step, OOO on ties, then NNN before PPP.
+TEST(Dtc3lNp, ZeroVectorPrefersOooThenNnnOnTies)
+{
+    float i_abc[3] = {10.f, -4.f, -6.f};
+    const int zeros[3] = {13, 0, 26};
+    for (int prev = 0; prev < 27; ++prev) {
+        int want = -1, want_c = 99;
+        for (int z : zeros) {
+            if (pn_step(prev, z))
+                continue;
+            uint8_t a[3], b[3];
+            legs_of(prev, a);
+            legs_of(z, b);
+            int c = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+            if (c < want_c) {
+                want_c = c;
+                want = z;
+            }
+        }
+        EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), 0.2f, 1.5f, i_abc)), want) << kStateNames[prev];
+        // outside half the band with a non-small vector before: still that choice
+        if (dtc3l_sv_class(dtc3l_state_sv(uint8_t(prev))) != DTC3L_CLASS_SMALL) {
+            EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), 1.0f, 1.5f, i_abc)), want) << kStateNames[prev];
+        }
+    }
+}
+
 TEST(Dtc3lNp, InsideTheBandFewestCommutations)
 {
     float i_abc[3] = {10.f, -4.f, -6.f};
