@@ -156,9 +156,7 @@ static void act_zero(hal_actuation *a)
 static void gates_off(ctl_state *s)
 {
     act_zero(&s->last_act);
-    act_zero(&s->prev_act);
     s->last_state[0] = s->last_state[1] = (uint8_t)DTC3L_STATE_OOO;
-    s->last_vector = s->last_act.vector[1];
 }
 
 void ctl_init(ctl_state *s, const ctl_cfg *cfg)
@@ -192,7 +190,9 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
         f |= CTL_FAULT_OVERRUN;
     if (!in->sample_fresh)
         return f | CTL_FAULT_STALE_SAMPLE; /* the values are not this tick's: judge nothing on them */
-    if (!(finite_r(x->ia_A) && finite_r(x->ib_A) && finite_r(x->ic_A) && finite_r(x->vc1_V) && finite_r(x->vc2_V)))
+    /* one test for all five: a NaN or an infinity in any of them makes the sum NaN */
+    if (!finite_r((x->ia_A - x->ia_A) + (x->ib_A - x->ib_A) + (x->ic_A - x->ic_A) + (x->vc1_V - x->vc1_V) +
+                  (x->vc2_V - x->vc2_V)))
         return f | CTL_FAULT_SAMPLE_INVALID;
 
     if (num_abs(x->ia_A) > cfg->i_trip_A || num_abs(x->ib_A) > cfg->i_trip_A || num_abs(x->ic_A) > cfg->i_trip_A)
@@ -454,11 +454,9 @@ static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_ou
     act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
-    s->prev_act = s->last_act;
     s->last_act = act;
     s->last_state[0] = a0;
     s->last_state[1] = a1;
-    s->last_vector = act.vector[1];
     out->act = act;
     out->gate_enable = true;
 }
@@ -501,11 +499,9 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
     uint8_t a1 = dtc3l_pn_safe(a0, dtc3l_state_of(&act.vector[1]));
     dtc3l_legs(a0, &act.vector[0]);
     dtc3l_legs(a1, &act.vector[1]);
-    s->prev_act = s->last_act;
     s->last_act = act;
     s->last_state[0] = a0;
     s->last_state[1] = a1;
-    s->last_vector = act.vector[1];
     out->act = act;
     out->gate_enable = true;
     fill_telemetry(s, NULL, out);
