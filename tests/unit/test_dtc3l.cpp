@@ -79,6 +79,67 @@ TEST(Dtc3lVectors, VoltagesAndNpCurrentMatchThePlant)
     }
 }
 
+// The 27 states written out by hand from the NPC topology (leg a, b, c; N, O, P),
+// in the documented numbering a*9 + b*3 + c.
+const char *const kStateNames[27] = {
+    "NNN", "NNO", "NNP", "NON", "NOO", "NOP", "NPN", "NPO", "NPP",
+    "ONN", "ONO", "ONP", "OON", "OOO", "OOP", "OPN", "OPO", "OPP",
+    "PNN", "PNO", "PNP", "PON", "POO", "POP", "PPN", "PPO", "PPP",
+};
+
+int level_of(char c) { return c == 'N' ? 0 : (c == 'O' ? 1 : 2); }
+
+// The precomputed state tables (legs, voltage per capacitor, NP current,
+// P<->N steps, commutations, P<->N-safe target) for every state and every
+// pair, against the hand-written names and the plant's inverter model,
+// with out-of-range indices handled as documented.
+TEST(Dtc3lVectors, StateTablesMatchTheTopologyForEveryPair)
+{
+    const double vc1 = 157.0, vc2 = 151.5;
+    const double i_abc[3] = {-7.25, 11.0, -3.75};
+    const float i_abc_f[3] = {-7.25f, 11.0f, -3.75f};
+    for (int from = 0; from < 27; ++from) {
+        SCOPED_TRACE(kStateNames[from]);
+        hal_vector hv;
+        dtc3l_legs(uint8_t(from), &hv);
+        for (int k = 0; k < 3; ++k)
+            EXPECT_EQ(int(hv.leg[k]), level_of(kStateNames[from][k]));
+        double inp_plant;
+        cd vp = plant_voltage(from, vc1, vc2, i_abc, &inp_plant);
+        float v[2];
+        dtc3l_state_voltage(uint8_t(from), float(vc1), float(vc2), v);
+        EXPECT_NEAR(v[0], vp.real(), 1e-4);
+        EXPECT_NEAR(v[1], vp.imag(), 1e-4);
+        EXPECT_NEAR(dtc3l_np_current(uint8_t(from), i_abc_f), inp_plant, 1e-6);
+        for (int to = 0; to < 27; ++to) {
+            SCOPED_TRACE(kStateNames[to]);
+            int changes = 0;
+            bool pn = false;
+            char safe[4] = {0, 0, 0, 0};
+            for (int k = 0; k < 3; ++k) {
+                int a = level_of(kStateNames[from][k]), b = level_of(kStateNames[to][k]);
+                changes += std::abs(a - b);
+                pn |= std::abs(a - b) == 2;
+                safe[k] = std::abs(a - b) == 2 ? 'O' : kStateNames[to][k];
+            }
+            EXPECT_EQ(int(dtc3l_leg_changes(uint8_t(from), uint8_t(to))), changes);
+            EXPECT_EQ(dtc3l_pn_step(uint8_t(from), uint8_t(to)), pn);
+            EXPECT_STREQ(kStateNames[dtc3l_pn_safe(uint8_t(from), uint8_t(to))], safe);
+        }
+        EXPECT_EQ(dtc3l_leg_changes(uint8_t(from), 27u), 0u);
+        EXPECT_FALSE(dtc3l_pn_step(0xFFu, uint8_t(from)));
+        EXPECT_EQ(dtc3l_pn_safe(uint8_t(from), 0xFFu), DTC3L_STATE_OOO);
+    }
+    hal_vector hv;
+    dtc3l_legs(0xFFu, &hv);
+    EXPECT_EQ(state_of(hv), int(DTC3L_STATE_OOO));
+    EXPECT_EQ(dtc3l_np_current(27u, i_abc_f), 0.0f);
+    float v[2];
+    dtc3l_state_voltage(200u, float(vc1), float(vc2), v);
+    EXPECT_EQ(v[0], 0.0f);
+    EXPECT_EQ(v[1], 0.0f);
+}
+
 // The 19 space vectors: magnitude class and direction as documented in dtc3l.h,
 // every redundant state of a vector giving the same voltage (balanced link).
 TEST(Dtc3lVectors, SpaceVectorClassesAndDirections)
@@ -441,6 +502,34 @@ TEST(Dtc3lNp, RedundantSmallVectorDrivesNeutralPointTowardBalance)
 }
 
 // Inside the band the choice costs the fewest commutations.
+// The zero vector inside the band: the zero state with the fewest
+// commutations and no P<->N step, OOO on ties, then NNN before PPP.
+TEST(Dtc3lNp, ZeroVectorPrefersOooThenNnnOnTies)
+{
+    float i_abc[3] = {10.f, -4.f, -6.f};
+    const int zeros[3] = {13, 0, 26};
+    for (int prev = 0; prev < 27; ++prev) {
+        int want = -1, want_c = 99;
+        for (int z : zeros) {
+            if (pn_step(prev, z))
+                continue;
+            uint8_t a[3], b[3];
+            legs_of(prev, a);
+            legs_of(z, b);
+            int c = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+            if (c < want_c) {
+                want_c = c;
+                want = z;
+            }
+        }
+        EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), 0.2f, 1.5f, i_abc)), want) << kStateNames[prev];
+        // outside half the band with a non-small vector before: still that choice
+        if (dtc3l_sv_class(dtc3l_state_sv(uint8_t(prev))) != DTC3L_CLASS_SMALL) {
+            EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), 1.0f, 1.5f, i_abc)), want) << kStateNames[prev];
+        }
+    }
+}
+
 TEST(Dtc3lNp, InsideTheBandFewestCommutations)
 {
     float i_abc[3] = {10.f, -4.f, -6.f};

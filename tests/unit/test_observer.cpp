@@ -120,8 +120,11 @@ TEST(ObserverGain, PolesAreKTimesMotorPoles)
     imref::Params P;
     for (double k : {1.0, 1.3, 2.0}) {
         for (double w : {0.0, 104.7, 377.0, -250.0}) {
-            observer_cfg cfg = default_obs();
-            cfg.k_gain = float(k);
+            ctl_cfg cc;
+            ctl_cfg_default(&cc);
+            cc.obs.k_gain = float(k);
+            ctl_cfg_derive(&cc); // the gain's constants are per configuration
+            observer_cfg cfg = cc.obs;
             float gi[2], gp[2];
             observer_gain(&cfg, float(w), cfg.m.rs_nom_ohm, gi, gp);
             Eigen::Matrix<double, 4, 2> G;
@@ -212,8 +215,11 @@ TEST(ObserverSpeed, AdaptationConvergesToTrueSpeed)
 
 TEST(ObserverRs, AdaptationMovesTowardTrueRs)
 {
-    observer_cfg cfg = default_obs();
-    cfg.ki_rs = 0.01f;
+    ctl_cfg cc;
+    ctl_cfg_default(&cc);
+    cc.obs.ki_rs = 0.01f;
+    ctl_cfg_derive(&cc); // ki_rs x T is a per-configuration constant
+    observer_cfg cfg = cc.obs;
     imref::Params hot;
     hot.Rs = 1.3 * 0.288; // the winding is 30 % hotter than modelled
     double we = 2 * 500.0 * 2 * kPi / 60.0;

@@ -5,6 +5,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <algorithm>
 #include <random>
 
 extern "C" {
@@ -98,6 +100,93 @@ TEST(RbfnBasis, FarInputsStayFiniteAndPickTheNearestNode)
     const float bad_s[3] = {0.0f, -1.0f, 1.0f};
     rbfn_basis(c, bad_s, 3u, 0.3f, z);
     EXPECT_TRUE(std::isfinite(z[0]) && std::isfinite(z[1]) && std::isfinite(z[2]));
+}
+
+// The one-exp() recurrence on a uniform grid against eq. 8 in double, over
+// random grids and inputs inside and well outside the centres.
+TEST(RbfnBasisGrid, MatchesEigenReferenceOnUniformGrids)
+{
+    Rng r;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const int n = r.uint(1, RBFN_NODES_MAX);
+        const double c0 = r.uni(-20.0, 0.0), h = r.uni(0.5, 6.0), w = h * r.uni(0.5, 1.5);
+        float c[RBFN_NODES_MAX], s[RBFN_NODES_MAX], z[RBFN_NODES_MAX];
+        Vec mc(n), ms(n);
+        for (int q = 0; q < n; ++q) {
+            c[q] = float(c0 + q * h);
+            s[q] = float(w);
+            mc[q] = c[q];
+            ms[q] = s[q];
+        }
+        rbfn_grid g;
+        rbfn_grid_derive(&g, c, s, uint32_t(n));
+        ASSERT_EQ(g.n, uint32_t(n));
+        const double span = c0 + (n - 1) * h;
+        const float x = float(r.uni(c0 - 2.0 * h, span + 2.0 * h));
+        rbfn_basis_grid(&g, c, uint32_t(n), x, z);
+        Vec zr = ref_basis(mc, ms, x);
+        double sum = 0.0;
+        for (int q = 0; q < n; ++q) {
+            ASSERT_NEAR(z[q], zr[q], 2e-5 * std::max(1.0, zr[q] * n)) << "trial " << trial << " node " << q;
+            sum += z[q];
+        }
+        EXPECT_NEAR(sum, 1.0, 2e-6);
+    }
+}
+
+TEST(RbfnBasisGrid, RefusesGridsThatAreNotUniformAndHandlesFarInputs)
+{
+    const float c[3] = {-10.0f, 0.0f, 10.0f};
+    const float s[3] = {1.0f, 1.0f, 1.0f};
+    rbfn_grid g;
+    rbfn_grid_derive(&g, c, s, 3u);
+    ASSERT_EQ(g.n, 3u);
+    float z[3];
+    for (float x : {1e3f, -1e3f, 1e30f, -1e30f, 3e38f, -3e38f}) {
+        rbfn_basis_grid(&g, c, 3u, x, z);
+        EXPECT_EQ(x > 0 ? z[2] : z[0], 1.0f) << x;
+        EXPECT_EQ(z[1], 0.0f) << x;
+    }
+    rbfn_basis_grid(&g, c, 3u, std::numeric_limits<float>::quiet_NaN(), z);
+    EXPECT_TRUE(std::isnan(z[0]) && std::isnan(z[1]) && std::isnan(z[2]));
+
+    const float uneven[3] = {-10.0f, 0.0f, 11.0f};
+    rbfn_grid_derive(&g, uneven, s, 3u);
+    EXPECT_EQ(g.n, 0u);
+    const float widths[3] = {1.0f, 1.0f, 2.0f};
+    rbfn_grid_derive(&g, c, widths, 3u);
+    EXPECT_EQ(g.n, 0u);
+    const float down[3] = {10.0f, 0.0f, -10.0f};
+    rbfn_grid_derive(&g, down, s, 3u);
+    EXPECT_EQ(g.n, 0u);
+    const float zero_w[3] = {0.0f, 0.0f, 0.0f};
+    rbfn_grid_derive(&g, c, zero_w, 3u);
+    EXPECT_EQ(g.n, 0u);
+}
+
+// The default configuration is a uniform grid, so the controller takes the
+// one-exp() path, and it gives the same basis as eq. 8.
+TEST(RbfnBasisGrid, DefaultConfigurationUsesTheGrid)
+{
+    speed_cfg cfg;
+    motor_model m{};
+    m.J_kgm2 = 0.045f;
+    m.B_Nms = 0.005f;
+    speed_cfg_default(&cfg, &m);
+    const rbfn_cfg &rc = cfg.rbfn;
+    ASSERT_EQ(rc.grid.n, rc.n_nodes);
+    Vec mc(rc.n_nodes), ms(rc.n_nodes);
+    for (uint32_t q = 0; q < rc.n_nodes; ++q) {
+        mc[q] = rc.centre[q];
+        ms[q] = rc.width[q];
+    }
+    for (float x : {-300.0f, -31.0f, -2.5f, 0.0f, 0.7f, 12.0f, 44.0f}) {
+        float z[RBFN_NODES_MAX];
+        rbfn_basis_grid(&rc.grid, rc.centre, rc.n_nodes, x, z);
+        Vec zr = ref_basis(mc, ms, x);
+        for (uint32_t q = 0; q < rc.n_nodes; ++q)
+            EXPECT_NEAR(z[q], zr[q], 1e-5) << x << " node " << q;
+    }
 }
 
 TEST(RbfnOutput, IsTheDotProductOfEq9)

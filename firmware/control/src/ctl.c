@@ -163,7 +163,7 @@ static void gates_off(ctl_state *s)
 {
     act_zero(&s->last_act);
     act_zero(&s->prev_act);
-    s->last_vector = s->last_act.vector[1];
+    s->last_state[0] = s->last_state[1] = (uint8_t)DTC3L_STATE_OOO;
 }
 
 void ctl_init(ctl_state *s, const ctl_cfg *cfg)
@@ -197,7 +197,9 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
         f |= CTL_FAULT_OVERRUN;
     if (!in->sample_fresh)
         return f | CTL_FAULT_STALE_SAMPLE; /* the values are not this tick's: judge nothing on them */
-    if (!(finite_r(x->ia_A) && finite_r(x->ib_A) && finite_r(x->ic_A) && finite_r(x->vc1_V) && finite_r(x->vc2_V)))
+    /* one test for all five: a NaN or an infinity in any of them makes the sum NaN */
+    if (!finite_r((x->ia_A - x->ia_A) + (x->ib_A - x->ib_A) + (x->ic_A - x->ic_A) + (x->vc1_V - x->vc1_V) +
+                  (x->vc2_V - x->vc2_V)))
         return f | CTL_FAULT_SAMPLE_INVALID;
 
     if (num_abs(x->ia_A) > cfg->i_trip_A || num_abs(x->ib_A) > cfg->i_trip_A || num_abs(x->ic_A) > cfg->i_trip_A)
@@ -257,8 +259,7 @@ static void fill_telemetry(const ctl_state *s, const speed_out *so, ctl_out *out
     t->zeta_bar = so ? so->zeta_bar : R(0.0);
     t->rs_est_ohm = s->obs.rs_ohm;
     t->duty0 = out->act.duty0;
-    uint8_t st = dtc3l_state_of(&out->act.vector[0]);
-    t->vector_index = st < DTC3L_N_STATES ? st : (uint8_t)DTC3L_STATE_OOO;
+    t->vector_index = s->last_state[0]; /* out->act is last_act in every path */
     t->state = (uint8_t)s->run_state;
     t->faults = s->faults;
 }
@@ -319,8 +320,8 @@ static void add_dead_time_error(const ctl_state *s, const ctl_cfg *cfg, const ha
 static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t v[2], real_t is[2])
 {
     real_t v0[2], v1[2];
-    uint8_t st0 = dtc3l_state_of(&s->last_act.vector[0]);
-    uint8_t st1 = dtc3l_state_of(&s->last_act.vector[1]);
+    uint8_t st0 = s->last_state[0];
+    uint8_t st1 = s->last_state[1];
     dtc3l_state_voltage(st0, x->vc1_V, x->vc2_V, v0);
     dtc3l_state_voltage(st1, x->vc1_V, x->vc2_V, v1);
     real_t d0 = s->last_act.duty0;
@@ -336,8 +337,8 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
 /* Neutral point at t_{k+1}: d(vc1 - vc2)/dt = i_np / C under last_act, V. */
 static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
 {
-    uint8_t st0 = dtc3l_state_of(&s->last_act.vector[0]);
-    uint8_t st1 = dtc3l_state_of(&s->last_act.vector[1]);
+    uint8_t st0 = s->last_state[0];
+    uint8_t st1 = s->last_state[1];
     real_t d0 = s->last_act.duty0;
     real_t i_abc[3] = {x->ia_A, x->ib_A, x->ic_A};
     real_t inp1 = dtc3l_np_current(st1, i_abc);
@@ -415,7 +416,7 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
 static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V)
 {
     const observer_out *oo = &s->obs_out;
-    uint8_t st1 = dtc3l_state_of(&s->last_act.vector[1]);
+    uint8_t st1 = s->last_state[1];
     dtc3l_in di;
     di.te_ref_Nm = s->te_ref_Nm;
     di.psi_ref_Wb = s->psi_ref_ramped_Wb;
@@ -466,17 +467,18 @@ static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8
  * then latch for the next period. */
 static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_out *out)
 {
-    hal_actuation act = s->dtc_out.act;
-    uint8_t a0 = dtc3l_pn_safe(prev_state, dtc3l_state_of(&act.vector[0]));
-    uint8_t a1 = dtc3l_pn_safe(a0, dtc3l_state_of(&act.vector[1]));
+    hal_actuation act;
+    uint8_t a0 = dtc3l_pn_safe(prev_state, s->dtc_out.state[0]);
+    uint8_t a1 = dtc3l_pn_safe(a0, s->dtc_out.state[1]);
     dtc3l_legs(a0, &act.vector[0]);
     dtc3l_legs(a1, &act.vector[1]);
-    act.duty0 = num_sat(act.duty0, R(0.0), R(1.0));
+    act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
     s->prev_act = s->last_act;
     s->last_act = act;
-    s->last_vector = act.vector[1];
+    s->last_state[0] = a0;
+    s->last_state[1] = a1;
     out->act = act;
     out->gate_enable = true;
 }
@@ -514,14 +516,15 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
         real_t v_mag = num_mul(num_abs(w_e), cfg->dtc.psi_ref_Wb) + num_mul(cfg->motor.Rs_ohm, R(5.0));
         act = bringup_vf(s->bringup_theta_rad, v_mag, in->sample.vc1_V, in->sample.vc2_V);
     }
-    uint8_t prev = dtc3l_state_of(&s->last_act.vector[1]);
+    uint8_t prev = s->last_state[1];
     uint8_t a0 = dtc3l_pn_safe(prev, dtc3l_state_of(&act.vector[0]));
     uint8_t a1 = dtc3l_pn_safe(a0, dtc3l_state_of(&act.vector[1]));
     dtc3l_legs(a0, &act.vector[0]);
     dtc3l_legs(a1, &act.vector[1]);
     s->prev_act = s->last_act;
     s->last_act = act;
-    s->last_vector = act.vector[1];
+    s->last_state[0] = a0;
+    s->last_state[1] = a1;
     out->act = act;
     out->gate_enable = true;
     fill_telemetry(s, NULL, out);

@@ -20,23 +20,14 @@
 /* The zero state looks ahead once |vc1 - vc2| exceeds this fraction of the band. */
 #define NP_LOOKAHEAD_FRACTION R(0.5)
 
-/* The zero state with the fewest commutations from @p prev (OOO on ties). */
-static uint8_t min_change_zero(uint8_t prev)
-{
-    static const uint8_t zeros[3] = {DTC3L_STATE_OOO, 0u, 26u};
-    uint8_t best = DTC3L_STATE_OOO;
-    uint8_t best_c = 0xFFu;
-    for (unsigned i = 0; i < 3u; i++) {
-        if (dtc3l_pn_step(prev, zeros[i]))
-            continue;
-        uint8_t c = dtc3l_leg_changes(prev, zeros[i]);
-        if (c < best_c) {
-            best_c = c;
-            best = zeros[i];
-        }
-    }
-    return best;
-}
+/* The zero state with the fewest commutations from each state, never a P<->N
+ * step away, OOO on ties (then NNN before PPP), i.e. the candidate loop below
+ * for the zero vector, precomputed; tests/unit/test_dtc3l.cpp checks it. */
+static const uint8_t zero_after[DTC3L_N_STATES] = {
+    0u, 0u, 13u, 0u, 13u, 13u, 13u, 13u, 13u,    /* NNN..NPP */
+    0u, 13u, 13u, 13u, 13u, 13u, 13u, 13u, 26u,  /* ONN..OPP */
+    13u, 13u, 13u, 13u, 13u, 26u, 13u, 26u, 26u, /* PNN..PPP */
+};
 
 uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                            const real_t i_abc[3])
@@ -57,7 +48,7 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
     if (sv == 0u && num_abs(np_dev_V) > num_mul(NP_LOOKAHEAD_FRACTION, np_band_V)) {
         uint8_t prev_sv = dtc3l_state_sv(prev_state);
         if (dtc3l_sv_class(prev_sv) != DTC3L_CLASS_SMALL)
-            return np_out ? (uint8_t)DTC3L_STATE_OOO : min_change_zero(prev_state);
+            return np_out ? (uint8_t)DTC3L_STATE_OOO : zero_after[prev_state];
         uint8_t pair[3];
         (void)dtc3l_sv_states(prev_sv, pair);
         real_t inp0 = dtc3l_np_current(pair[0], i_abc);
@@ -77,6 +68,13 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         }
         return best_z;
     }
+    /* Vectors with a single state (medium, large) and the zero vector
+     * without the NP look-ahead: nothing to score (the loop below would
+     * give the same). */
+    if (n == 1u)
+        return dtc3l_pn_step(prev_state, st[0]) ? dtc3l_pn_safe(prev_state, st[0]) : st[0];
+    if (sv == 0u)
+        return zero_after[prev_state];
     uint8_t best = 0xFFu;
     unsigned best_score = ~0u;
 

@@ -2,14 +2,15 @@
  * @file dtc3l_vectors.c
  * @brief The 27 switching states and 19 space vectors of the three-level NPC
  *        inverter: leg codes, voltages from the measured capacitor voltages,
- *        neutral-point current, and the P<->N step rule.
+ *        neutral-point current, and the P<->N step rule, as const tables
+ *        looked up by state index (the accessors are inline in dtc3l.h).
  */
 #include "dtc/dtc3l.h"
 
 /* Space vector of each state (see dtc3l.h for the numbering). Derived from
  * the leg voltages +vc1 / 0 / -vc2 and the amplitude-invariant Clarke
  * transform; e.g. PON (21): (E, 0, -E) -> E (1 + j/sqrt3) = medium at 30 deg. */
-static const uint8_t state_sv[DTC3L_N_STATES] = {
+const uint8_t dtc3l_state_sv_of[DTC3L_N_STATES] = {
     0u,  /*  0 NNN */ 5u,  /*  1 NNO */ 17u, /*  2 NNP */
     3u,  /*  3 NON */ 4u,  /*  4 NOO */ 10u, /*  5 NOP */
     15u, /*  6 NPN */ 9u,  /*  7 NPO */ 16u, /*  8 NPP */
@@ -23,7 +24,7 @@ static const uint8_t state_sv[DTC3L_N_STATES] = {
 
 /* States of each space vector, preferred first; 0xFF pads. Small vectors list
  * the P-type state (more legs at P than at N) first. */
-static const uint8_t sv_states[DTC3L_N_VECTORS][3] = {
+const uint8_t dtc3l_sv_state_list[DTC3L_N_VECTORS][3] = {
     {13u, 0u, 26u},                                                  /* zero: OOO, NNN, PPP */
     {22u, 9u, 0xFFu}, {25u, 12u, 0xFFu}, {16u, 3u, 0xFFu},           /* small 0, 60, 120 */
     {17u, 4u, 0xFFu}, {14u, 1u, 0xFFu}, {23u, 10u, 0xFFu},           /* small 180, 240, 300 */
@@ -33,109 +34,155 @@ static const uint8_t sv_states[DTC3L_N_VECTORS][3] = {
     {8u, 0xFFu, 0xFFu}, {2u, 0xFFu, 0xFFu}, {20u, 0xFFu, 0xFFu},     /* large 180, 240, 300 */
 };
 
-static inline uint8_t leg_of(uint8_t state, unsigned k)
-{
-    static const uint8_t div[3] = {9u, 3u, 1u};
-    return (uint8_t)((state / div[k]) % 3u);
-}
+/* ------------------------------------------------------------ state tables
+ * Generated once from the NPC topology (leg codes N = 0, O = 1, P = 2; a leg
+ * at O draws its phase current from the neutral point; commutations = sum of
+ * |level steps|; a P<->N step is a leg level change of 2). Rows: from state;
+ * columns: to. The voltages are computed from the leg codes (dtc3l.h), in the
+ * same arithmetic as before the tables, so the control law is bit-identical. */
 
-void dtc3l_legs(uint8_t state, hal_vector *v)
-{
-    if (state >= DTC3L_N_STATES)
-        state = DTC3L_STATE_OOO;
-    for (unsigned k = 0; k < 3u; k++)
-        v->leg[k] = leg_of(state, k);
-}
-
-uint8_t dtc3l_state_of(const hal_vector *v)
-{
-    if (v->leg[0] > HAL_LEG_P || v->leg[1] > HAL_LEG_P || v->leg[2] > HAL_LEG_P)
-        return 0xFFu;
-    return (uint8_t)(v->leg[0] * 9u + v->leg[1] * 3u + v->leg[2]);
-}
-
-uint8_t dtc3l_state_sv(uint8_t state) { return state < DTC3L_N_STATES ? state_sv[state] : 0u; }
-
-dtc3l_class dtc3l_sv_class(uint8_t sv)
-{
-    if (sv == 0u || sv >= DTC3L_N_VECTORS)
-        return DTC3L_CLASS_ZERO;
-    if (sv <= 6u)
-        return DTC3L_CLASS_SMALL;
-    return sv <= 12u ? DTC3L_CLASS_MEDIUM : DTC3L_CLASS_LARGE;
-}
-
-uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3])
-{
-    if (sv >= DTC3L_N_VECTORS)
-        sv = 0u;
-    uint8_t n = 0u;
-    for (unsigned i = 0; i < 3u; i++) {
-        states[i] = sv_states[sv][i];
-        if (states[i] != 0xFFu)
-            n++;
-    }
-    return n;
-}
-
-void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
-{
-    real_t vleg[3];
-    for (unsigned k = 0; k < 3u; k++) {
-        uint8_t l = state < DTC3L_N_STATES ? leg_of(state, k) : (uint8_t)HAL_LEG_O;
-        vleg[k] = l == HAL_LEG_P ? vc1_V : (l == HAL_LEG_N ? -vc2_V : R(0.0));
-    }
-    /* Clarke of the leg voltages: the common mode drops out, as in an isolated star. */
-    v_ab[0] = num_mul(R(0.333333333), R(2.0) * vleg[0] - vleg[1] - vleg[2]);
-    v_ab[1] = num_mul(NUM_INV_SQRT3, vleg[1] - vleg[2]);
-}
-
-real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3])
-{
-    real_t i = R(0.0);
-    if (state >= DTC3L_N_STATES)
-        return i;
-    for (unsigned k = 0; k < 3u; k++)
-        if (leg_of(state, k) == HAL_LEG_O)
-            i += i_abc[k];
-    return i;
-}
-
-bool dtc3l_pn_step(uint8_t from, uint8_t to)
-{
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return false;
-    for (unsigned k = 0; k < 3u; k++) {
-        int d = (int)leg_of(from, k) - (int)leg_of(to, k);
-        if (d == 2 || d == -2)
-            return true;
-    }
-    return false;
-}
-
-uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to)
-{
-    uint8_t n = 0u;
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return 0u;
-    for (unsigned k = 0; k < 3u; k++) {
-        int d = (int)leg_of(from, k) - (int)leg_of(to, k);
-        n = (uint8_t)(n + (uint8_t)(d < 0 ? -d : d));
-    }
-    return n;
-}
-
-uint8_t dtc3l_pn_safe(uint8_t from, uint8_t to)
-{
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return DTC3L_STATE_OOO;
-    static const uint8_t w[3] = {9u, 3u, 1u};
-    uint8_t out = 0u;
-    for (unsigned k = 0; k < 3u; k++) {
-        uint8_t a = leg_of(from, k), b = leg_of(to, k);
-        int d = (int)a - (int)b;
-        uint8_t l = (d == 2 || d == -2) ? (uint8_t)HAL_LEG_O : b;
-        out = (uint8_t)(out + l * w[k]);
-    }
-    return out;
-}
+const hal_vector dtc3l_state_legs[DTC3L_N_STATES] = {
+    {{0u, 0u, 0u}}, /*  0 NNN */
+    {{0u, 0u, 1u}}, /*  1 NNO */
+    {{0u, 0u, 2u}}, /*  2 NNP */
+    {{0u, 1u, 0u}}, /*  3 NON */
+    {{0u, 1u, 1u}}, /*  4 NOO */
+    {{0u, 1u, 2u}}, /*  5 NOP */
+    {{0u, 2u, 0u}}, /*  6 NPN */
+    {{0u, 2u, 1u}}, /*  7 NPO */
+    {{0u, 2u, 2u}}, /*  8 NPP */
+    {{1u, 0u, 0u}}, /*  9 ONN */
+    {{1u, 0u, 1u}}, /* 10 ONO */
+    {{1u, 0u, 2u}}, /* 11 ONP */
+    {{1u, 1u, 0u}}, /* 12 OON */
+    {{1u, 1u, 1u}}, /* 13 OOO */
+    {{1u, 1u, 2u}}, /* 14 OOP */
+    {{1u, 2u, 0u}}, /* 15 OPN */
+    {{1u, 2u, 1u}}, /* 16 OPO */
+    {{1u, 2u, 2u}}, /* 17 OPP */
+    {{2u, 0u, 0u}}, /* 18 PNN */
+    {{2u, 0u, 1u}}, /* 19 PNO */
+    {{2u, 0u, 2u}}, /* 20 PNP */
+    {{2u, 1u, 0u}}, /* 21 PON */
+    {{2u, 1u, 1u}}, /* 22 POO */
+    {{2u, 1u, 2u}}, /* 23 POP */
+    {{2u, 2u, 0u}}, /* 24 PPN */
+    {{2u, 2u, 1u}}, /* 25 PPO */
+    {{2u, 2u, 2u}}, /* 26 PPP */
+};
+const real_t dtc3l_np_legs[DTC3L_N_STATES][3] = {
+    {R(0.0), R(0.0), R(0.0)}, /*  0 NNN */
+    {R(0.0), R(0.0), R(1.0)}, /*  1 NNO */
+    {R(0.0), R(0.0), R(0.0)}, /*  2 NNP */
+    {R(0.0), R(1.0), R(0.0)}, /*  3 NON */
+    {R(0.0), R(1.0), R(1.0)}, /*  4 NOO */
+    {R(0.0), R(1.0), R(0.0)}, /*  5 NOP */
+    {R(0.0), R(0.0), R(0.0)}, /*  6 NPN */
+    {R(0.0), R(0.0), R(1.0)}, /*  7 NPO */
+    {R(0.0), R(0.0), R(0.0)}, /*  8 NPP */
+    {R(1.0), R(0.0), R(0.0)}, /*  9 ONN */
+    {R(1.0), R(0.0), R(1.0)}, /* 10 ONO */
+    {R(1.0), R(0.0), R(0.0)}, /* 11 ONP */
+    {R(1.0), R(1.0), R(0.0)}, /* 12 OON */
+    {R(1.0), R(1.0), R(1.0)}, /* 13 OOO */
+    {R(1.0), R(1.0), R(0.0)}, /* 14 OOP */
+    {R(1.0), R(0.0), R(0.0)}, /* 15 OPN */
+    {R(1.0), R(0.0), R(1.0)}, /* 16 OPO */
+    {R(1.0), R(0.0), R(0.0)}, /* 17 OPP */
+    {R(0.0), R(0.0), R(0.0)}, /* 18 PNN */
+    {R(0.0), R(0.0), R(1.0)}, /* 19 PNO */
+    {R(0.0), R(0.0), R(0.0)}, /* 20 PNP */
+    {R(0.0), R(1.0), R(0.0)}, /* 21 PON */
+    {R(0.0), R(1.0), R(1.0)}, /* 22 POO */
+    {R(0.0), R(1.0), R(0.0)}, /* 23 POP */
+    {R(0.0), R(0.0), R(0.0)}, /* 24 PPN */
+    {R(0.0), R(0.0), R(1.0)}, /* 25 PPO */
+    {R(0.0), R(0.0), R(0.0)}, /* 26 PPP */
+};
+const uint32_t dtc3l_pn_step_mask[DTC3L_N_STATES] = {
+    0x7ffc9e4u, /*  0 NNN */
+    0x7ff81c0u, /*  1 NNO */
+    0x7ff93c9u, /*  2 NNP */
+    0x7fe4924u, /*  3 NON */
+    0x7fc0000u, /*  4 NOO */
+    0x7fc9249u, /*  5 NOP */
+    0x7fe4f27u, /*  6 NPN */
+    0x7fc0e07u, /*  7 NPO */
+    0x7fc9e4fu, /*  8 NPP */
+    0x793c9e4u, /*  9 ONN */
+    0x70381c0u, /* 10 ONO */
+    0x72793c9u, /* 11 ONP */
+    0x4924924u, /* 12 OON */
+    0x0000000u, /* 13 OOO */
+    0x1249249u, /* 14 OOP */
+    0x49e4f27u, /* 15 OPN */
+    0x01c0e07u, /* 16 OPO */
+    0x13c9e4fu, /* 17 OPP */
+    0x793c9ffu, /* 18 PNN */
+    0x70381ffu, /* 19 PNO */
+    0x72793ffu, /* 20 PNP */
+    0x49249ffu, /* 21 PON */
+    0x00001ffu, /* 22 POO */
+    0x12493ffu, /* 23 POP */
+    0x49e4fffu, /* 24 PPN */
+    0x01c0fffu, /* 25 PPO */
+    0x13c9fffu, /* 26 PPP */
+};
+const uint8_t dtc3l_changes[DTC3L_N_STATES][DTC3L_N_STATES] = {
+    {0, 1, 2, 1, 2, 3, 2, 3, 4, 1, 2, 3, 2, 3, 4, 3, 4, 5, 2, 3, 4, 3, 4, 5, 4, 5, 6}, /*  0 NNN */
+    {1, 0, 1, 2, 1, 2, 3, 2, 3, 2, 1, 2, 3, 2, 3, 4, 3, 4, 3, 2, 3, 4, 3, 4, 5, 4, 5}, /*  1 NNO */
+    {2, 1, 0, 3, 2, 1, 4, 3, 2, 3, 2, 1, 4, 3, 2, 5, 4, 3, 4, 3, 2, 5, 4, 3, 6, 5, 4}, /*  2 NNP */
+    {1, 2, 3, 0, 1, 2, 1, 2, 3, 2, 3, 4, 1, 2, 3, 2, 3, 4, 3, 4, 5, 2, 3, 4, 3, 4, 5}, /*  3 NON */
+    {2, 1, 2, 1, 0, 1, 2, 1, 2, 3, 2, 3, 2, 1, 2, 3, 2, 3, 4, 3, 4, 3, 2, 3, 4, 3, 4}, /*  4 NOO */
+    {3, 2, 1, 2, 1, 0, 3, 2, 1, 4, 3, 2, 3, 2, 1, 4, 3, 2, 5, 4, 3, 4, 3, 2, 5, 4, 3}, /*  5 NOP */
+    {2, 3, 4, 1, 2, 3, 0, 1, 2, 3, 4, 5, 2, 3, 4, 1, 2, 3, 4, 5, 6, 3, 4, 5, 2, 3, 4}, /*  6 NPN */
+    {3, 2, 3, 2, 1, 2, 1, 0, 1, 4, 3, 4, 3, 2, 3, 2, 1, 2, 5, 4, 5, 4, 3, 4, 3, 2, 3}, /*  7 NPO */
+    {4, 3, 2, 3, 2, 1, 2, 1, 0, 5, 4, 3, 4, 3, 2, 3, 2, 1, 6, 5, 4, 5, 4, 3, 4, 3, 2}, /*  8 NPP */
+    {1, 2, 3, 2, 3, 4, 3, 4, 5, 0, 1, 2, 1, 2, 3, 2, 3, 4, 1, 2, 3, 2, 3, 4, 3, 4, 5}, /*  9 ONN */
+    {2, 1, 2, 3, 2, 3, 4, 3, 4, 1, 0, 1, 2, 1, 2, 3, 2, 3, 2, 1, 2, 3, 2, 3, 4, 3, 4}, /* 10 ONO */
+    {3, 2, 1, 4, 3, 2, 5, 4, 3, 2, 1, 0, 3, 2, 1, 4, 3, 2, 3, 2, 1, 4, 3, 2, 5, 4, 3}, /* 11 ONP */
+    {2, 3, 4, 1, 2, 3, 2, 3, 4, 1, 2, 3, 0, 1, 2, 1, 2, 3, 2, 3, 4, 1, 2, 3, 2, 3, 4}, /* 12 OON */
+    {3, 2, 3, 2, 1, 2, 3, 2, 3, 2, 1, 2, 1, 0, 1, 2, 1, 2, 3, 2, 3, 2, 1, 2, 3, 2, 3}, /* 13 OOO */
+    {4, 3, 2, 3, 2, 1, 4, 3, 2, 3, 2, 1, 2, 1, 0, 3, 2, 1, 4, 3, 2, 3, 2, 1, 4, 3, 2}, /* 14 OOP */
+    {3, 4, 5, 2, 3, 4, 1, 2, 3, 2, 3, 4, 1, 2, 3, 0, 1, 2, 3, 4, 5, 2, 3, 4, 1, 2, 3}, /* 15 OPN */
+    {4, 3, 4, 3, 2, 3, 2, 1, 2, 3, 2, 3, 2, 1, 2, 1, 0, 1, 4, 3, 4, 3, 2, 3, 2, 1, 2}, /* 16 OPO */
+    {5, 4, 3, 4, 3, 2, 3, 2, 1, 4, 3, 2, 3, 2, 1, 2, 1, 0, 5, 4, 3, 4, 3, 2, 3, 2, 1}, /* 17 OPP */
+    {2, 3, 4, 3, 4, 5, 4, 5, 6, 1, 2, 3, 2, 3, 4, 3, 4, 5, 0, 1, 2, 1, 2, 3, 2, 3, 4}, /* 18 PNN */
+    {3, 2, 3, 4, 3, 4, 5, 4, 5, 2, 1, 2, 3, 2, 3, 4, 3, 4, 1, 0, 1, 2, 1, 2, 3, 2, 3}, /* 19 PNO */
+    {4, 3, 2, 5, 4, 3, 6, 5, 4, 3, 2, 1, 4, 3, 2, 5, 4, 3, 2, 1, 0, 3, 2, 1, 4, 3, 2}, /* 20 PNP */
+    {3, 4, 5, 2, 3, 4, 3, 4, 5, 2, 3, 4, 1, 2, 3, 2, 3, 4, 1, 2, 3, 0, 1, 2, 1, 2, 3}, /* 21 PON */
+    {4, 3, 4, 3, 2, 3, 4, 3, 4, 3, 2, 3, 2, 1, 2, 3, 2, 3, 2, 1, 2, 1, 0, 1, 2, 1, 2}, /* 22 POO */
+    {5, 4, 3, 4, 3, 2, 5, 4, 3, 4, 3, 2, 3, 2, 1, 4, 3, 2, 3, 2, 1, 2, 1, 0, 3, 2, 1}, /* 23 POP */
+    {4, 5, 6, 3, 4, 5, 2, 3, 4, 3, 4, 5, 2, 3, 4, 1, 2, 3, 2, 3, 4, 1, 2, 3, 0, 1, 2}, /* 24 PPN */
+    {5, 4, 5, 4, 3, 4, 3, 2, 3, 4, 3, 4, 3, 2, 3, 2, 1, 2, 3, 2, 3, 2, 1, 2, 1, 0, 1}, /* 25 PPO */
+    {6, 5, 4, 5, 4, 3, 4, 3, 2, 5, 4, 3, 4, 3, 2, 3, 2, 1, 4, 3, 2, 3, 2, 1, 2, 1, 0}, /* 26 PPP */
+};
+const uint8_t dtc3l_pn_safe_to[DTC3L_N_STATES][DTC3L_N_STATES] = {
+    { 0,  1,  1,  3,  4,  4,  3,  4,  4,  9, 10, 10, 12, 13, 13, 12, 13, 13,  9, 10, 10, 12, 13, 13, 12, 13, 13}, /*  0 NNN */
+    { 0,  1,  2,  3,  4,  5,  3,  4,  5,  9, 10, 11, 12, 13, 14, 12, 13, 14,  9, 10, 11, 12, 13, 14, 12, 13, 14}, /*  1 NNO */
+    { 1,  1,  2,  4,  4,  5,  4,  4,  5, 10, 10, 11, 13, 13, 14, 13, 13, 14, 10, 10, 11, 13, 13, 14, 13, 13, 14}, /*  2 NNP */
+    { 0,  1,  1,  3,  4,  4,  6,  7,  7,  9, 10, 10, 12, 13, 13, 15, 16, 16,  9, 10, 10, 12, 13, 13, 15, 16, 16}, /*  3 NON */
+    { 0,  1,  2,  3,  4,  5,  6,  7,  8,  9, 10, 11, 12, 13, 14, 15, 16, 17,  9, 10, 11, 12, 13, 14, 15, 16, 17}, /*  4 NOO */
+    { 1,  1,  2,  4,  4,  5,  7,  7,  8, 10, 10, 11, 13, 13, 14, 16, 16, 17, 10, 10, 11, 13, 13, 14, 16, 16, 17}, /*  5 NOP */
+    { 3,  4,  4,  3,  4,  4,  6,  7,  7, 12, 13, 13, 12, 13, 13, 15, 16, 16, 12, 13, 13, 12, 13, 13, 15, 16, 16}, /*  6 NPN */
+    { 3,  4,  5,  3,  4,  5,  6,  7,  8, 12, 13, 14, 12, 13, 14, 15, 16, 17, 12, 13, 14, 12, 13, 14, 15, 16, 17}, /*  7 NPO */
+    { 4,  4,  5,  4,  4,  5,  7,  7,  8, 13, 13, 14, 13, 13, 14, 16, 16, 17, 13, 13, 14, 13, 13, 14, 16, 16, 17}, /*  8 NPP */
+    { 0,  1,  1,  3,  4,  4,  3,  4,  4,  9, 10, 10, 12, 13, 13, 12, 13, 13, 18, 19, 19, 21, 22, 22, 21, 22, 22}, /*  9 ONN */
+    { 0,  1,  2,  3,  4,  5,  3,  4,  5,  9, 10, 11, 12, 13, 14, 12, 13, 14, 18, 19, 20, 21, 22, 23, 21, 22, 23}, /* 10 ONO */
+    { 1,  1,  2,  4,  4,  5,  4,  4,  5, 10, 10, 11, 13, 13, 14, 13, 13, 14, 19, 19, 20, 22, 22, 23, 22, 22, 23}, /* 11 ONP */
+    { 0,  1,  1,  3,  4,  4,  6,  7,  7,  9, 10, 10, 12, 13, 13, 15, 16, 16, 18, 19, 19, 21, 22, 22, 24, 25, 25}, /* 12 OON */
+    { 0,  1,  2,  3,  4,  5,  6,  7,  8,  9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26}, /* 13 OOO */
+    { 1,  1,  2,  4,  4,  5,  7,  7,  8, 10, 10, 11, 13, 13, 14, 16, 16, 17, 19, 19, 20, 22, 22, 23, 25, 25, 26}, /* 14 OOP */
+    { 3,  4,  4,  3,  4,  4,  6,  7,  7, 12, 13, 13, 12, 13, 13, 15, 16, 16, 21, 22, 22, 21, 22, 22, 24, 25, 25}, /* 15 OPN */
+    { 3,  4,  5,  3,  4,  5,  6,  7,  8, 12, 13, 14, 12, 13, 14, 15, 16, 17, 21, 22, 23, 21, 22, 23, 24, 25, 26}, /* 16 OPO */
+    { 4,  4,  5,  4,  4,  5,  7,  7,  8, 13, 13, 14, 13, 13, 14, 16, 16, 17, 22, 22, 23, 22, 22, 23, 25, 25, 26}, /* 17 OPP */
+    { 9, 10, 10, 12, 13, 13, 12, 13, 13,  9, 10, 10, 12, 13, 13, 12, 13, 13, 18, 19, 19, 21, 22, 22, 21, 22, 22}, /* 18 PNN */
+    { 9, 10, 11, 12, 13, 14, 12, 13, 14,  9, 10, 11, 12, 13, 14, 12, 13, 14, 18, 19, 20, 21, 22, 23, 21, 22, 23}, /* 19 PNO */
+    {10, 10, 11, 13, 13, 14, 13, 13, 14, 10, 10, 11, 13, 13, 14, 13, 13, 14, 19, 19, 20, 22, 22, 23, 22, 22, 23}, /* 20 PNP */
+    { 9, 10, 10, 12, 13, 13, 15, 16, 16,  9, 10, 10, 12, 13, 13, 15, 16, 16, 18, 19, 19, 21, 22, 22, 24, 25, 25}, /* 21 PON */
+    { 9, 10, 11, 12, 13, 14, 15, 16, 17,  9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26}, /* 22 POO */
+    {10, 10, 11, 13, 13, 14, 16, 16, 17, 10, 10, 11, 13, 13, 14, 16, 16, 17, 19, 19, 20, 22, 22, 23, 25, 25, 26}, /* 23 POP */
+    {12, 13, 13, 12, 13, 13, 15, 16, 16, 12, 13, 13, 12, 13, 13, 15, 16, 16, 21, 22, 22, 21, 22, 22, 24, 25, 25}, /* 24 PPN */
+    {12, 13, 14, 12, 13, 14, 15, 16, 17, 12, 13, 14, 12, 13, 14, 15, 16, 17, 21, 22, 23, 21, 22, 23, 24, 25, 26}, /* 25 PPO */
+    {13, 13, 14, 13, 13, 14, 16, 16, 17, 13, 13, 14, 13, 13, 14, 16, 16, 17, 22, 22, 23, 22, 22, 23, 25, 25, 26}, /* 26 PPP */
+};

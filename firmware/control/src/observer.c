@@ -117,6 +117,12 @@ void observer_cfg_derive(observer_cfg *cfg, const motor_model *mm, real_t period
     /* The discretisation is accurate to omega T = 0.3 (240 Hz at 200 us);
      * the estimate is clamped there so a diverging adaptation stays bounded. */
     m->omega_max_rad_s = num_div(R(0.3), period_s);
+    m->ki_speed_T = num_mul(cfg->ki_speed, period_s);
+    m->ki_rs_T = num_mul(cfg->ki_rs, period_s);
+    m->gain_k1 = cfg->k_gain - R(1.0);
+    m->gain_k21 = num_mul(cfg->k_gain, cfg->k_gain) - R(1.0);
+    m->gain_inv_c_k1 = num_mul(m->inv_c, m->gain_k1);
+    m->kt_b = num_mul(m->kt, m->b);
 }
 
 void observer_init(observer *s, const observer_cfg *cfg)
@@ -132,23 +138,22 @@ void observer_init(observer *s, const observer_cfg *cfg)
 void observer_gain(const observer_cfg *cfg, real_t omega_e, real_t rs_ohm, real_t g_is[2], real_t g_psi[2])
 {
     const observer_model *m = &cfg->m;
-    real_t k1 = cfg->k_gain - R(1.0);
-    real_t k21 = num_mul(cfg->k_gain, cfg->k_gain) - R(1.0);
+    real_t k1 = m->gain_k1;
+    real_t k21 = m->gain_k21;
     real_t ar11 = -(num_mul(rs_ohm, m->b) + m->a_r);
     real_t ar22 = -m->inv_tr;
     /* Kubota: trace and determinant of A + G C are k and k^2 times those of A. */
     g_is[0] = num_mul(k1, ar11 + ar22);
     g_is[1] = num_mul(k1, omega_e);
-    g_psi[0] = num_mul(k21, num_mul(m->inv_c, ar11) + m->lm_tr) - num_mul(num_mul(m->inv_c, k1), ar11 + ar22);
-    g_psi[1] = -num_mul(num_mul(m->inv_c, k1), omega_e);
+    g_psi[0] = num_mul(k21, num_mul(m->inv_c, ar11) + m->lm_tr) - num_mul(m->gain_inv_c_k1, ar11 + ar22);
+    g_psi[1] = -num_mul(m->gain_inv_c_k1, omega_e);
 }
 
-void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega_e, const real_t x[4],
-                            const real_t u_is[2], const real_t u_psi[2], real_t x_next[4])
+/* observer_model_advance with the model matrix already built */
+static void advance_with(const model_matrix *pa, real_t T, const real_t x[4], const real_t u_is[2],
+                         const real_t u_psi[2], real_t x_next[4])
 {
-    model_matrix a;
-    model_matrix_at(m, rs_ohm, omega_e, &a);
-    real_t T = m->period_s;
+    const model_matrix a = *pa;
 
     /* y = A x + u, the derivative at the period start */
     real_t y[4], w[4], aw[4];
@@ -173,6 +178,14 @@ void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega
         x_next[i] = num_mac(T, w[i], x[i]);
 }
 
+void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega_e, const real_t x[4],
+                            const real_t u_is[2], const real_t u_psi[2], real_t x_next[4])
+{
+    model_matrix a;
+    model_matrix_at(m, rs_ohm, omega_e, &a);
+    advance_with(&a, m->period_s, x, u_is, u_psi, x_next);
+}
+
 void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas[2], const real_t v[2],
                    observer_out *out)
 {
@@ -186,13 +199,13 @@ void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas[2]
     real_t er[2];
     rotate_for_regeneration(cfg, s->omega_e_rad_s, num_mul(m->kt, ccross(s->psi_r_Wb, is_meas)), e, er);
     real_t eps = num_mul(er[0], s->psi_r_Wb[1]) - num_mul(er[1], s->psi_r_Wb[0]);
-    s->omega_int_rad_s = num_limit(num_mac(num_mul(cfg->ki_speed, T), eps, s->omega_int_rad_s), m->omega_max_rad_s);
+    s->omega_int_rad_s = num_limit(num_mac(m->ki_speed_T, eps, s->omega_int_rad_s), m->omega_max_rad_s);
     s->omega_e_rad_s = num_limit(num_mac(cfg->kp_speed, eps, s->omega_int_rad_s), m->omega_max_rad_s);
 
     /* Rs adaptation: a winding hotter than modelled makes |is| smaller than |is_hat| */
     if (cfg->ki_rs > R(0.0)) {
         real_t ei = num_mul(e[0], s->is_A[0]) + num_mul(e[1], s->is_A[1]);
-        s->rs_ohm = num_sat(s->rs_ohm - num_mul(num_mul(cfg->ki_rs, T), ei), m->rs_min_ohm, m->rs_max_ohm);
+        s->rs_ohm = num_sat(s->rs_ohm - num_mul(m->ki_rs_T, ei), m->rs_min_ohm, m->rs_max_ohm);
     }
 
     /* estimates at t_k: the measured current is fresher than is_hat */
@@ -217,7 +230,9 @@ void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas[2]
 
     real_t x[4] = {s->is_A[0], s->is_A[1], s->psi_r_Wb[0], s->psi_r_Wb[1]};
     real_t xn[4];
-    observer_model_advance(m, s->rs_ohm, s->omega_e_rad_s, x, u_is, u_psi, xn);
+    model_matrix a; /* built once: the step and the slopes use the same speed and Rs */
+    model_matrix_at(m, s->rs_ohm, s->omega_e_rad_s, &a);
+    advance_with(&a, T, x, u_is, u_psi, xn);
     s->is_A[0] = xn[0];
     s->is_A[1] = xn[1];
     s->psi_r_Wb[0] = xn[2];
@@ -234,12 +249,10 @@ void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas[2]
 
     /* torque slopes at t_{k+1}: dTe/dt = kt (dpsi_r/dt x is + psi_r x dis/dt),
      * linear in v: dte0 + dte_dv . v */
-    model_matrix a;
-    model_matrix_at(m, s->rs_ohm, s->omega_e_rad_s, &a);
     real_t dx[4];
     model_apply(&a, xn, dx);
     out->dte0_Nm_s = num_mul(m->kt, ccross(&dx[2], &xn[0]) + ccross(&xn[2], &dx[0]));
-    real_t ktb = num_mul(m->kt, m->b);
+    real_t ktb = m->kt_b;
     out->dte_dv[0] = -num_mul(ktb, xn[3]);
     out->dte_dv[1] = num_mul(ktb, xn[2]);
 

@@ -31,6 +31,71 @@ void rbfn_basis(const real_t *centre, const real_t *width, uint32_t n, real_t x,
         z[q] = num_mul(z[q], inv);
 }
 
+void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, uint32_t n)
+{
+    g->n = 0u;
+    g->inv_width = g->inv_spacing = g->d = g->half_d2 = R(0.0);
+    g->q = R(1.0);
+    if (n < 1u || !(width[0] > R(1e-6)))
+        return;
+    real_t h = n >= 2u ? centre[1] - centre[0] : R(1.0);
+    if (!(h > R(0.0)) || !(h < R(1e30)))
+        return;
+    for (uint32_t k = 0u; k < n; k++) {
+        if (width[k] != width[0])
+            return;
+        if (k >= 1u && !(num_abs(centre[k] - centre[k - 1u] - h) <= num_mul(R(1e-5), h)))
+            return;
+    }
+    g->inv_width = num_div(R(1.0), width[0]);
+    g->inv_spacing = num_div(R(1.0), h);
+    g->d = n >= 2u ? num_mul(h, g->inv_width) : R(0.0);
+    g->half_d2 = num_mul(R(0.5), num_mul(g->d, g->d));
+    g->q = num_exp(-num_mul(g->d, g->d));
+    g->n = n;
+}
+
+void rbfn_basis_grid(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, real_t *z)
+{
+    if (!(x == x)) {
+        for (uint32_t k = 0u; k < n; k++)
+            z[k] = x;
+        return;
+    }
+    /* nearest node (written so that huge |x| never reaches the integer conversion) */
+    real_t t = num_mul(x - centre[0], g->inv_spacing);
+    uint32_t ks;
+    if (!(t > R(0.0)))
+        ks = 0u;
+    else if (t >= (real_t)(n - 1u))
+        ks = n - 1u;
+    else
+        ks = (uint32_t)(t + R(0.5));
+    real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
+    /* r: z[k + 1] / z[k] going up; rho: z[k - 1] / z[k] going down (r rho = q) */
+    real_t r = num_exp(num_mul(u, g->d) - g->half_d2);
+    real_t rho = num_div(g->q, r);
+    real_t sum = R(1.0);
+    z[ks] = R(1.0);
+    real_t v = R(1.0);
+    for (uint32_t k = ks + 1u; k < n; k++) {
+        v = num_mul(v, r);
+        r = num_mul(r, g->q);
+        z[k] = v;
+        sum += v;
+    }
+    v = R(1.0);
+    for (uint32_t k = ks; k-- > 0u;) {
+        v = num_mul(v, rho);
+        rho = num_mul(rho, g->q);
+        z[k] = v;
+        sum += v;
+    }
+    real_t inv = num_div(R(1.0), sum);
+    for (uint32_t k = 0u; k < n; k++)
+        z[k] = num_mul(z[k], inv);
+}
+
 real_t rbfn_output(const real_t *w, const real_t *z, uint32_t n)
 {
     real_t y = R(0.0);

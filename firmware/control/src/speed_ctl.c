@@ -90,6 +90,9 @@ void speed_cfg_derive(speed_cfg *cfg, const motor_model *m)
     real_t wn = cfg->ip.wn_rad_s;
     cfg->ip.ki = num_mul(num_mul(wn, wn), m->J_kgm2);
     cfg->ip.kp = R(2.0) * num_mul(num_mul(cfg->ip.zeta, wn), m->J_kgm2) - m->B_Nms;
+    rbfn_cfg *r = &cfg->rbfn;
+    uint32_t n = r->n_nodes;
+    rbfn_grid_derive(&r->grid, r->centre, r->width, n >= 1u && n <= RBFN_NODES_MAX ? n : 0u);
 }
 
 int speed_cfg_check(const speed_cfg *cfg, const motor_model *m)

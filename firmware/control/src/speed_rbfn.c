@@ -45,7 +45,10 @@ void speed_rbfn_step(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, r
     real_t e = in->omega_ref_rad_s - x;
     real_t z[RBFN_NODES_MAX];
 
-    rbfn_basis(cfg->centre, cfg->width, n, e, z);
+    if (cfg->grid.n == n) /* derived for this configuration: one exp() instead of n */
+        rbfn_basis_grid(&cfg->grid, cfg->centre, n, e, z);
+    else
+        rbfn_basis(cfg->centre, cfg->width, n, e, z);
     real_t eps_hat = rbfn_output(s->w, z, n);
     real_t robust = num_mul(s->zeta_bar, robust_switch(e, cfg->boundary_rad_s));
 

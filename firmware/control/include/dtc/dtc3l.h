@@ -148,48 +148,172 @@ typedef struct {
 
 /* ------------------------------------------------ vectors (dtc3l_vectors.c) */
 
-/** Leg codes of @p state (0..26) into @p v. Context: ANY. */
-void dtc3l_legs(uint8_t state, hal_vector *v);
+/* Facts about each of the 27 states, precomputed (const, in flash) so that the
+ * interrupt looks a state up and never decomposes its index into base-3 digits.
+ * tests/unit/test_dtc3l.cpp checks every entry against the plant's inverter
+ * model and an independent base-3 decomposition. */
+
+extern const hal_vector dtc3l_state_legs[DTC3L_N_STATES];        /**< leg codes of each state */
+extern const real_t dtc3l_np_legs[DTC3L_N_STATES][3];           /**< 1 for a leg at O (its phase current
+                                                                     flows from the neutral point), else 0 */
+extern const uint32_t dtc3l_pn_step_mask[DTC3L_N_STATES];       /**< bit `to` set: from -> to steps a leg P<->N */
+extern const uint8_t dtc3l_changes[DTC3L_N_STATES][DTC3L_N_STATES];    /**< leg commutations from -> to */
+extern const uint8_t dtc3l_pn_safe_to[DTC3L_N_STATES][DTC3L_N_STATES]; /**< to with P<->N legs held at O */
+
+/** Leg codes of @p state (0..26; others: OOO) into @p v. Context: ANY. */
+static inline void dtc3l_legs(uint8_t state, hal_vector *v)
+{
+    *v = dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
+}
 
 /** State number of @p v; 0xFF when a leg code is above HAL_LEG_P. Context: ANY. */
-uint8_t dtc3l_state_of(const hal_vector *v);
+static inline uint8_t dtc3l_state_of(const hal_vector *v)
+{
+    if (v->leg[0] > HAL_LEG_P || v->leg[1] > HAL_LEG_P || v->leg[2] > HAL_LEG_P)
+        return 0xFFu;
+    return (uint8_t)(v->leg[0] * 9u + v->leg[1] * 3u + v->leg[2]);
+}
 
-/** Space vector 0..18 of @p state. Context: ANY. */
-uint8_t dtc3l_state_sv(uint8_t state);
+extern const uint8_t dtc3l_state_sv_of[DTC3L_N_STATES];            /**< space vector of each state */
+extern const uint8_t dtc3l_sv_state_list[DTC3L_N_VECTORS][3];      /**< states of each sv, preferred first; 0xFF pads */
+
+/** Space vector 0..18 of @p state (others: 0). Context: ANY. */
+static inline uint8_t dtc3l_state_sv(uint8_t state)
+{
+    return state < DTC3L_N_STATES ? dtc3l_state_sv_of[state] : 0u;
+}
 
 /** Class of space vector @p sv. Context: ANY. */
-dtc3l_class dtc3l_sv_class(uint8_t sv);
+static inline dtc3l_class dtc3l_sv_class(uint8_t sv)
+{
+    if (sv == 0u || sv >= DTC3L_N_VECTORS)
+        return DTC3L_CLASS_ZERO;
+    if (sv <= 6u)
+        return DTC3L_CLASS_SMALL;
+    return sv <= 12u ? DTC3L_CLASS_MEDIUM : DTC3L_CLASS_LARGE;
+}
 
-/** States realising @p sv, preferred first (OOO; P-type small); returns the count 1..3. Context: ANY. */
-uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3]);
+/** States realising @p sv (others: the zero vector), preferred first (OOO;
+ *  P-type small); returns the count 1..3. Context: ANY. */
+static inline uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3])
+{
+    const uint8_t *l = dtc3l_sv_state_list[sv < DTC3L_N_VECTORS ? sv : 0u];
+    states[0] = l[0];
+    states[1] = l[1];
+    states[2] = l[2];
+    return (uint8_t)(sv == 0u || sv >= DTC3L_N_VECTORS ? 3u : (sv <= 6u ? 2u : 1u));
+}
 
 /**
- * Stator voltage (alpha, beta; isolated star) of @p state for the capacitor
- * voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
+ * Stator voltage (alpha, beta; isolated star) of @p state (others: OOO) for
+ * the capacitor voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
  */
-void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2]);
+static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
+{
+    const hal_vector *l = &dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
+    const real_t v_leg_of[3] = {-vc2_V, R(0.0), vc1_V}; /* by leg code N, O, P */
+    real_t va = v_leg_of[l->leg[0]], vb = v_leg_of[l->leg[1]], vc = v_leg_of[l->leg[2]];
+    /* Clarke of the leg voltages: the common mode drops out, as in an isolated star. */
+    v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
+    v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
+}
 
-/** Neutral-point current drawn by @p state: the sum of the phase currents of its legs at O, A. Context: ANY. */
-real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3]);
+/** Neutral-point current drawn by @p state (others: 0): the sum of the phase
+ *  currents of its legs at O, A. Context: ANY. */
+static inline real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3])
+{
+    if (state >= DTC3L_N_STATES)
+        return R(0.0);
+    const real_t *k = dtc3l_np_legs[state];
+    return num_mul(k[0], i_abc[0]) + num_mul(k[1], i_abc[1]) + num_mul(k[2], i_abc[2]);
+}
 
-/** True when going from @p from to @p to steps some leg directly between P and N. Context: ANY. */
-bool dtc3l_pn_step(uint8_t from, uint8_t to);
+/** True when going from @p from to @p to steps some leg directly between P and N
+ *  (false when either is not a state). Context: ANY. */
+static inline bool dtc3l_pn_step(uint8_t from, uint8_t to)
+{
+    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
+        return false;
+    return ((dtc3l_pn_step_mask[from] >> to) & 1u) != 0u;
+}
 
-/** Number of leg commutations from @p from to @p to (N<->O and O<->P count 1). Context: ANY. */
-uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to);
+/** Number of leg commutations from @p from to @p to (N<->O and O<->P count 1;
+ *  0 when either is not a state). Context: ANY. */
+static inline uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to)
+{
+    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
+        return 0u;
+    return dtc3l_changes[from][to];
+}
 
-/** @p to with every leg that would step between P and N from @p from held at O. Context: ANY. */
-uint8_t dtc3l_pn_safe(uint8_t from, uint8_t to);
+/** @p to with every leg that would step between P and N from @p from held at O
+ *  (OOO when either is not a state). Context: ANY. */
+static inline uint8_t dtc3l_pn_safe(uint8_t from, uint8_t to)
+{
+    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
+        return DTC3L_STATE_OOO;
+    return dtc3l_pn_safe_to[from][to];
+}
 
 /* ---------------------------------------------------- table (dtc3l_table.c) */
 
+/* The sectors and tables are small and run several times per tick: inline
+ * (the geometric rules are explained in dtc3l_table.c). */
+
+/* tan(15), tan(30), tan(75) deg: sector boundaries inside a quadrant */
+#define DTC3L_TAN15 R(0.267949192)
+#define DTC3L_TAN30 R(0.577350269)
+#define DTC3L_TAN75 R(3.732050808)
+
 /** Sector 0..11 of the flux (psi_alpha, psi_beta): 30 deg sectors centred on
  *  30 deg * sector. No trigonometry. Context: ANY. */
-uint8_t dtc3l_sector(real_t psi_alpha, real_t psi_beta);
+static inline uint8_t dtc3l_sector(real_t psi_alpha, real_t psi_beta)
+{
+    real_t ax = num_abs(psi_alpha), ay = num_abs(psi_beta);
+    /* q: 30 deg step nearest to the angle folded into the first quadrant */
+    unsigned q;
+    if (ay < num_mul(DTC3L_TAN15, ax))
+        q = 0u;
+    else if (ay < ax)
+        q = 1u;
+    else if (ay < num_mul(DTC3L_TAN75, ax))
+        q = 2u;
+    else
+        q = 3u;
+    if (psi_alpha >= R(0.0))
+        return (uint8_t)(psi_beta >= R(0.0) ? q : (12u - q) % 12u);
+    return (uint8_t)(psi_beta >= R(0.0) ? 6u - q : 6u + q);
+}
 
 /** Sector 0..5 of the flux: 60 deg sectors centred on the small vectors,
  *  60 deg * sector. No trigonometry. Context: ANY. */
-uint8_t dtc3l_sector6(real_t psi_alpha, real_t psi_beta);
+static inline uint8_t dtc3l_sector6(real_t psi_alpha, real_t psi_beta)
+{
+    /* within a quadrant the only boundary is at 30 deg from the alpha axis */
+    bool near_axis = num_abs(psi_beta) < num_mul(DTC3L_TAN30, num_abs(psi_alpha));
+    if (psi_alpha >= R(0.0))
+        return (uint8_t)(near_axis ? 0u : (psi_beta >= R(0.0) ? 1u : 5u));
+    return (uint8_t)(near_axis ? 3u : (psi_beta >= R(0.0) ? 2u : 4u));
+}
+
+/** Space vector at direction @p dir (0..11 after mod 12, 30 deg steps); even
+ *  directions hold small (@p large false) or large vectors. Context: ANY. */
+static inline uint8_t dtc3l_sv_at(unsigned dir, bool large)
+{
+    dir %= 12u;
+    if (dir & 1u)
+        return (uint8_t)(7u + (dir - 1u) / 2u);
+    return (uint8_t)((large ? 13u : 1u) + dir / 2u);
+}
+
+/** Offset of the demanded vector from the reference direction, in 30 deg
+ *  steps mod 12 (+60 / +120 deg up, -60 / -120 deg down). Context: ANY. */
+static inline unsigned dtc3l_demand_offset(int8_t torque, int8_t flux)
+{
+    if (torque > 0)
+        return flux > 0 ? 2u : 4u;
+    return flux > 0 ? 10u : 8u;
+}
 
 /**
  * The 12-sector table of the large and medium vectors: space vector for
@@ -197,15 +321,29 @@ uint8_t dtc3l_sector6(real_t psi_alpha, real_t psi_beta);
  * vector), flux demand @p flux (+1 raise, -1 lower). @p level is accepted for
  * symmetry with dtc3l_select and does not change the result. Context: ANY.
  */
-uint8_t dtc3l_table(uint8_t sector, int8_t torque, int8_t flux, uint8_t level);
+static inline uint8_t dtc3l_table(uint8_t sector, int8_t torque, int8_t flux, uint8_t level)
+{
+    if (torque == 0)
+        return 0u;
+    (void)level; /* the HIGH level and the strong demands share this table */
+    return dtc3l_sv_at((unsigned)(sector % 12u) + dtc3l_demand_offset(torque, flux), true);
+}
 
 /** The 6-sector table of the small vectors (LOW level): space vector for
  *  @p sector6 (0..5), @p torque (sign only; 0 = zero vector), @p flux. Context: ANY. */
-uint8_t dtc3l_table6(uint8_t sector6, int8_t torque, int8_t flux);
+static inline uint8_t dtc3l_table6(uint8_t sector6, int8_t torque, int8_t flux)
+{
+    if (torque == 0)
+        return 0u;
+    return dtc3l_sv_at(2u * (unsigned)(sector6 % 6u) + dtc3l_demand_offset(torque, flux), false);
+}
 
 /** Flux-holding small vector: the small vector nearest to the flux, whose
  *  tangential part is at most half of it. Context: ANY. */
-uint8_t dtc3l_table_flux_hold(uint8_t sector6);
+static inline uint8_t dtc3l_table_flux_hold(uint8_t sector6)
+{
+    return dtc3l_sv_at(2u * (unsigned)(sector6 % 6u), false);
+}
 
 /**
  * The switching table as the DTC uses it: the 6-sector small-vector table for
@@ -230,7 +368,11 @@ uint8_t dtc3l_select(real_t psi_alpha, real_t psi_beta, int8_t torque, int8_t fl
 uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                            const real_t i_abc[3]);
 
-/* ------------------------------------- ripple reduction (dtc3l_ripple.c) */
+/* ------------------------------------------------------- ripple reduction
+ * Over one period the torque under a fixed vector is close to a straight line
+ * whose slope is dTe/dt = dte0 + dte_dv . v (linear in the stator voltage,
+ * from the observer model at the predicted state). The time at which that line
+ * meets a band edge gives the duty of the vector. Inline: several calls a tick. */
 
 /**
  * Fraction of the period @p period_s after which a torque starting at
@@ -238,10 +380,27 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
  * on the edge), or 2 when it does not get there within the period, stands
  * still or moves away from the edge. Context: ANY.
  */
-real_t dtc3l_edge_fraction(real_t te_Nm, real_t slope_Nm_s, real_t edge_Nm, real_t period_s);
+static inline real_t dtc3l_edge_fraction(real_t te_Nm, real_t slope_Nm_s, real_t edge_Nm, real_t period_s)
+{
+    real_t gap = edge_Nm - te_Nm;
+    real_t reach = num_mul(slope_Nm_s, period_s);
+    /* at the edge now */
+    if (gap == R(0.0))
+        return R(0.0);
+    /* standing still, moving away (or already beyond it), or not getting there
+     * within the period; the comparator deals with a torque beyond an edge */
+    if (num_mul(gap, reach) <= R(0.0) || num_abs(gap) >= num_abs(reach))
+        return R(2.0);
+    return num_div(gap, reach);
+}
 
 /** dTe/dt under space vector state @p state, N m/s (dte0 + dte_dv . v). Context: ANY. */
-real_t dtc3l_state_slope(const dtc3l_in *in, uint8_t state);
+static inline real_t dtc3l_state_slope(const dtc3l_in *in, uint8_t state)
+{
+    real_t v[2];
+    dtc3l_state_voltage(state, in->vc1_V, in->vc2_V, v);
+    return in->dte0_Nm_s + num_mul(in->dte_dv[0], v[0]) + num_mul(in->dte_dv[1], v[1]);
+}
 
 /* ----------------------------------------------------- step (dtc3l.c) */
 

@@ -73,6 +73,13 @@ typedef struct {
     real_t lpf_alpha;     /**< speed low-pass: 1 - exp(-2 pi f T), 0..1 */
     real_t omega_max_rad_s; /**< clamp of the electrical speed estimate, rad/s */
     real_t inv_regen_speed; /**< 1 / regen_speed_rad_s, s/rad */
+    /* per-configuration products the step would otherwise form every tick */
+    real_t ki_speed_T;    /**< ki_speed x T, (rad/s) / (A Wb) */
+    real_t ki_rs_T;       /**< ki_rs x T, ohm / A^2 */
+    real_t gain_k1;       /**< k_gain - 1 (Kubota gain) */
+    real_t gain_k21;      /**< k_gain^2 - 1 */
+    real_t gain_inv_c_k1; /**< inv_c x (k_gain - 1), H */
+    real_t kt_b;          /**< kt x b: dTe/dt per volt per Wb of rotor flux, N m/(s V Wb) */
 } observer_model;
 
 typedef struct {

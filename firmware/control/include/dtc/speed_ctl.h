@@ -18,6 +18,7 @@
 #include <stdint.h>
 
 #include "dtc/motor_model.h"
+#include "dtc/rbfn.h"
 #include "dtc/num.h"
 
 #ifdef __cplusplus
@@ -58,6 +59,7 @@ typedef struct {
     real_t zeta_dead_zone_rad_s;   /**< |e_x| below this does not grow the bound */
     real_t zeta_max;               /**< ceiling of the adaptive bound, rad/s^2 */
     real_t zeta_leak;              /**< sigma-leakage of the bound, 1/s (0 = none) */
+    rbfn_grid grid;                /**< derived (speed_cfg_derive): the uniform-grid basis constants */
 } rbfn_cfg;
 
 typedef struct {
