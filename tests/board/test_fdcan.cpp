@@ -314,6 +314,35 @@ TEST(FdcanDriver, TransmitErrorsLeadToBusOffThenRecovery)
     EXPECT_EQ(frames[0].id, 0x581u);
 }
 
+// The recovery as M_CAN runs it: once the driver clears INIT, ECR.REC counts the sequences of
+// 11 recessive bits (22 us each at 500 kbit/s), TEC stays 255, PSR.BO stays set until 129 of
+// them have passed; then both counters are 0 and the node is back on the bus.
+TEST(FdcanDriver, BusOffRecoveryCountsElevenBitSequencesInRec)
+{
+    Twin t(image("can_drv_500000.elf"));
+    ASSERT_EQ(t.run(kBoot), BOARD_TIME_UP) << board_message(t.b);
+    board_can_inject_bus_off(t.b);
+    board_can_status st = t.status();
+    EXPECT_EQ(st.tec, 255u);
+    EXPECT_EQ(st.rec, 0u) << "INIT still set: no recovery yet";
+    int steps = 0;
+    while ((t.status().cccr & 1u) && steps++ < 2000)
+        ASSERT_EQ(t.run(50e-6), BOARD_TIME_UP) << board_message(t.b);
+    ASSERT_FALSE(t.status().cccr & 1u) << "the driver cleared INIT";
+    ASSERT_EQ(t.run(1e-3), BOARD_TIME_UP) << board_message(t.b);
+    st = t.status();
+    EXPECT_TRUE(st.bus_off);
+    EXPECT_EQ(st.tec, 255u);
+    // 1 ms / 22 us = 45.5 sequences, plus up to one 50 us polling step before it
+    EXPECT_GE(st.rec, 45u);
+    EXPECT_LE(st.rec, 48u);
+    ASSERT_EQ(t.run(2.5e-3), BOARD_TIME_UP) << board_message(t.b);
+    st = t.status();
+    EXPECT_FALSE(st.bus_off) << "129 x 11 bits = 2.84 ms after INIT was cleared";
+    EXPECT_EQ(st.rec, 0u);
+    EXPECT_EQ(st.tec, 0u);
+}
+
 TEST(FdcanDriver, AloneOnTheBusNoAcknowledge)
 {
     Twin t(image("can_drv_500000.elf"), /*attach=*/false);

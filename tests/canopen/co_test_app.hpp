@@ -84,7 +84,7 @@ struct App {
     std::vector<uint8_t> log;                // content of the domain 0x2100
     uint32_t bitrate = 0;
     co_cia402_action last_action = CO_CIA402_KEEP;
-    co_pass pass{0, 0, 5000, 0};
+    co_pass pass{0, 0, 5000, 0, false, 0};
 
     App()
     {

@@ -411,3 +411,43 @@ TEST(CoDevice, EmcyInhibitTimeQueuesDistinctEventsOnce)
     ASSERT_EQ(e.size(), 3u);
     EXPECT_EQ(e[2].data[0] | (e[2].data[1] << 8), 0x2310); // then the fault, not lost
 }
+
+// The controller's bus-off count moving is a communication error: the
+// application's event once per entry (CO_EVENT_BUS_OFF), the NMT state per
+// 0x1029, and EMCY 0x8140 (recovered from bus-off) only once back on the bus.
+TEST(CoDevice, BusOffOncePerEntryEmcyAfterTheRecovery)
+{
+    App a;
+    a.pass.bus_off_count = 7; // what the controller counted before the device started: not an event
+    a.step();
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"open", "booted"})) << "the count at the first pass is the baseline";
+    Booted b;
+    b.step({App::frame(0x000, {0x01, 0})});
+    b.calls.clear();
+    b.sent.clear();
+    b.pass.bus_off = true;
+    b.pass.bus_off_count = 1;
+    for (int k = 0; k < 5; k++) {
+        b.pass.now_ms += 10;
+        b.step();
+    }
+    EXPECT_EQ(b.calls, (std::vector<std::string>{"event:5"})) << "once for a long bus-off";
+    EXPECT_EQ(b.dev.nmt.state, CO_NMT_PRE_OPERATIONAL); // 0x1029 default 0
+    EXPECT_TRUE(b.with_id(0x080 + kNode).empty()) << "no EMCY while off the bus";
+    b.pass.bus_off = false;
+    b.step();
+    auto e = b.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x8140);
+    EXPECT_EQ(e[0].data[2] & 0x11, 0x11); // generic and communication bits
+    b.step();
+    EXPECT_EQ(b.with_id(0x080 + kNode).size(), 1u);
+    // Two entries between two passes (a short bus-off not seen as a flag): one event.
+    b.calls.clear();
+    b.pass.bus_off_count = 3;
+    b.pass.now_ms += 1000;
+    b.step();
+    EXPECT_EQ(b.calls, (std::vector<std::string>{"event:5"}));
+    EXPECT_EQ(b.with_id(0x080 + kNode).size(), 2u) << "reported after the recovery it already made";
+}

@@ -28,6 +28,8 @@ typedef struct {
 
 /** The device's own event: an RPDO shorter than its mapping (CiA 301 0x8210, generic). */
 #define CO_EMCY_CODE_RPDO_LENGTH 0x8210u
+/** The device's own event: back on the bus after a bus-off (CiA 301 0x8140, communication). */
+#define CO_EMCY_CODE_BUS_OFF_RECOVERED 0x8140u
 
 #define CO_EMCY_QUEUE 4u /**< events waiting for the inhibit time (0x1015) at most */
 
