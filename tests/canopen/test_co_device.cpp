@@ -451,3 +451,56 @@ TEST(CoDevice, BusOffOncePerEntryEmcyAfterTheRecovery)
     EXPECT_EQ(b.calls, (std::vector<std::string>{"event:5"}));
     EXPECT_EQ(b.with_id(0x080 + kNode).size(), 2u) << "reported after the recovery it already made";
 }
+
+// The error history 0x1003 (CiA 301 pre-defined error field), read over SDO:
+// sub 0 the number of errors, sub 1 the newest; each entry the EMCY code and
+// the error register it carried (hand-derived: fault bit 0 -> 0x2310 with
+// register bit 1, bit 1 -> 0x3210 with bit 2, plus bit 0 generic). The return
+// to no error is not recorded; the ninth error pushes out the oldest; only 0
+// may be written to sub 0 (clears), sub 1.. are read only; an NMT reset keeps it.
+TEST(CoDevice, ErrorHistoryNewestFirstClearedByWritingZero)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    auto read = [&](uint8_t sub) {
+        hal_can_frame r = a.sdo(upload(0x1003, sub));
+        EXPECT_EQ(r.data[0] & 0xE0, 0x40) << "sub " << int(sub) << " abort " << std::hex << abort_of(r);
+        return le32(&r.data[4]);
+    };
+    EXPECT_EQ(read(0), 0u);
+    a.pass.faults = 1u << 0;
+    a.step();
+    a.pass.faults = (1u << 0) | (1u << 1);
+    a.step();
+    ASSERT_EQ(read(0), 2u);
+    EXPECT_EQ(read(1), 0x3210u | (0x07u << 16)) << "newest: DC overvoltage with current+voltage+generic";
+    EXPECT_EQ(read(2), 0x2310u | (0x03u << 16));
+    EXPECT_EQ(read(3), 0u) << "above the count";
+    a.pass.faults = 0;
+    a.step();
+    ASSERT_EQ(a.with_id(0x080 + kNode).back().data[0], 0x00) << "the reset EMCY was sent";
+    EXPECT_EQ(read(0), 2u) << "the return to no error is not an error";
+    for (int k = 0; k < 4; k++) { // eight more errors: the history holds 8
+        a.pass.faults = 1u << 0;
+        a.step();
+        a.pass.faults = 1u << 1;
+        a.step();
+        a.pass.faults = 0;
+        a.step();
+    }
+    EXPECT_EQ(read(0), 8u);
+    EXPECT_EQ(read(1), 0x3210u | (0x05u << 16));
+    EXPECT_EQ(read(8), 0x2310u | (0x03u << 16)) << "the first two errors fell out";
+    EXPECT_EQ(abort_of(a.sdo(upload(0x1003, 9))), 0x06090011u);
+    // NMT reset communication keeps it.
+    a.step({App::frame(0x000, {0x82, 0})});
+    a.step();
+    EXPECT_EQ(read(0), 8u);
+    // Writes: sub 0 only 0; the entries are read only; a refused write changes nothing.
+    EXPECT_EQ(abort_of(a.sdo(download(0x1003, 0, {1}))), 0x06090030u);
+    EXPECT_EQ(abort_of(a.sdo(download(0x1003, 1, {0, 0, 0, 0}))), 0x06010002u);
+    EXPECT_EQ(read(0), 8u);
+    EXPECT_EQ(abort_of(a.sdo(download(0x1003, 0, {0}))), 0u);
+    EXPECT_EQ(read(0), 0u);
+    EXPECT_EQ(read(1), 0u);
+}

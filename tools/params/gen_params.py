@@ -228,6 +228,12 @@ def check_param(p: Param, fn_names: set) -> None:
         p.bind_kind, p.bind_struct, p.path = ("CO_BIND_CONST" if b == "const" else "CO_BIND_NODEID"), None, None
         if p.access == "rw":
             raise TableError(f"{p.name}: a constant cannot be rw")
+    elif b == "errhist":
+        # The device's own error history (CiA 301 0x1003): sub 0 the number of errors
+        # recorded (rw: writing 0 clears), sub 1.. the errors, newest first.
+        p.bind_kind, p.bind_struct, p.path = "CO_BIND_ERRHIST", None, None
+        if p.index != 0x1003:
+            raise TableError(f"{p.name}: bind errhist belongs to 0x1003")
     elif b.startswith("fn."):
         fn = b[3:]
         if not NAME_RE.match(fn):
@@ -448,13 +454,21 @@ class Table:
             if len(subs) == 1 and subs[0].sub == 0:
                 self.indices.append((index, None, subs))
                 continue
-            if any(p.sub == 0 for p in subs):
-                raise TableError(f"0x{index:04X}: subindex 0 is generated for objects with subindexes")
+            given0 = [p for p in subs if p.sub == 0]
+            if given0 and given0[0].bind_kind != "CO_BIND_ERRHIST":
+                raise TableError(f"0x{index:04X}: subindex 0 is generated for objects with subindexes "
+                                 "(only the error history 0x1003 gives its own: the count of errors)")
             obj = self.objects.get(index)
             if obj is None:
                 raise TableError(f"0x{index:04X}: needs an [[object]] entry (name of the record)")
-            if obj.get("kind") == "array" and len({p.type for p in subs}) != 1:
+            elements = [p for p in subs if p.sub != 0]
+            if obj.get("kind") == "array" and len({p.type for p in elements}) != 1:
                 raise TableError(f"0x{index:04X}: an array needs one data type")
+            if given0:
+                if given0[0].type != "UNSIGNED8":
+                    raise TableError(f"{given0[0].name}: subindex 0 is UNSIGNED8")
+                self.indices.append((index, obj, given0 + sorted(elements, key=lambda p: p.sub)))
+                continue
             # Subindex 0 of a record or array: the highest subindex, constant.
             sub0 = Param(name=f"{obj['name']}_highest_subindex", base=obj["name"], index=index, sub=0,
                          type="UNSIGNED8", unit="", scale=1.0, resolution=1.0, min=None, max=None,
@@ -750,7 +764,7 @@ def gen_eds(t: Table) -> str:
                 f"ObjectType={'0x8' if kind == 'array' else '0x9'}", f"SubNumber={len(subs)}",
                 f"Description={obj.get('description', '')}", ""]
         for p in subs:
-            name = "highest_subindex" if p.sub == 0 else p.name
+            name = "highest_subindex" if p.sub == 0 and p.generated else p.name
             out += eds_var(f"{index:04X}sub{p.sub:X}", p, name)
     return "\n".join(out)
 
@@ -930,7 +944,7 @@ def gen_md(t: Table) -> str:
         out += ["| Sub | Name | Type | Unit | Min | Max | Default | Access | P | R | Description |",
                 "|---|---|---|---|---|---|---|---|---|---|---|"]
         for p in subs:
-            if p.sub == 0 and obj is not None:
+            if p.sub == 0 and obj is not None and p.generated:
                 continue
             lo = md_value(p, p.raw_min) if p.kind not in ("string", "domain") and p.min is not None else ""
             hi = md_value(p, p.raw_max) if p.kind not in ("string", "domain") and p.max is not None else ""

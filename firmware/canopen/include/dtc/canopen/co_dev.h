@@ -66,6 +66,7 @@ typedef struct co_dev {
     co_nmt nmt;
     co_sdo_server sdo;
     co_emcy emcy;
+    co_err_history err_history; /**< 0x1003, kept over NMT resets (cleared by co_dev_init) */
     co_pdo pdo;
     co_cia402 cia402;
     uint32_t rx_frames;     /**< frames received since boot */

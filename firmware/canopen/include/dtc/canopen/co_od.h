@@ -79,6 +79,7 @@ typedef enum {
     CO_BIND_CONST = 0,  /**< constant: def (numbers) or str (strings) */
     CO_BIND_NODEID = 1, /**< constant def + the active node id (COB-IDs) */
     CO_BIND_COMM = 2,   /**< co_comm_cfg member at offset (the device's own settings) */
+    CO_BIND_ERRHIST = 3, /**< the device's error history 0x1003 (co_emcy.h): sub 0 the count (writing 0 clears), sub k the k-th newest */
     CO_BIND_APP = 8,    /**< this and above: the application's (read and written through co_app hooks) */
 } co_bind;
 
