@@ -88,6 +88,7 @@ struct App {
     bool running = false;
     bool refuse_next = false;                // write hook refuses with PARAM_INCOMPAT once
     bool hold_reset = false;                 // reset_ready answers false (a machine still stopping)
+    int send_budget = -1;                    // frames the transmit queue still takes (-1: any number)
     std::vector<hal_can_frame> sent;         // frames the device sent
     std::vector<std::string> calls;          // hook calls in order (open, write:NAME, reset_node, booted)
     std::vector<uint8_t> log;                // content of the domain 0x2100
@@ -106,7 +107,15 @@ struct App {
         app.n_emcy = 2;
         app.default_node_id = kNode;
         app.ctx = this;
-        app.send = [](void *c, const hal_can_frame *fr) { static_cast<App *>(c)->sent.push_back(*fr); return 0; };
+        app.send = [](void *c, const hal_can_frame *fr) {
+            auto *a = static_cast<App *>(c);
+            if (a->send_budget == 0)
+                return -1; // the transmit queue is full
+            if (a->send_budget > 0)
+                a->send_budget--;
+            a->sent.push_back(*fr);
+            return 0;
+        };
         app.open = [](void *c, uint32_t bps) {
             auto *a = static_cast<App *>(c);
             a->bitrate = bps;

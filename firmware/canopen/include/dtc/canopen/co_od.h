@@ -37,6 +37,9 @@ struct co_dev;
 #define CO_ABORT_TOGGLE 0x05030000u          /**< toggle bit not alternated */
 #define CO_ABORT_TIMEOUT 0x05040000u         /**< SDO protocol timed out */
 #define CO_ABORT_CMD 0x05040001u             /**< command specifier not valid or unknown */
+#define CO_ABORT_BLKSIZE 0x05040002u         /**< invalid block size (block mode) */
+#define CO_ABORT_SEQNO 0x05040003u           /**< invalid sequence number (block mode) */
+#define CO_ABORT_CRC 0x05040004u             /**< CRC error (block mode) */
 #define CO_ABORT_WRITE_ONLY 0x06010001u      /**< attempt to read a write-only object */
 #define CO_ABORT_READ_ONLY 0x06010002u       /**< attempt to write a read-only object */
 #define CO_ABORT_NO_OBJECT 0x06020000u       /**< object does not exist */
