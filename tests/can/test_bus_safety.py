@@ -256,3 +256,130 @@ def test_basenode402_drives_the_state_machine():
     t_stop = first_stop(rows, t_qs)
     assert t_stop is not None and t_stop < t_qs + STOP_WITHIN_S
     assert first_stop(rows, t_fault) is not None
+
+
+# ----------------------------------------------------------------------------- bus-off
+CAN_ERR_BUSOFF = 0x040      # linux/can/error.h: bus off (in the error frame's identifier)
+CAN_ERR_RESTARTED = 0x100   # controller restarted
+
+
+def test_bus_off_error_frame_quick_stops_and_emcy_after_the_restart():
+    """The controller's bus-off as SocketCAN reports it (an error frame with CAN_ERR_BUSOFF,
+    here sent on vcan0 where no real controller can go bus-off), then its restart
+    (CAN_ERR_RESTARTED): the 0x6007 reaction (quick stop) judged from the plant's true speed,
+    and EMCY 0x8140 (recovered from bus-off) after the restart, not before."""
+    with Run("bus_off") as r:
+        r.send(0x000, bytes([0x01, NODE]))
+        time.sleep(max(0.0, 2.0 - r.now()))
+        r.drain()
+        t_off = r.now()
+        r.bus.send(can.Message(arbitration_id=CAN_ERR_BUSOFF, is_error_frame=True, is_extended_id=False,
+                               data=bytes(8)))
+        early = r.wait_for(0x080 + NODE, 0.3)
+        t_restart = r.now()
+        r.bus.send(can.Message(arbitration_id=CAN_ERR_RESTARTED, is_error_frame=True, is_extended_id=False,
+                               data=bytes(8)))
+        emcy = r.wait_for(0x080 + NODE, 1.0)
+        time.sleep(STOP_WITHIN_S)
+    rows = r.trace()
+    assert early is None, "an EMCY before the restart: %r" % early
+    assert emcy is not None and emcy[0] | (emcy[1] << 8) == 0x8140, emcy
+    assert at(rows, t_off - 0.05)[1] == pytest.approx(500.0, abs=15.0)
+    t_stop = first_stop(rows, t_off)
+    assert t_stop is not None and t_off + 0.2 < t_stop < t_off + STOP_WITHIN_S, (t_off, t_stop)
+    assert at(rows, t_off + 0.6)[1] < 350.0, "a ramp, not a coast"
+    assert abs(rows[-1][1]) < STOPPED_RPM
+    assert t_restart > t_off
+
+
+# ------------------------------------------------------- error history, block upload
+def _emcy_codes(net_log):
+    return [e.code for e in net_log]
+
+
+def test_error_history_read_and_cleared_by_the_canopen_package():
+    """0x1003 read through the canopen package's SDO client (an ARRAY in the EDS): sub 0 the
+    number of errors, sub 1 the newest; each entry's low 16 bits the EMCY code and bits 23..16
+    the error register of the EMCY the package itself received. Writing 1 to sub 0 is refused
+    (0x06090030), 0 clears."""
+    with Run("errhist") as r:
+        net = canopen.Network()
+        net.connect(interface="socketcan", channel=CHANNEL)
+        try:
+            node = canopen.RemoteNode(NODE, str(EDS))
+            net.add_node(node)
+            node.sdo.RESPONSE_TIMEOUT = 1.0
+            node.nmt.state = "OPERATIONAL"
+            time.sleep(0.2)
+            node.sdo[0x1003][0].raw = 0
+            assert node.sdo[0x1003][0].raw == 0
+            node.emcy.reset()
+            # Two communication errors: a short RPDO (0x8210), then the master's heartbeat lost
+            # (0x8130) with no reaction (0x6007 = 0) and no NMT change (0x1029 = 1).
+            node.sdo[0x6007].raw = 0
+            node.sdo[0x1029][1].raw = 1
+            r.send(0x200 + NODE, b"\x0f")
+            time.sleep(0.3)
+            node.sdo[0x1016][1].raw = (MASTER << 16) | 200
+            r.send(0x700 + MASTER, b"\x05")
+            time.sleep(0.6)
+            node.sdo[0x1016][1].raw = 0
+            got = [(e.code, e.register) for e in node.emcy.log]
+            assert [c for c, _ in got] == [0x8210, 0x8130], got
+            arr = node.sdo[0x1003]
+            n = arr[0].raw
+            entries = [arr[i].raw for i in range(1, n + 1)]
+            assert n == 2, entries
+            assert entries == [c | (reg << 16) for c, reg in reversed(got)], (entries, got)
+            with pytest.raises(canopen.SdoAbortedError) as e:
+                arr[0].raw = 1
+            assert e.value.code == 0x06090030
+            assert arr[0].raw == 2, "a refused write changes nothing"
+            arr[0].raw = 0
+            assert arr[0].raw == 0
+        finally:
+            net.disconnect()
+
+
+def test_scope_block_upload_by_the_canopen_package_equals_the_segmented_upload():
+    """The scope capture (a DOMAIN of 4 x 1024 REAL32) read by the canopen package's block
+    upload client (CRC requested) and by its segmented upload: the same bytes, the size the
+    drive announced."""
+    from dtctune.od import Dictionary
+    dic = Dictionary(EDS, NODE)
+    addr = {n: (dic.lookup(n).index, dic.lookup(n).subindex) for n in
+            ("scope_command", "scope_state", "scope_trigger", "scope_data",
+             "scope_channel_1", "scope_channel_2", "scope_channel_3", "scope_channel_4")}
+    with Run("scope_block"):
+        net = canopen.Network()
+        net.connect(interface="socketcan", channel=CHANNEL)
+        try:
+            node = canopen.RemoteNode(NODE, str(EDS))
+            net.add_node(node)
+            node.sdo.RESPONSE_TIMEOUT = 2.0
+
+            def var(name):
+                i, s = addr[name]
+                return node.sdo[i][s] if s else node.sdo[i]
+
+            var("scope_command").raw = 0
+            for k in range(1, 5):
+                var("scope_channel_%d" % k).raw = k + 1  # telemetry signals 2..5
+            var("scope_trigger").raw = 0
+            var("scope_command").raw = 1
+            time.sleep(0.5)
+            var("scope_command").raw = 2
+            deadline = time.monotonic() + 10.0
+            while var("scope_state").raw != 3 and time.monotonic() < deadline:
+                time.sleep(0.05)
+            assert var("scope_state").raw == 3
+            i, s = addr["scope_data"]
+            with var("scope_data").open("rb", block_transfer=True) as f:
+                block = f.read()
+            segmented = node.sdo.upload(i, s)
+        finally:
+            net.disconnect()
+    assert len(block) == 4 * 4 * 1024
+    assert block == segmented
+    vals = struct.unpack("<%df" % (4 * 1024), block)
+    assert any(v != 0.0 for v in vals), "a capture of zeros only"
