@@ -16,8 +16,8 @@ tools/can_bench.py does) and stops it at the end.
            does now). Both go through dtctune's own SDO client; the bytes must be equal.
   startup  times whole dtctune processes, each a new interpreter, N runs each, alternating:
            `python -c pass` (the interpreter alone), `python -S -c pass` (without the site
-           module), `dtctune --help`, `dtctune get PARAM` against the SIL (EDS read, socket,
-           one SDO upload). Also the import time of each module dtctune's get path loads
+           module), `dtctune --help` and `dtctune get PARAM` against the SIL (EDS read, socket,
+           one SDO upload), as `python -m dtctune` and as the venv's console script. Also the import time of each module dtctune's get path loads
            (python -X importtime, one run) and the EDS read alone.
 """
 from __future__ import annotations
@@ -110,9 +110,13 @@ def bench_startup(args, eds: str) -> None:
     cmds = {
         "python -c pass": [py, "-c", "pass"],
         "python -S -c pass": [py, "-S", "-c", "pass"],
-        "dtctune --help": [py, "-m", "dtctune", "--help"],
-        "dtctune get %s" % args.param: [py, "-m", "dtctune"] + common + ["get", args.param],
+        "python -m dtctune --help": [py, "-m", "dtctune", "--help"],
+        "python -m dtctune get": [py, "-m", "dtctune"] + common + ["get", args.param],
     }
+    script = Path(py).parent / "dtctune"  # the console script pip installed (what users run)
+    if script.is_file():
+        cmds["dtctune --help"] = [str(script), "--help"]
+        cmds["dtctune get"] = [str(script)] + common + ["get", args.param]
     times = {k: [] for k in cmds}
     for _ in range(args.n):
         for k, cmd in cmds.items():
@@ -126,9 +130,9 @@ def bench_startup(args, eds: str) -> None:
     rows = []
     for line in r.stderr.decode().splitlines():
         if line.startswith("import time:") and "|" in line:
-            parts = [x.strip() for x in line[len("import time:"):].split("|")]
-            if parts[1].isdigit():
-                rows.append((int(parts[1]), parts[2]))
+            parts = line[len("import time:"):].split("|")
+            if parts[1].strip().isdigit():
+                rows.append((int(parts[1]), parts[2][1:]))  # the name, indented 2 per level
     top = [x for x in rows if not x[1].startswith(" ")]
     top.sort(reverse=True)
     print("  heaviest top-level imports of `get` (python -X importtime, cumulative, one run):")

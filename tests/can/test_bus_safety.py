@@ -324,7 +324,7 @@ def test_error_history_read_and_cleared_by_the_canopen_package():
             r.send(0x700 + MASTER, b"\x05")
             time.sleep(0.6)
             node.sdo[0x1016][1].raw = 0
-            got = [(e.code, e.register) for e in node.emcy.log]
+            got = [(e.code, e.register) for e in node.emcy.log if e.code]
             assert [c for c, _ in got] == [0x8210, 0x8130], got
             arr = node.sdo[0x1003]
             n = arr[0].raw
