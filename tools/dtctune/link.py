@@ -130,11 +130,15 @@ class SocketcanTransport:
             raise
 
     def recv(self, timeout_s: float):
-        """(can_id, data) of the next frame, or None after timeout_s."""
-        r, _, _ = select.select([self.sock], [], [], max(0.0, timeout_s))
-        if not r:
-            return None
-        frame = self.sock.recv(16)
+        """(can_id, data) of the next frame, or None after timeout_s. A frame already waiting
+        is taken without select (a block upload brings 127 at once)."""
+        try:
+            frame = self.sock.recv(16, self._socket_mod.MSG_DONTWAIT)
+        except BlockingIOError:
+            r, _, _ = select.select([self.sock], [], [], max(0.0, timeout_s))
+            if not r:
+                return None
+            frame = self.sock.recv(16)
         can_id, dlc, payload = _CAN_FRAME.unpack(frame)
         if can_id & 0x60000000:  # RTR or error frame
             return (None, b"")
