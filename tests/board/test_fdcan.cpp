@@ -575,3 +575,46 @@ TEST(RealImage, BootUpAndSdoUploadOfDeviceType)
     }
     EXPECT_TRUE(answered) << "no SDO response on 0x" << std::hex << 0x580 + node;
 }
+
+// The unmodified firmware on the twin, its FDCAN1 forced bus-off: the port's driver recovers
+// by itself (hal_can_get_state -> PSR.BO, INIT cleared after 100 ms, 129 x 11 recessive bits),
+// nothing leaves the node meanwhile, then the CANopen device sends EMCY 0x8140 (recovered from
+// bus-off, error register bits 0 and 4) and records it in the error history 0x1003.
+TEST(RealImage, BusOffRecoveredThenEmcy8140AndErrorHistory)
+{
+    std::string elf = std::string(DTC_SOURCE_DIR) + "/build/stm32g4/dtc-fw.elf";
+    if (!std::ifstream(elf).good())
+        GTEST_SKIP() << elf << " not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)";
+    uint32_t device_type = 0, node = 0;
+    ASSERT_TRUE(param_table(&device_type, &node));
+    Twin t(elf);
+    ASSERT_EQ(t.run(0.3), BOARD_TIME_UP) << board_message(t.b);
+    t.take();
+    board_can_inject_bus_off(t.b);
+    ASSERT_EQ(t.run(0.09), BOARD_TIME_UP) << board_message(t.b);
+    EXPECT_TRUE(t.status().bus_off);
+    EXPECT_TRUE(t.take().empty()) << "nothing sent while bus-off";
+    ASSERT_EQ(t.run(0.1), BOARD_TIME_UP) << board_message(t.b);
+    EXPECT_FALSE(t.status().bus_off) << "the driver recovered";
+    int emcy = 0;
+    for (auto &f : t.take())
+        if (f.id == 0x80 + node) {
+            ASSERT_EQ(f.dlc, 8u);
+            EXPECT_EQ(f.data[0] | (f.data[1] << 8), 0x8140);
+            EXPECT_EQ(f.data[2] & 0x11, 0x11);
+            emcy++;
+        }
+    EXPECT_EQ(emcy, 1);
+    auto upload = [&](uint8_t sub) {
+        t.inject((uint16_t)(0x600 + node), {0x40, 0x03, 0x10, sub, 0, 0, 0, 0});
+        EXPECT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+        for (auto &f : t.take())
+            if (f.id == 0x580 + node && (f.data[0] & 0xE0) == 0x40)
+                return (uint32_t)f.data[4] | ((uint32_t)f.data[5] << 8) | ((uint32_t)f.data[6] << 16) |
+                       ((uint32_t)f.data[7] << 24);
+        ADD_FAILURE() << "no upload answer for 0x1003:" << int(sub);
+        return 0xFFFFFFFFu;
+    };
+    EXPECT_EQ(upload(0), 1u);
+    EXPECT_EQ(upload(1) & 0xFFFFu, 0x8140u);
+}
