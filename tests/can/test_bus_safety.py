@@ -383,3 +383,37 @@ def test_scope_block_upload_by_the_canopen_package_equals_the_segmented_upload()
     assert block == segmented
     vals = struct.unpack("<%df" % (4 * 1024), block)
     assert any(v != 0.0 for v in vals), "a capture of zeros only"
+
+
+def test_every_sdo_upload_answered_under_1khz_telemetry():
+    """Issue 12 found 14 of 200 SDO uploads unanswered with the telemetry at 1 kHz (the TPDOs
+    crowding out the answers): 200 uploads of 0x1000, each answered within 0.5 s, while four
+    TPDOs per cycle flow at 1 kHz."""
+    from dtctune.od import Dictionary
+    p_rate = Dictionary(EDS, NODE).lookup("telemetry_hz")
+    with Run("sdo_under_telemetry") as r:
+        rsp = r.sdo_write(p_rate.index, p_rate.subindex, 1000, 2)
+        assert rsp is not None and rsp[0] == 0x60, rsp
+        r.send(0x000, bytes([0x01, NODE]))
+        time.sleep(0.5)
+        unanswered, tpdos = 0, 0
+        req = bytes([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0])
+        for _ in range(200):
+            r.send(0x600 + NODE, req)
+            end = time.monotonic() + 0.5
+            got = None
+            while time.monotonic() < end:
+                msg = r.bus.recv(0.05)
+                if msg is None:
+                    continue
+                if 0x180 <= msg.arbitration_id < 0x580:
+                    tpdos += 1
+                elif msg.arbitration_id == 0x580 + NODE and bytes(msg.data[1:4]) == req[1:4]:
+                    got = bytes(msg.data)
+                    break
+            if got is None:
+                unanswered += 1
+            else:
+                assert got[0] == 0x43, got
+    assert unanswered == 0
+    assert tpdos > 200, "the telemetry was flowing"

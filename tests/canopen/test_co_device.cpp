@@ -686,3 +686,31 @@ TEST(CoSdoBlock, ProtocolErrorsGetTheirAbortCodes)
     EXPECT_TRUE(block_req(a, {0x80, 0x00, 0x21, 0, 0, 0, 0x04, 0x05}).empty());
     EXPECT_EQ(a.dev.sdo.state, CO_SDO_IDLE);
 }
+
+// An answer the transmit queue refuses (full of TPDOs) is sent on the next
+// pass, once; a new request makes a waiting answer stale.
+TEST(CoDevice, SdoAnswerRefusedByAFullQueueIsSentOnTheNextPass)
+{
+    Booted a;
+    a.send_budget = 0;
+    EXPECT_EQ(a.sdo(upload(0x1000, 0)).dlc, 0) << "refused: nothing went out";
+    a.send_budget = -1;
+    a.sent.clear();
+    a.step();
+    auto r = a.with_id(0x580 + kNode);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0x43);
+    EXPECT_EQ(le32(&r[0].data[4]), 0x00020192u);
+    a.sent.clear();
+    a.step();
+    EXPECT_TRUE(a.with_id(0x580 + kNode).empty()) << "sent once";
+    a.send_budget = 0;
+    a.sdo(upload(0x1000, 0));
+    a.send_budget = -1;
+    r = {};
+    hal_can_frame fresh = a.sdo(upload(0x1008, 0)); // the client moved on
+    EXPECT_EQ(fresh.data[1] | (fresh.data[2] << 8), 0x1008);
+    a.sent.clear();
+    a.step();
+    EXPECT_TRUE(a.with_id(0x580 + kNode).empty()) << "the stale answer about 0x1000 is not sent";
+}

@@ -45,7 +45,14 @@ static uint32_t get_u32(const uint8_t *b)
 
 static void respond(co_dev *c, const uint8_t data[8])
 {
-    (void)co_dev_send(c, (uint16_t)(SDO_TX + c->node_id), 8u, data);
+    co_sdo_server *s = &c->sdo;
+    if (co_dev_send(c, (uint16_t)(SDO_TX + c->node_id), 8u, data) == 0) {
+        s->tx_pending = 0u;
+        return;
+    }
+    if (data != s->tx_frame)
+        memcpy(s->tx_frame, data, 8u); /* the queue is full: again on the next pass */
+    s->tx_pending = 1u;
 }
 
 static void send_abort(co_dev *c, uint16_t index, uint8_t sub, uint32_t code)
@@ -414,6 +421,7 @@ void co_sdo_rx(co_dev *c, const hal_can_frame *f)
     uint32_t now_ms = c->pass.now_ms;
     if (f->dlc != 8u || f->rtr)
         return;
+    c->sdo.tx_pending = 0u; /* a new request: an answer still waiting is stale */
     switch ((uint32_t)f->data[0] >> 5) {
     case CCS_INITIATE_DOWNLOAD:
         initiate_download(c, f->data, now_ms);
@@ -443,7 +451,9 @@ void co_sdo_poll(co_dev *c)
 {
     uint32_t now_ms = c->pass.now_ms;
     co_sdo_server *s = &c->sdo;
-    if (s->state == CO_SDO_BLOCK_UPLOAD && s->blk_phase == CO_SDO_BLK_SENDING)
+    if (s->tx_pending != 0u)
+        respond(c, s->tx_frame);
+    if (s->state == CO_SDO_BLOCK_UPLOAD && s->blk_phase == CO_SDO_BLK_SENDING && s->tx_pending == 0u)
         block_send(c, now_ms);
     if (s->state != CO_SDO_IDLE && now_ms - s->last_ms > CO_SDO_TIMEOUT_MS)
         send_abort(c, s->index, s->sub, CO_ABORT_TIMEOUT);

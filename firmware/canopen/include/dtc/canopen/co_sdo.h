@@ -12,6 +12,9 @@
  * (0x05040001).
  *
  * One transfer at a time; a new initiate request replaces an unfinished one.
+ * An answer that the transmit queue refuses (e.g. full of telemetry TPDOs)
+ * is not lost: it is sent again at the start of the next pass's duties, until
+ * the client's next request makes it stale.
  * Values pass through the object dictionary's checked path (co_od.h), so a
  * refused request changes nothing. Segmented downloads are collected whole
  * and written only after the last segment. Domains (the scope capture) are
@@ -67,6 +70,9 @@ typedef struct {
     uint8_t blk_last_seq;   /**< seqno of the segment that carried the last data, 0: not yet sent */
     uint8_t blk_crc_on;     /**< the client asked for the CRC */
     uint16_t blk_crc;       /**< CRC of the bytes acknowledged so far */
+    /* an answer the transmit queue refused (full of TPDOs): sent again on the next pass */
+    uint8_t tx_pending;     /**< tx_frame waits to be sent */
+    uint8_t tx_frame[8];    /**< the refused answer */
 } co_sdo_server;
 
 /** Forget any transfer. Context: BG. */
@@ -76,8 +82,9 @@ void co_sdo_init(co_sdo_server *s);
 void co_sdo_rx(struct co_dev *c, const hal_can_frame *f);
 
 /**
- * Continue a block upload whose segments the transmit queue refused; abort
- * (0x05040000) a transfer idle for more than CO_SDO_TIMEOUT_MS. Context: BG.
+ * Send an answer the transmit queue refused; continue a block upload whose
+ * segments it refused; abort (0x05040000) a transfer idle for more than
+ * CO_SDO_TIMEOUT_MS. Context: BG.
  */
 void co_sdo_poll(struct co_dev *c);
 
