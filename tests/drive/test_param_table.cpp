@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -412,6 +413,35 @@ TEST(ParamGenerator, RefusesBadTablesWithAClearMessage)
         EXPECT_FALSE(std::ifstream(out).good()) << "an output was written";
         i++;
     }
+}
+
+// CiA 306 [FileInfo] dates (issue 12: the EDS lacked them): CreationDate/ModificationDate as
+// mm-dd-yyyy, CreationTime/ModificationTime as hh:mm with AM or PM, the modification not
+// before the creation.
+TEST(ParamEds, FileInfoHasCreationAndModificationDates)
+{
+    std::ifstream f(std::string(DTC_BINARY_DIR) + "/drive.eds");
+    ASSERT_TRUE(f.good());
+    std::map<std::string, std::string> info;
+    std::string line, sec;
+    while (std::getline(f, line)) {
+        if (!line.empty() && line[0] == '[') {
+            sec = line;
+            continue;
+        }
+        auto eq = line.find('=');
+        if (sec == "[FileInfo]" && eq != std::string::npos)
+            info[line.substr(0, eq)] = line.substr(eq + 1);
+    }
+    const std::regex date("^(0[1-9]|1[0-2])-(0[1-9]|[12][0-9]|3[01])-20[0-9]{2}$");
+    const std::regex time("^(0[1-9]|1[0-2]):[0-5][0-9](AM|PM)$");
+    for (const char *k : {"CreationDate", "ModificationDate"})
+        EXPECT_TRUE(std::regex_match(info[k], date)) << k << "=" << info[k];
+    for (const char *k : {"CreationTime", "ModificationTime"})
+        EXPECT_TRUE(std::regex_match(info[k], time)) << k << "=" << info[k];
+    auto ymd = [](const std::string &d) { return d.substr(6, 4) + d.substr(0, 2) + d.substr(3, 2); };
+    EXPECT_LE(ymd(info["CreationDate"]), ymd(info["ModificationDate"]));
+    EXPECT_FALSE(info["CreatedBy"].empty());
 }
 
 // The EDS (what PC tools load) lists exactly the objects the firmware serves.

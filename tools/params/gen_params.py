@@ -709,8 +709,32 @@ def eds_var(section: str, p: Param, name: str) -> list[str]:
     return out
 
 
-def gen_eds(t: Table) -> str:
+def eds_time(epoch: float) -> tuple:
+    """CiA 306 FileInfo date and time of a UTC instant: ('mm-dd-yyyy', 'hh:mm(AM|PM)')."""
+    import time as _time
+    tm = _time.gmtime(epoch)
+    hour12 = tm.tm_hour % 12 or 12
+    return (f"{tm.tm_mon:02d}-{tm.tm_mday:02d}-{tm.tm_year:04d}",
+            f"{hour12:02d}:{tm.tm_min:02d}{'AM' if tm.tm_hour < 12 else 'PM'}")
+
+
+def eds_created(t: Table) -> float:
+    """[device] eds_created ('YYYY-MM-DD HH:MM', UTC) as a UNIX time."""
+    import calendar
+    import time as _time
+    v = t.device.get("eds_created")
+    try:
+        return float(calendar.timegm(_time.strptime(str(v), "%Y-%m-%d %H:%M")))
+    except ValueError:
+        raise TableError(f"[device]: eds_created must be 'YYYY-MM-DD HH:MM' (UTC), got {v!r}") from None
+
+
+def gen_eds(t: Table, modified: float = 0.0) -> str:
+    """The EDS; FileInfo's creation date from the table, its modification date @p modified
+    (UNIX time: SOURCE_DATE_EPOCH, else the table file's modification time)."""
     d = t.device
+    c_date, c_time = eds_time(eds_created(t))
+    m_date, m_time = eds_time(max(modified, eds_created(t)))
     mandatory = [0x1000, 0x1001, 0x1018]
     groups = {"MandatoryObjects": [], "OptionalObjects": [], "ManufacturerObjects": []}
     for index, _, _ in t.indices:
@@ -728,7 +752,12 @@ def gen_eds(t: Table) -> str:
         "FileRevision=0",
         "EDSVersion=4.0",
         f"Description={d['product_name']}",
+        f"CreationTime={c_time}",
+        f"CreationDate={c_date}",
         "CreatedBy=gen_params.py",
+        f"ModificationTime={m_time}",
+        f"ModificationDate={m_date}",
+        "ModifiedBy=gen_params.py",
         "",
         "[DeviceInfo]",
         f"VendorName={d['vendor_name']}",
@@ -985,10 +1014,14 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     try:
         table = Table(load_table(args.table))
+        eds_created(table)
     except TableError as e:
         print(f"{os.path.basename(args.table)}: {e}", file=sys.stderr)
         return 2
-    outputs = [(args.c_header, gen_header), (args.c_source, gen_source), (args.eds, gen_eds),
+    sde = os.environ.get("SOURCE_DATE_EPOCH", "")
+    modified = float(sde) if sde.isdigit() else os.stat(args.table).st_mtime
+    outputs = [(args.c_header, gen_header), (args.c_source, gen_source),
+               (args.eds, lambda t: gen_eds(t, modified)),
                (args.dbc, gen_dbc), (args.md, gen_md)]
     texts = [(path, fn(table)) for path, fn in outputs if path]
     for path, text in texts:
