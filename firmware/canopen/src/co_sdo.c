@@ -249,12 +249,13 @@ static void upload_segment(co_dev *c, const uint8_t *req, uint32_t now_ms)
 
 uint16_t co_sdo_crc16(uint16_t crc, const uint8_t *data, uint32_t n)
 {
+    uint32_t r = crc; /* worked in 32 bits, kept to 16 */
     for (uint32_t i = 0u; i < n; i++) {
-        crc = (uint16_t)(crc ^ ((uint16_t)data[i] << 8));
+        r ^= (uint32_t)data[i] << 8;
         for (uint32_t b = 0u; b < 8u; b++)
-            crc = (crc & 0x8000u) != 0u ? (uint16_t)((crc << 1) ^ 0x1021u) : (uint16_t)(crc << 1);
+            r = (r & 0x8000u) != 0u ? ((r << 1) ^ 0x1021u) & 0xFFFFu : (r << 1) & 0xFFFFu;
     }
-    return crc;
+    return (uint16_t)r;
 }
 
 /* @p n bytes of the entry being uploaded from byte @p offset. */
