@@ -618,3 +618,56 @@ TEST(RealImage, BusOffRecoveredThenEmcy8140AndErrorHistory)
     EXPECT_EQ(upload(0), 1u);
     EXPECT_EQ(upload(1) & 0xFFFFu, 0x8140u);
 }
+
+// A block upload from the unmodified firmware through FDCAN1's 3-element Tx FIFO: the 38-byte
+// device name 0x1008 in one block of 6 segments (more than the FIFO holds, so the server must
+// send the rest on later passes), then the end with the padding and the CRC-16/XMODEM
+// (computed here bit by bit from its definition).
+TEST(RealImage, BlockUploadThroughTheThreeElementTxFifo)
+{
+    std::string elf = std::string(DTC_SOURCE_DIR) + "/build/stm32g4/dtc-fw.elf";
+    if (!std::ifstream(elf).good())
+        GTEST_SKIP() << elf << " not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)";
+    uint32_t device_type = 0, node = 0;
+    ASSERT_TRUE(param_table(&device_type, &node));
+    Twin t(elf);
+    ASSERT_EQ(t.run(0.3), BOARD_TIME_UP) << board_message(t.b);
+    t.take();
+    t.inject((uint16_t)(0x600 + node), {0xA4, 0x08, 0x10, 0x00, 127, 0, 0, 0}); // initiate, CRC, 127
+    ASSERT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+    auto r = t.take();
+    ASSERT_EQ(r.size(), 1u);
+    ASSERT_EQ(r[0].data[0], 0xC6) << "block upload response, CRC, size";
+    uint32_t size = (uint32_t)r[0].data[4] | ((uint32_t)r[0].data[5] << 8);
+    t.inject((uint16_t)(0x600 + node), {0xA3, 0, 0, 0, 0, 0, 0, 0}); // start
+    ASSERT_EQ(t.run(0.05), BOARD_TIME_UP) << board_message(t.b);
+    r = t.take();
+    uint32_t nseg = (size + 6u) / 7u;
+    ASSERT_EQ(r.size(), nseg);
+    ASSERT_GT(nseg, 3u) << "more segments than the Tx FIFO holds";
+    std::string data;
+    for (uint32_t k = 0; k < nseg; k++) {
+        EXPECT_EQ(r[k].data[0] & 0x7Fu, k + 1u);
+        EXPECT_EQ((r[k].data[0] & 0x80u) != 0u, k + 1u == nseg);
+        data.append(reinterpret_cast<const char *>(&r[k].data[1]), 7);
+    }
+    data.resize(size);
+    t.inject((uint16_t)(0x600 + node), {0xA2, (uint8_t)nseg, 127, 0, 0, 0, 0, 0}); // acknowledge
+    ASSERT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+    r = t.take();
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0xC1u | ((7u * nseg - size) << 2));
+    uint16_t crc = 0;
+    for (unsigned char ch : data)
+        for (int b = 7; b >= 0; b--) {
+            bool top = ((crc >> 15) & 1u) != (((unsigned)ch >> b) & 1u);
+            crc = (uint16_t)(crc << 1);
+            if (top)
+                crc ^= 0x1021u;
+        }
+    EXPECT_EQ(r[0].data[1] | (r[0].data[2] << 8), crc);
+    EXPECT_EQ(data.rfind("DTC3L", 0), 0u) << data;
+    t.inject((uint16_t)(0x600 + node), {0xA1, 0, 0, 0, 0, 0, 0, 0}); // end response
+    ASSERT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+    EXPECT_TRUE(t.take().empty());
+}
