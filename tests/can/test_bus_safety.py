@@ -389,34 +389,45 @@ def test_scope_block_upload_by_the_canopen_package_equals_the_segmented_upload()
 
 
 def test_every_sdo_upload_answered_under_1khz_telemetry():
-    """Issue 12 found 14 of 200 SDO uploads unanswered with the telemetry at 1 kHz (the TPDOs
-    crowding out the answers): 200 uploads of 0x1000, each answered within 0.5 s, while four
-    TPDOs per cycle flow at 1 kHz."""
+    """Issue 12 found 14 of 200 SDO uploads unanswered with the telemetry at 1 kHz: 200 uploads
+    of 0x1000, each answered within 0.5 s, while four TPDOs per cycle flow at 1 kHz. The answers
+    are taken from a socket that receives 0x580 + id only (as dtctune's SDO socket does): a
+    socket that also receives the 4000 TPDOs/s overflows when the loaded machine does not drain
+    it in time, and 11-12 answers were lost there, on the PC side; the TPDOs are counted on
+    another socket."""
     from dtctune.od import Dictionary
     p_rate = Dictionary(EDS, NODE).lookup("telemetry_hz")
     with Run("sdo_under_telemetry") as r:
         rsp = r.sdo_write(p_rate.index, p_rate.subindex, 1000, 2)
         assert rsp is not None and rsp[0] == 0x60, rsp
-        r.send(0x000, bytes([0x01, NODE]))
-        time.sleep(0.5)
-        unanswered, tpdos = 0, 0
-        req = bytes([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0])
-        for _ in range(200):
-            r.send(0x600 + NODE, req)
-            end = time.monotonic() + 0.5
-            got = None
-            while time.monotonic() < end:
-                msg = r.bus.recv(0.05)
+        answers = can.Bus(interface="socketcan", channel=CHANNEL,
+                          can_filters=[{"can_id": 0x580 + NODE, "can_mask": 0x7FF}])
+        try:
+            r.send(0x000, bytes([0x01, NODE]))
+            time.sleep(0.5)
+            r.drain()
+            unanswered = 0
+            req = bytes([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0])
+            for _ in range(200):
+                r.send(0x600 + NODE, req)
+                end = time.monotonic() + 0.5
+                got = None
+                while time.monotonic() < end:
+                    msg = answers.recv(0.05)
+                    if msg is not None and bytes(msg.data[1:4]) == req[1:4]:
+                        got = bytes(msg.data)
+                        break
+                if got is None:
+                    unanswered += 1
+                else:
+                    assert got[0] == 0x43, got
+            tpdos = 0
+            while True:
+                msg = r.bus.recv(0.0)
                 if msg is None:
-                    continue
-                if 0x180 <= msg.arbitration_id < 0x580:
-                    tpdos += 1
-                elif msg.arbitration_id == 0x580 + NODE and bytes(msg.data[1:4]) == req[1:4]:
-                    got = bytes(msg.data)
                     break
-            if got is None:
-                unanswered += 1
-            else:
-                assert got[0] == 0x43, got
+                tpdos += 0x180 <= msg.arbitration_id < 0x580
+        finally:
+            answers.shutdown()
     assert unanswered == 0
     assert tpdos > 200, "the telemetry was flowing"
