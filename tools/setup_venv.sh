@@ -21,7 +21,10 @@ if [ ! -f "$stamp" ] || ! cmp -s "$req" "$stamp"; then
   cp "$req" "$stamp"
 fi
 # Editable: the tool follows the sources; --no-deps: requirements.txt pins them all.
-if ! "$venv/bin/python" -c 'import dtctune' 2>/dev/null || [ ! -x "$venv/bin/dtctune" ]; then
+# An older install made an import hook (__editable___dtctune_*_finder.py) that every Python
+# start in the venv imports; tools/pyproject.toml now gives a plain path entry: reinstall.
+finder=$(ls "$venv"/lib/python3*/site-packages/__editable___dtctune_*_finder.py 2>/dev/null || true)
+if [ -n "$finder" ] || ! "$venv/bin/python" -c 'import dtctune' 2>/dev/null || [ ! -x "$venv/bin/dtctune" ]; then
   echo "setup_venv: installing dtctune (editable)"
   "$venv/bin/python" -m pip install -q --no-deps -e "$repo/tools"
 fi

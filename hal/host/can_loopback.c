@@ -33,12 +33,25 @@ static int queue_pop(hal_host_can_queue *q, hal_can_frame *f)
 /* Backend side: the drive sends into from_drive and receives from to_drive. */
 static int loopback_send(void *ctx, const hal_can_frame *f)
 {
-    return queue_push(&((hal_host_can_loopback *)ctx)->from_drive, f);
+    hal_host_can_loopback *q = ctx;
+    if (q->bus_off)
+        return HAL_EIO; /* off the bus: nothing can be sent */
+    return queue_push(&q->from_drive, f);
 }
 
 static int loopback_recv(void *ctx, hal_can_frame *f)
 {
-    return queue_pop(&((hal_host_can_loopback *)ctx)->to_drive, f);
+    hal_host_can_loopback *q = ctx;
+    while (q->bus_off && queue_pop(&q->to_drive, f) == HAL_OK)
+        q->lost_bus_off++; /* sent while we were off the bus: never seen */
+    return queue_pop(&q->to_drive, f);
+}
+
+static void loopback_state(void *ctx, hal_can_state *out)
+{
+    const hal_host_can_loopback *q = ctx;
+    out->bus_off = q->bus_off;
+    out->bus_off_count = q->bus_off_count;
 }
 
 void hal_host_can_loopback_init(hal_host_can_loopback *q, hal_host_can_backend *out)
@@ -48,6 +61,7 @@ void hal_host_can_loopback_init(hal_host_can_loopback *q, hal_host_can_backend *
     out->send = loopback_send;
     out->recv = loopback_recv;
     out->wait_rx = NULL;
+    out->state = loopback_state;
 }
 
 int hal_host_can_loopback_inject(hal_host_can_loopback *q, const hal_can_frame *f)
@@ -60,4 +74,11 @@ int hal_host_can_loopback_inject(hal_host_can_loopback *q, const hal_can_frame *
 int hal_host_can_loopback_take(hal_host_can_loopback *q, hal_can_frame *f)
 {
     return queue_pop(&q->from_drive, f);
+}
+
+void hal_host_can_loopback_set_bus_off(hal_host_can_loopback *q, bool on)
+{
+    if (on && !q->bus_off)
+        q->bus_off_count++;
+    q->bus_off = on;
 }

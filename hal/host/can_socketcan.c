@@ -8,6 +8,8 @@
  * may sleep in socketcan_wait_rx() (ppoll) between ticks; from then on an
  * empty receive queue is remembered, and recv() skips the read() system call
  * (which would only say EAGAIN) until the next wait sees a frame.
+ * The controller's error frames (CAN_RAW_ERR_FILTER: bus-off, restarted)
+ * arrive on the same socket; recv consumes them and state() reports them.
  */
 #define _GNU_SOURCE /* ppoll */
 
@@ -18,6 +20,7 @@
 #include <string.h>
 
 #include <linux/can.h>
+#include <linux/can/error.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
 #include <poll.h>
@@ -28,7 +31,28 @@ typedef struct {
     int fd;
     bool waited;  /* wait_rx has been used: trust rx_ready */
     bool rx_ready; /* a frame may be waiting (unknown counts as yes) */
+    bool bus_off;  /* the last controller error frame said bus-off (until one says restarted) */
+    uint32_t bus_off_count; /* CAN_ERR_BUSOFF error frames received */
 } socketcan_ctx;
+
+/* A controller error frame (linux/can/error.h): bus-off, or the restart that ends it. */
+static void socketcan_error_frame(socketcan_ctx *c, canid_t id)
+{
+    if ((id & CAN_ERR_BUSOFF) != 0u) {
+        if (!c->bus_off)
+            c->bus_off_count++;
+        c->bus_off = true;
+    } else if ((id & CAN_ERR_RESTARTED) != 0u) {
+        c->bus_off = false;
+    }
+}
+
+static void socketcan_state(void *ctx, hal_can_state *out)
+{
+    const socketcan_ctx *c = ctx;
+    out->bus_off = c->bus_off;
+    out->bus_off_count = c->bus_off_count;
+}
 
 static int socketcan_send(void *ctx, const hal_can_frame *f)
 {
@@ -66,8 +90,12 @@ static int socketcan_recv(void *ctx, hal_can_frame *f)
         }
         if (n != (ssize_t)sizeof cf)
             continue; /* not a classic frame */
-        if (cf.can_id & (CAN_EFF_FLAG | CAN_ERR_FLAG))
-            continue; /* extended and error frames are not ours */
+        if (cf.can_id & CAN_ERR_FLAG) {
+            socketcan_error_frame(c, cf.can_id);
+            continue; /* the controller's condition, not a frame for the caller */
+        }
+        if (cf.can_id & CAN_EFF_FLAG)
+            continue; /* extended frames are not ours */
         memset(f, 0, sizeof *f);
         f->id = (uint16_t)(cf.can_id & CAN_SFF_MASK);
         f->rtr = (cf.can_id & CAN_RTR_FLAG) != 0u;
@@ -107,8 +135,10 @@ int hal_host_socketcan_open(const char *iface, hal_host_can_backend *out)
     if (ifindex == 0u)
         err = ENODEV;
     int on = 1, off = 0;
+    can_err_mask_t errs = CAN_ERR_BUSOFF | CAN_ERR_RESTARTED;
     if (err == 0 && (setsockopt(fd, SOL_CAN_RAW, CAN_RAW_LOOPBACK, &on, sizeof on) != 0 ||
-                     setsockopt(fd, SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &off, sizeof off) != 0))
+                     setsockopt(fd, SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &off, sizeof off) != 0 ||
+                     setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &errs, sizeof errs) != 0))
         err = errno;
     if (err == 0) {
         struct sockaddr_can addr;
@@ -131,10 +161,13 @@ int hal_host_socketcan_open(const char *iface, hal_host_can_backend *out)
     c->fd = fd;
     c->waited = false;
     c->rx_ready = true;
+    c->bus_off = false;
+    c->bus_off_count = 0u;
     out->ctx = c;
     out->send = socketcan_send;
     out->recv = socketcan_recv;
     out->wait_rx = socketcan_wait_rx;
+    out->state = socketcan_state;
     return 0;
 }
 

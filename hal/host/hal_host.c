@@ -310,6 +310,15 @@ int hal_can_recv(hal_can_frame *frame)
     return b->can.recv(b->can.ctx, frame);
 }
 
+void hal_can_get_state(hal_can_state *out)
+{
+    const hal_host_board *b = g_board;
+    out->bus_off = false;
+    out->bus_off_count = 0u;
+    if (b != NULL && b->can_open && b->can.state != NULL)
+        b->can.state(b->can.ctx, out);
+}
+
 /* -------------------------------------------------------- non-volatile */
 
 uint32_t hal_nvm_size(void) { return HAL_HOST_NVM_SIZE; }

@@ -1015,6 +1015,15 @@ static bool can_service(void)
     return true;
 }
 
+/* PSR.BO (RM0440, FDCAN_PSR) is read through can_service, which also starts
+ * the recovery, so a caller that only polls the state still recovers. */
+void hal_can_get_state(hal_can_state *out)
+{
+    (void)can_service();
+    out->bus_off = g_board.can_open && g_board.can_busoff;
+    out->bus_off_count = g_board.can_busoff_count;
+}
+
 int hal_can_send(const hal_can_frame *frame)
 {
     if (frame == NULL || frame->id > 0x7FFu || frame->dlc > 8u)

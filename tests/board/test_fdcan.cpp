@@ -314,6 +314,35 @@ TEST(FdcanDriver, TransmitErrorsLeadToBusOffThenRecovery)
     EXPECT_EQ(frames[0].id, 0x581u);
 }
 
+// The recovery as M_CAN runs it: once the driver clears INIT, ECR.REC counts the sequences of
+// 11 recessive bits (22 us each at 500 kbit/s), TEC stays 255, PSR.BO stays set until 129 of
+// them have passed; then both counters are 0 and the node is back on the bus.
+TEST(FdcanDriver, BusOffRecoveryCountsElevenBitSequencesInRec)
+{
+    Twin t(image("can_drv_500000.elf"));
+    ASSERT_EQ(t.run(kBoot), BOARD_TIME_UP) << board_message(t.b);
+    board_can_inject_bus_off(t.b);
+    board_can_status st = t.status();
+    EXPECT_EQ(st.tec, 255u);
+    EXPECT_EQ(st.rec, 0u) << "INIT still set: no recovery yet";
+    int steps = 0;
+    while ((t.status().cccr & 1u) && steps++ < 2000)
+        ASSERT_EQ(t.run(50e-6), BOARD_TIME_UP) << board_message(t.b);
+    ASSERT_FALSE(t.status().cccr & 1u) << "the driver cleared INIT";
+    ASSERT_EQ(t.run(1e-3), BOARD_TIME_UP) << board_message(t.b);
+    st = t.status();
+    EXPECT_TRUE(st.bus_off);
+    EXPECT_EQ(st.tec, 255u);
+    // 1 ms / 22 us = 45.5 sequences, plus up to one 50 us polling step before it
+    EXPECT_GE(st.rec, 45u);
+    EXPECT_LE(st.rec, 48u);
+    ASSERT_EQ(t.run(2.5e-3), BOARD_TIME_UP) << board_message(t.b);
+    st = t.status();
+    EXPECT_FALSE(st.bus_off) << "129 x 11 bits = 2.84 ms after INIT was cleared";
+    EXPECT_EQ(st.rec, 0u);
+    EXPECT_EQ(st.tec, 0u);
+}
+
 TEST(FdcanDriver, AloneOnTheBusNoAcknowledge)
 {
     Twin t(image("can_drv_500000.elf"), /*attach=*/false);
@@ -545,4 +574,100 @@ TEST(RealImage, BootUpAndSdoUploadOfDeviceType)
         EXPECT_EQ(v, device_type);
     }
     EXPECT_TRUE(answered) << "no SDO response on 0x" << std::hex << 0x580 + node;
+}
+
+// The unmodified firmware on the twin, its FDCAN1 forced bus-off: the port's driver recovers
+// by itself (hal_can_get_state -> PSR.BO, INIT cleared after 100 ms, 129 x 11 recessive bits),
+// nothing leaves the node meanwhile, then the CANopen device sends EMCY 0x8140 (recovered from
+// bus-off, error register bits 0 and 4) and records it in the error history 0x1003.
+TEST(RealImage, BusOffRecoveredThenEmcy8140AndErrorHistory)
+{
+    std::string elf = std::string(DTC_SOURCE_DIR) + "/build/stm32g4/dtc-fw.elf";
+    if (!std::ifstream(elf).good())
+        GTEST_SKIP() << elf << " not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)";
+    uint32_t device_type = 0, node = 0;
+    ASSERT_TRUE(param_table(&device_type, &node));
+    Twin t(elf);
+    ASSERT_EQ(t.run(0.3), BOARD_TIME_UP) << board_message(t.b);
+    t.take();
+    board_can_inject_bus_off(t.b);
+    ASSERT_EQ(t.run(0.09), BOARD_TIME_UP) << board_message(t.b);
+    EXPECT_TRUE(t.status().bus_off);
+    EXPECT_TRUE(t.take().empty()) << "nothing sent while bus-off";
+    ASSERT_EQ(t.run(0.1), BOARD_TIME_UP) << board_message(t.b);
+    EXPECT_FALSE(t.status().bus_off) << "the driver recovered";
+    int emcy = 0;
+    for (auto &f : t.take())
+        if (f.id == 0x80 + node) {
+            ASSERT_EQ(f.dlc, 8u);
+            EXPECT_EQ(f.data[0] | (f.data[1] << 8), 0x8140);
+            EXPECT_EQ(f.data[2] & 0x11, 0x11);
+            emcy++;
+        }
+    EXPECT_EQ(emcy, 1);
+    auto upload = [&](uint8_t sub) {
+        t.inject((uint16_t)(0x600 + node), {0x40, 0x03, 0x10, sub, 0, 0, 0, 0});
+        EXPECT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+        for (auto &f : t.take())
+            if (f.id == 0x580 + node && (f.data[0] & 0xE0) == 0x40)
+                return (uint32_t)f.data[4] | ((uint32_t)f.data[5] << 8) | ((uint32_t)f.data[6] << 16) |
+                       ((uint32_t)f.data[7] << 24);
+        ADD_FAILURE() << "no upload answer for 0x1003:" << int(sub);
+        return 0xFFFFFFFFu;
+    };
+    EXPECT_EQ(upload(0), 1u);
+    EXPECT_EQ(upload(1) & 0xFFFFu, 0x8140u);
+}
+
+// A block upload from the unmodified firmware through FDCAN1's 3-element Tx FIFO: the 38-byte
+// device name 0x1008 in one block of 6 segments (more than the FIFO holds, so the server must
+// send the rest on later passes), then the end with the padding and the CRC-16/XMODEM
+// (computed here bit by bit from its definition).
+TEST(RealImage, BlockUploadThroughTheThreeElementTxFifo)
+{
+    std::string elf = std::string(DTC_SOURCE_DIR) + "/build/stm32g4/dtc-fw.elf";
+    if (!std::ifstream(elf).good())
+        GTEST_SKIP() << elf << " not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)";
+    uint32_t device_type = 0, node = 0;
+    ASSERT_TRUE(param_table(&device_type, &node));
+    Twin t(elf);
+    ASSERT_EQ(t.run(0.3), BOARD_TIME_UP) << board_message(t.b);
+    t.take();
+    t.inject((uint16_t)(0x600 + node), {0xA4, 0x08, 0x10, 0x00, 127, 0, 0, 0}); // initiate, CRC, 127
+    ASSERT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+    auto r = t.take();
+    ASSERT_EQ(r.size(), 1u);
+    ASSERT_EQ(r[0].data[0], 0xC6) << "block upload response, CRC, size";
+    uint32_t size = (uint32_t)r[0].data[4] | ((uint32_t)r[0].data[5] << 8);
+    t.inject((uint16_t)(0x600 + node), {0xA3, 0, 0, 0, 0, 0, 0, 0}); // start
+    ASSERT_EQ(t.run(0.05), BOARD_TIME_UP) << board_message(t.b);
+    r = t.take();
+    uint32_t nseg = (size + 6u) / 7u;
+    ASSERT_EQ(r.size(), nseg);
+    ASSERT_GT(nseg, 3u) << "more segments than the Tx FIFO holds";
+    std::string data;
+    for (uint32_t k = 0; k < nseg; k++) {
+        EXPECT_EQ(r[k].data[0] & 0x7Fu, k + 1u);
+        EXPECT_EQ((r[k].data[0] & 0x80u) != 0u, k + 1u == nseg);
+        data.append(reinterpret_cast<const char *>(&r[k].data[1]), 7);
+    }
+    data.resize(size);
+    t.inject((uint16_t)(0x600 + node), {0xA2, (uint8_t)nseg, 127, 0, 0, 0, 0, 0}); // acknowledge
+    ASSERT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+    r = t.take();
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0xC1u | ((7u * nseg - size) << 2));
+    uint16_t crc = 0;
+    for (unsigned char ch : data)
+        for (int b = 7; b >= 0; b--) {
+            bool top = ((crc >> 15) & 1u) != (((unsigned)ch >> b) & 1u);
+            crc = (uint16_t)(crc << 1);
+            if (top)
+                crc ^= 0x1021u;
+        }
+    EXPECT_EQ(r[0].data[1] | (r[0].data[2] << 8), crc);
+    EXPECT_EQ(data.rfind("DTC3L", 0), 0u) << data;
+    t.inject((uint16_t)(0x600 + node), {0xA1, 0, 0, 0, 0, 0, 0, 0}); // end response
+    ASSERT_EQ(t.run(0.02), BOARD_TIME_UP) << board_message(t.b);
+    EXPECT_TRUE(t.take().empty());
 }

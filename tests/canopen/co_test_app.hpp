@@ -43,6 +43,15 @@ static const uint32_t kModes[] = {1u, 2u, 4u};
 static const co_param kParams[] = {
     {"device_type", 0x1000, 0, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_CONST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0x00020192u), nullptr, 0, nullptr, 0.0f},
     {"error_register", 0x1001, 0, CO_DT_UNSIGNED8, CO_F_READ, BIND_FN, CO_CK_UINT, 1, FN_LOG, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_count", 0x1003, 0, CO_DT_UNSIGNED8, RW | CO_F_RUNTIME, CO_BIND_ERRHIST, CO_CK_UINT, 1, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_history_1", 0x1003, 1, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_ERRHIST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_history_2", 0x1003, 2, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_ERRHIST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_history_3", 0x1003, 3, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_ERRHIST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_history_4", 0x1003, 4, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_ERRHIST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_history_5", 0x1003, 5, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_ERRHIST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_history_6", 0x1003, 6, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_ERRHIST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_history_7", 0x1003, 7, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_ERRHIST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
+    {"error_history_8", 0x1003, 8, CO_DT_UNSIGNED32, CO_F_READ, CO_BIND_ERRHIST, CO_CK_UINT, 4, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
     {"device_name", 0x1008, 0, CO_DT_VISIBLE_STRING, CO_F_READ, CO_BIND_CONST, CO_CK_BYTES, 0, 0, 1.0f, u(0), u(0), u(0), nullptr, 0, "test application", 0.0f},
     {"emcy_inhibit", 0x1015, 0, CO_DT_UNSIGNED16, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 2, offsetof(co_comm_cfg, emcy_inhibit_100us), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
     {"hb_consumer", 0x1016, 1, CO_DT_UNSIGNED32, RW | CO_F_RUNTIME, CO_BIND_COMM, CO_CK_UINT, 4, offsetof(co_comm_cfg, hb_consumer), 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
@@ -63,7 +72,7 @@ static const co_param kParams[] = {
     {"statusword", 0x6041, 0, CO_DT_UNSIGNED16, CO_F_READ | CO_F_PDO, BIND_FN, CO_CK_UINT, 2, FN_STATUSWORD, 1.0f, u(0), u(0), u(0), nullptr, 0, nullptr, 0.0f},
 };
 constexpr uint16_t kCount = sizeof kParams / sizeof kParams[0];
-constexpr uint16_t P_GAIN = 9, P_TEL_SPEED = 16, P_TEL_STATE = 17, P_CONTROLWORD = 18;
+constexpr uint16_t P_GAIN = 18, P_TEL_SPEED = 25, P_TEL_STATE = 26, P_CONTROLWORD = 27;
 static_assert(P_CONTROLWORD < kCount, "positions follow kParams");
 
 static const co_pdo_map kTpdo[] = {{0x180, 2, 6, {P_TEL_SPEED, P_TEL_STATE}}};
@@ -79,12 +88,13 @@ struct App {
     bool running = false;
     bool refuse_next = false;                // write hook refuses with PARAM_INCOMPAT once
     bool hold_reset = false;                 // reset_ready answers false (a machine still stopping)
+    int send_budget = -1;                    // frames the transmit queue still takes (-1: any number)
     std::vector<hal_can_frame> sent;         // frames the device sent
     std::vector<std::string> calls;          // hook calls in order (open, write:NAME, reset_node, booted)
     std::vector<uint8_t> log;                // content of the domain 0x2100
     uint32_t bitrate = 0;
     co_cia402_action last_action = CO_CIA402_KEEP;
-    co_pass pass{0, 0, 5000, 0};
+    co_pass pass{0, 0, 5000, 0, false, 0};
 
     App()
     {
@@ -97,7 +107,15 @@ struct App {
         app.n_emcy = 2;
         app.default_node_id = kNode;
         app.ctx = this;
-        app.send = [](void *c, const hal_can_frame *fr) { static_cast<App *>(c)->sent.push_back(*fr); return 0; };
+        app.send = [](void *c, const hal_can_frame *fr) {
+            auto *a = static_cast<App *>(c);
+            if (a->send_budget == 0)
+                return -1; // the transmit queue is full
+            if (a->send_budget > 0)
+                a->send_budget--;
+            a->sent.push_back(*fr);
+            return 0;
+        };
         app.open = [](void *c, uint32_t bps) {
             auto *a = static_cast<App *>(c);
             a->bitrate = bps;

@@ -411,3 +411,306 @@ TEST(CoDevice, EmcyInhibitTimeQueuesDistinctEventsOnce)
     ASSERT_EQ(e.size(), 3u);
     EXPECT_EQ(e[2].data[0] | (e[2].data[1] << 8), 0x2310); // then the fault, not lost
 }
+
+// The controller's bus-off count moving is a communication error: the
+// application's event once per entry (CO_EVENT_BUS_OFF), the NMT state per
+// 0x1029, and EMCY 0x8140 (recovered from bus-off) only once back on the bus.
+TEST(CoDevice, BusOffOncePerEntryEmcyAfterTheRecovery)
+{
+    App a;
+    a.pass.bus_off_count = 7; // what the controller counted before the device started: not an event
+    a.step();
+    a.step();
+    EXPECT_EQ(a.calls, (std::vector<std::string>{"open", "booted"})) << "the count at the first pass is the baseline";
+    Booted b;
+    b.step({App::frame(0x000, {0x01, 0})});
+    b.calls.clear();
+    b.sent.clear();
+    b.pass.bus_off = true;
+    b.pass.bus_off_count = 1;
+    for (int k = 0; k < 5; k++) {
+        b.pass.now_ms += 10;
+        b.step();
+    }
+    EXPECT_EQ(b.calls, (std::vector<std::string>{"event:5"})) << "once for a long bus-off";
+    EXPECT_EQ(b.dev.nmt.state, CO_NMT_PRE_OPERATIONAL); // 0x1029 default 0
+    EXPECT_TRUE(b.with_id(0x080 + kNode).empty()) << "no EMCY while off the bus";
+    b.pass.bus_off = false;
+    b.step();
+    auto e = b.with_id(0x080 + kNode);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].data[0] | (e[0].data[1] << 8), 0x8140);
+    EXPECT_EQ(e[0].data[2] & 0x11, 0x11); // generic and communication bits
+    b.step();
+    EXPECT_EQ(b.with_id(0x080 + kNode).size(), 1u);
+    // Two entries between two passes (a short bus-off not seen as a flag): one event.
+    b.calls.clear();
+    b.pass.bus_off_count = 3;
+    b.pass.now_ms += 1000;
+    b.step();
+    EXPECT_EQ(b.calls, (std::vector<std::string>{"event:5"}));
+    EXPECT_EQ(b.with_id(0x080 + kNode).size(), 2u) << "reported after the recovery it already made";
+}
+
+// The error history 0x1003 (CiA 301 pre-defined error field), read over SDO:
+// sub 0 the number of errors, sub 1 the newest; each entry the EMCY code and
+// the error register it carried (hand-derived: fault bit 0 -> 0x2310 with
+// register bit 1, bit 1 -> 0x3210 with bit 2, plus bit 0 generic). The return
+// to no error is not recorded; the ninth error pushes out the oldest; only 0
+// may be written to sub 0 (clears), sub 1.. are read only; an NMT reset keeps it.
+TEST(CoDevice, ErrorHistoryNewestFirstClearedByWritingZero)
+{
+    Booted a;
+    a.step({App::frame(0x000, {0x01, 0})});
+    auto read = [&](uint8_t sub) {
+        hal_can_frame r = a.sdo(upload(0x1003, sub));
+        EXPECT_EQ(r.data[0] & 0xE0, 0x40) << "sub " << int(sub) << " abort " << std::hex << abort_of(r);
+        return le32(&r.data[4]);
+    };
+    EXPECT_EQ(read(0), 0u);
+    a.pass.faults = 1u << 0;
+    a.step();
+    a.pass.faults = (1u << 0) | (1u << 1);
+    a.step();
+    ASSERT_EQ(read(0), 2u);
+    EXPECT_EQ(read(1), 0x3210u | (0x07u << 16)) << "newest: DC overvoltage with current+voltage+generic";
+    EXPECT_EQ(read(2), 0x2310u | (0x03u << 16));
+    EXPECT_EQ(read(3), 0u) << "above the count";
+    a.pass.faults = 0;
+    a.step();
+    ASSERT_EQ(a.with_id(0x080 + kNode).back().data[0], 0x00) << "the reset EMCY was sent";
+    EXPECT_EQ(read(0), 2u) << "the return to no error is not an error";
+    for (int k = 0; k < 4; k++) { // eight more errors: the history holds 8
+        a.pass.faults = 1u << 0;
+        a.step();
+        a.pass.faults = 1u << 1;
+        a.step();
+        a.pass.faults = 0;
+        a.step();
+    }
+    EXPECT_EQ(read(0), 8u);
+    EXPECT_EQ(read(1), 0x3210u | (0x05u << 16));
+    EXPECT_EQ(read(8), 0x2310u | (0x03u << 16)) << "the first two errors fell out";
+    EXPECT_EQ(abort_of(a.sdo(upload(0x1003, 9))), 0x06090011u);
+    // NMT reset communication keeps it.
+    a.step({App::frame(0x000, {0x82, 0})});
+    a.step();
+    EXPECT_EQ(read(0), 8u);
+    // Writes: sub 0 only 0; the entries are read only; a refused write changes nothing.
+    EXPECT_EQ(abort_of(a.sdo(download(0x1003, 0, {1}))), 0x06090030u);
+    EXPECT_EQ(abort_of(a.sdo(download(0x1003, 1, {0, 0, 0, 0}))), 0x06010002u);
+    EXPECT_EQ(read(0), 8u);
+    EXPECT_EQ(abort_of(a.sdo(download(0x1003, 0, {0}))), 0u);
+    EXPECT_EQ(read(0), 0u);
+    EXPECT_EQ(read(1), 0u);
+}
+
+namespace {
+
+// CRC-16/XMODEM (CCITT polynomial 0x1021, initial 0, no reflection) from its
+// table definition, written independently of co_sdo_crc16.
+uint16_t crc_ref(const std::vector<uint8_t> &d)
+{
+    uint16_t table[256];
+    for (int i = 0; i < 256; i++) {
+        uint16_t r = uint16_t(i << 8);
+        for (int b = 0; b < 8; b++)
+            r = uint16_t((r << 1) ^ ((r & 0x8000) ? 0x1021 : 0));
+        table[i] = r;
+    }
+    uint16_t crc = 0;
+    for (uint8_t x : d)
+        crc = uint16_t((crc << 8) ^ table[((crc >> 8) ^ x) & 0xFF]);
+    return crc;
+}
+
+std::vector<uint8_t> block_init(uint16_t index, uint8_t sub, uint8_t blksize, bool crc)
+{
+    return {uint8_t(0xA0 | (crc ? 0x04 : 0)), uint8_t(index), uint8_t(index >> 8), sub, blksize, 0, 0, 0};
+}
+
+// Everything the server sent on 0x580 + id in the last pass.
+std::vector<hal_can_frame> sdo_out(App &a) { return a.with_id(0x580u + a.dev.node_id); }
+
+std::vector<hal_can_frame> block_req(App &a, std::vector<uint8_t> req)
+{
+    req.resize(8, 0);
+    a.sent.clear();
+    a.step({App::frame(uint16_t(0x600 + a.dev.node_id), req)});
+    return sdo_out(a);
+}
+
+} // namespace
+
+TEST(CoSdoBlock, Crc16MatchesThePublishedCheckValue)
+{
+    const uint8_t check[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+    EXPECT_EQ(co_sdo_crc16(0, check, 9), 0x31C3u); // CRC-16/XMODEM check value
+    std::vector<uint8_t> d;
+    for (int i = 0; i < 300; i++)
+        d.push_back(uint8_t(i * 37 + 11));
+    EXPECT_EQ(co_sdo_crc16(0, d.data(), 300), crc_ref(d));
+    EXPECT_EQ(co_sdo_crc16(co_sdo_crc16(0, d.data(), 100), d.data() + 100, 200), crc_ref(d)) << "continues";
+}
+
+// 100 bytes in blocks of 5 segments: 15 segments (14 x 7 + 2), blocks 5, 5, 5;
+// the end says 5 bytes of the last segment are not data, and carries the CRC.
+TEST(CoSdoBlock, UploadInBlocksWithCrcAndTheSizeIndicated)
+{
+    Booted a;
+    for (int i = 0; i < 100; i++)
+        a.log.push_back(uint8_t(i * 7 + 3));
+    auto r = block_req(a, block_init(0x2100, 0, 5, true));
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0xC6) << "scs 6, CRC supported, size indicated";
+    EXPECT_EQ(le32(&r[0].data[4]), 100u);
+    EXPECT_EQ(r[0].data[1] | (r[0].data[2] << 8), 0x2100);
+    std::vector<uint8_t> got;
+    r = block_req(a, {0xA3}); // start
+    for (int blk = 0; blk < 3; blk++) {
+        ASSERT_EQ(r.size(), 5u) << "block " << blk;
+        for (int k = 0; k < 5; k++) {
+            EXPECT_EQ(r[k].data[0] & 0x7F, k + 1);
+            EXPECT_EQ((r[k].data[0] & 0x80) != 0, blk == 2 && k == 4) << "c only on the last segment";
+            got.insert(got.end(), r[k].data + 1, r[k].data + 8);
+        }
+        r = block_req(a, {0xA2, 5, 5});
+    }
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0xC1 | (5 << 2)) << "end: 5 bytes of the last segment are padding";
+    got.resize(100);
+    EXPECT_EQ(got, a.log);
+    EXPECT_EQ(r[0].data[1] | (r[0].data[2] << 8), crc_ref(a.log));
+    r = block_req(a, {0xA1}); // end response: done, no answer
+    EXPECT_TRUE(r.empty());
+    EXPECT_EQ(a.dev.sdo.state, CO_SDO_IDLE);
+    // The server is free again: an expedited upload works.
+    EXPECT_EQ(a.sdo(upload(0x1000, 0)).data[0] & 0xE0, 0x40);
+}
+
+// The client acknowledged only 2 of 5 segments: the next block starts with
+// the third segment's data. A transmit queue that refuses frames delays
+// segments to later passes without losing or repeating one. Without the
+// client's CRC request the end carries no CRC. Exactly 14 bytes: the last
+// segment is full (n = 0).
+TEST(CoSdoBlock, UnacknowledgedSegmentsAreSentAgainAndAFullQueueWaits)
+{
+    Booted a;
+    for (int i = 0; i < 14; i++)
+        a.log.push_back(uint8_t(0xA0 + i));
+    ASSERT_EQ(block_req(a, block_init(0x2100, 0, 3, false))[0].data[0], 0xC6);
+    auto r = block_req(a, {0xA3});
+    ASSERT_EQ(r.size(), 2u) << "14 bytes: two segments, the second the last";
+    EXPECT_EQ(r[1].data[0], 0x82);
+    r = block_req(a, {0xA2, 1, 3}); // segment 2 lost
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0x81) << "resent as seqno 1 of a new block, still the last";
+    EXPECT_EQ(r[0].data[1], 0xA7);
+    r = block_req(a, {0xA2, 1, 3});
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0xC1) << "n = 0: the last segment was full";
+    EXPECT_EQ(r[0].data[1] | (r[0].data[2] << 8), 0) << "no CRC asked for";
+    block_req(a, {0xA1});
+
+    // 40 bytes (6 segments) through a queue that takes 2 frames per pass.
+    a.log.assign(40, 0x55);
+    a.log[39] = 0x99;
+    block_req(a, block_init(0x2100, 0, 10, true));
+    a.send_budget = 2;
+    r = block_req(a, {0xA3});
+    EXPECT_EQ(r.size(), 2u);
+    std::vector<hal_can_frame> all = r;
+    for (int k = 0; k < 5; k++) {
+        a.send_budget = 2;
+        a.sent.clear();
+        a.step();
+        auto more = sdo_out(a);
+        all.insert(all.end(), more.begin(), more.end());
+    }
+    a.send_budget = -1;
+    ASSERT_EQ(all.size(), 6u) << "every segment once";
+    for (int k = 0; k < 6; k++)
+        EXPECT_EQ(all[k].data[0] & 0x7F, k + 1);
+    EXPECT_EQ(all[5].data[0], 0x86);
+    EXPECT_EQ(all[5].data[5], 0x99) << "byte 39 = the 5th of segment 6";
+    r = block_req(a, {0xA2, 6, 10});
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0xC1 | (2 << 2));
+    EXPECT_EQ(r[0].data[1] | (r[0].data[2] << 8), crc_ref(a.log));
+}
+
+TEST(CoSdoBlock, ProtocolErrorsGetTheirAbortCodes)
+{
+    Booted a;
+    a.log.assign(50, 1);
+    auto code = [&](std::vector<uint8_t> req) {
+        auto r = block_req(a, req);
+        return r.empty() ? 0u : abort_of(r.back());
+    };
+    EXPECT_EQ(code(block_init(0x2100, 0, 0, true)), 0x05040002u) << "block size 0";
+    EXPECT_EQ(code(block_init(0x2100, 0, 128, true)), 0x05040002u) << "block size above 127";
+    EXPECT_EQ(code(block_init(0x2900, 0, 10, true)), 0x06020000u) << "no such object";
+    EXPECT_EQ(code({0xA3}), 0x05040001u) << "start without an initiate";
+    EXPECT_EQ(code({0xA2, 1, 10}), 0x05040001u) << "acknowledge without a transfer";
+    EXPECT_EQ(code({0xC0, 0x00, 0x21, 0, 0, 0, 0, 0}), 0x05040001u) << "block download is not supported";
+    // Acknowledge before the start.
+    ASSERT_EQ(block_req(a, block_init(0x2100, 0, 4, true))[0].data[0], 0xC6);
+    EXPECT_EQ(code({0xA2, 0, 4}), 0x05040001u);
+    // A sequence number that was never sent.
+    block_req(a, block_init(0x2100, 0, 4, true));
+    ASSERT_EQ(block_req(a, {0xA3}).size(), 4u);
+    EXPECT_EQ(code({0xA2, 5, 4}), 0x05040003u);
+    // A new block size of 0 in the acknowledge.
+    block_req(a, block_init(0x2100, 0, 4, true));
+    block_req(a, {0xA3});
+    EXPECT_EQ(code({0xA2, 4, 0}), 0x05040002u);
+    // End response before the end.
+    block_req(a, block_init(0x2100, 0, 4, true));
+    block_req(a, {0xA3});
+    EXPECT_EQ(code({0xA1}), 0x05040001u);
+    // A silent client: timeout after CO_SDO_TIMEOUT_MS.
+    block_req(a, block_init(0x2100, 0, 4, true));
+    block_req(a, {0xA3});
+    a.sent.clear();
+    a.pass.now_ms += 1000;
+    a.step();
+    EXPECT_TRUE(sdo_out(a).empty());
+    a.pass.now_ms += 1;
+    a.step();
+    auto r = sdo_out(a);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(abort_of(r[0]), 0x05040000u);
+    EXPECT_EQ(a.dev.sdo.state, CO_SDO_IDLE);
+    // A client abort ends the transfer without an answer.
+    block_req(a, block_init(0x2100, 0, 4, true));
+    EXPECT_TRUE(block_req(a, {0x80, 0x00, 0x21, 0, 0, 0, 0x04, 0x05}).empty());
+    EXPECT_EQ(a.dev.sdo.state, CO_SDO_IDLE);
+}
+
+// An answer the transmit queue refuses (full of TPDOs) is sent on the next
+// pass, once; a new request makes a waiting answer stale.
+TEST(CoDevice, SdoAnswerRefusedByAFullQueueIsSentOnTheNextPass)
+{
+    Booted a;
+    a.send_budget = 0;
+    EXPECT_EQ(a.sdo(upload(0x1000, 0)).dlc, 0) << "refused: nothing went out";
+    a.send_budget = -1;
+    a.sent.clear();
+    a.step();
+    auto r = a.with_id(0x580 + kNode);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].data[0], 0x43);
+    EXPECT_EQ(le32(&r[0].data[4]), 0x00020192u);
+    a.sent.clear();
+    a.step();
+    EXPECT_TRUE(a.with_id(0x580 + kNode).empty()) << "sent once";
+    a.send_budget = 0;
+    a.sdo(upload(0x1000, 0));
+    a.send_budget = -1;
+    r = {};
+    hal_can_frame fresh = a.sdo(upload(0x1008, 0)); // the client moved on
+    EXPECT_EQ(fresh.data[1] | (fresh.data[2] << 8), 0x1008);
+    a.sent.clear();
+    a.step();
+    EXPECT_TRUE(a.with_id(0x580 + kNode).empty()) << "the stale answer about 0x1000 is not sent";
+}

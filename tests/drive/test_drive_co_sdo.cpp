@@ -350,11 +350,16 @@ TEST(DriveCoSdo, AbortToggleNotAlternated)
 TEST(DriveCoSdo, AbortUnknownCommandSpecifier)
 {
     Bench b;
-    for (uint8_t ccs : {5, 6, 7}) {
+    for (uint8_t ccs : {6, 7}) { // block download, reserved
         SdoReply r = b.sdo(Bench::req(uint8_t(ccs << 5), 0x2100, 1));
         EXPECT_EQ(r.abort_code(), kAbortCmd) << int(ccs);
         EXPECT_EQ(r.index(), 0x2100u);
     }
+    // ccs 5 is a block upload: an initiate with block size 0 is refused as such.
+    SdoReply blk = b.sdo(Bench::req(uint8_t(5 << 5), 0x2100, 1));
+    EXPECT_EQ(blk.abort_code(), 0x05040002u);
+    EXPECT_EQ(blk.index(), 0x2100u);
+    EXPECT_EQ(b.sdo({0xA3, 0, 0, 0, 0, 0, 0, 0}).abort_code(), kAbortCmd) << "block start without an initiate";
     // Segments without a transfer in progress.
     EXPECT_EQ(b.sdo({0x00, 1, 2, 3, 4, 5, 6, 7}).abort_code(), kAbortCmd);
     EXPECT_EQ(b.sdo({0x60, 0, 0, 0, 0, 0, 0, 0}).abort_code(), kAbortCmd);

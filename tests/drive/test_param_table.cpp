@@ -414,6 +414,48 @@ TEST(ParamGenerator, RefusesBadTablesWithAClearMessage)
     }
 }
 
+// CiA 306 [FileInfo] dates (issue 12: the EDS lacked them): CreationDate/ModificationDate as
+// mm-dd-yyyy, CreationTime/ModificationTime as hh:mm with AM or PM, the modification not
+// before the creation.
+TEST(ParamEds, FileInfoHasCreationAndModificationDates)
+{
+    std::ifstream f(std::string(DTC_BINARY_DIR) + "/drive.eds");
+    ASSERT_TRUE(f.good());
+    std::map<std::string, std::string> info;
+    std::string line, sec;
+    while (std::getline(f, line)) {
+        if (!line.empty() && line[0] == '[') {
+            sec = line;
+            continue;
+        }
+        auto eq = line.find('=');
+        if (sec == "[FileInfo]" && eq != std::string::npos)
+            info[line.substr(0, eq)] = line.substr(eq + 1);
+    }
+    // (no std::regex: GCC 12 warns about its std::function with -O2 and the sanitizers)
+    auto num = [](const std::string &v, size_t at, int lo, int hi) {
+        if (v.size() < at + 2 || !std::isdigit(uint8_t(v[at])) || !std::isdigit(uint8_t(v[at + 1])))
+            return false;
+        int n = (v[at] - '0') * 10 + (v[at + 1] - '0');
+        return n >= lo && n <= hi;
+    };
+    auto is_date = [&](const std::string &v) { // mm-dd-yyyy
+        return v.size() == 10 && num(v, 0, 1, 12) && v[2] == '-' && num(v, 3, 1, 31) && v[5] == '-' &&
+               num(v, 6, 20, 20) && num(v, 8, 0, 99);
+    };
+    auto is_time = [&](const std::string &v) { // hh:mmAM or hh:mmPM
+        return v.size() == 7 && num(v, 0, 1, 12) && v[2] == ':' && num(v, 3, 0, 59) &&
+               (v.compare(5, 2, "AM") == 0 || v.compare(5, 2, "PM") == 0);
+    };
+    for (const char *k : {"CreationDate", "ModificationDate"})
+        EXPECT_TRUE(is_date(info[k])) << k << "=" << info[k];
+    for (const char *k : {"CreationTime", "ModificationTime"})
+        EXPECT_TRUE(is_time(info[k])) << k << "=" << info[k];
+    auto ymd = [](const std::string &d) { return d.substr(6, 4) + d.substr(0, 2) + d.substr(3, 2); };
+    EXPECT_LE(ymd(info["CreationDate"]), ymd(info["ModificationDate"]));
+    EXPECT_FALSE(info["CreatedBy"].empty());
+}
+
 // The EDS (what PC tools load) lists exactly the objects the firmware serves.
 TEST(ParamEds, ObjectsEqualTheCTable)
 {

@@ -43,6 +43,8 @@ struct Bus {
     double t_bootup = -1.0;     // a boot-up message after the first
     int bootups = 0;
     std::vector<uint16_t> emcy;
+    std::vector<double> emcy_t; // when each EMCY left the drive
+    int frames_out = 0;         // every frame the drive sent
     uint16_t statusword = 0;
     bool sdo_answered_after_stop = false;
     bool was_on = false;
@@ -79,11 +81,13 @@ void on_tick(void *user, double t_s, drive *d)
         b.script(b, t_s);
     hal_can_frame f;
     while (hal_host_can_loopback_take(&b.loop, &f) == HAL_OK) {
+        b.frames_out++;
         if (f.id == 0x700 + kNode && f.dlc == 1 && f.data[0] == 0x00) {
             if (++b.bootups > 1 && b.t_bootup < 0)
                 b.t_bootup = t_s;
         } else if (f.id == 0x080 + kNode) {
             b.emcy.push_back(uint16_t(f.data[0] | (f.data[1] << 8)));
+            b.emcy_t.push_back(t_s);
         } else if (f.id == 0x580 + kNode && t_s > 1.6) {
             b.sdo_answered_after_stop = true;
         }
@@ -127,6 +131,14 @@ void master_until(Bus &b, double t, double t_last)
     long tick = std::lround(t / 200e-6);
     if (t > 0.0 && t <= t_last && tick % 500 == 0)
         b.send(0x77F, {0x05});
+}
+
+double first_time(const Bus &b, uint16_t code)
+{
+    for (size_t i = 0; i < b.emcy.size(); i++)
+        if (b.emcy[i] == code)
+            return b.emcy_t[i];
+    return -1.0;
 }
 
 bool has(const std::vector<uint16_t> &v, uint16_t code)
@@ -225,6 +237,92 @@ TEST(BusLoss, OptionNoneKeepsRunningOptionFaultCoastsIntoTheFaultState)
     ASSERT_EQ(r.status, SIM_OK) << r.error;
     EXPECT_NEAR(fault.t_gates_off, 1.8, 0.01) << "gates off at the detection";
     EXPECT_GT(fault.rpm_at(1.95), 450.0) << "coasting, not ramped";
+    EXPECT_TRUE(has(fault.emcy, 0x8100));
+    EXPECT_EQ(fault.statusword, CO_CIA402_FAULT);
+}
+
+// A CAN bus-off while running (the loopback backend's injected bus-off: the
+// controller leaves the bus for 100 ms, then is back) gets the 0x6007
+// reaction, quick stop by default, seen in the plant's true speed; nothing
+// leaves the drive while off the bus, and EMCY 0x8140 (recovered from
+// bus-off) follows the recovery. A second bus-off during the quick stop does
+// not restart the reaction, and one while stopped only reports.
+TEST(BusLoss, BusOffWhileRunningQuickStopsAndReportsTheRecovery)
+{
+    Bus b;
+    int frames_at_off = -1, frames_at_on = -1;
+    b.script = [&](Bus &bb, double t) {
+        if (t == 0.0)
+            bb.send(0x000, {0x01, kNode});
+        long tick = std::lround(t / 200e-6);
+        if (tick == 7500) { // 1.5 s
+            hal_host_can_loopback_set_bus_off(&bb.loop, true);
+            frames_at_off = bb.frames_out;
+        }
+        if (tick == 8000) { // 1.6 s: recovered
+            frames_at_on = bb.frames_out;
+            hal_host_can_loopback_set_bus_off(&bb.loop, false);
+        }
+        if (tick == 9000) // 1.8 s, during the quick stop
+            hal_host_can_loopback_set_bus_off(&bb.loop, true);
+        if (tick == 9050)
+            hal_host_can_loopback_set_bus_off(&bb.loop, false);
+    };
+    sim_result r = run(b);
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_NEAR(b.rpm_at(1.49), 500.0, 10.0);
+    EXPECT_EQ(frames_at_on, frames_at_off) << "nothing sent while bus-off";
+    EXPECT_LT(b.rpm_at(2.0), kRampedBelowRpm) << "ramped down (quick stop), not running on";
+    EXPECT_GT(b.rpm_at(1.7), 400.0) << "a ramp, not a coast to a standstill or a trip";
+    ASSERT_GT(b.t_gates_off, 1.5 + 0.2);
+    EXPECT_LT(b.t_gates_off, 1.5 + kStopWithinS);
+    EXPECT_LT(std::fabs(b.true_rpm.back()), 40.0);
+    EXPECT_EQ(b.statusword, CO_CIA402_SWITCH_ON_DISABLED);
+    double t_emcy = first_time(b, 0x8140);
+    EXPECT_GE(t_emcy, 1.6) << "EMCY 0x8140 only once back on the bus";
+    EXPECT_LT(t_emcy, 1.61);
+    int n8140 = 0;
+    for (uint16_t c : b.emcy)
+        n8140 += c == 0x8140;
+    EXPECT_EQ(n8140, 2) << "one per bus-off";
+    std::printf("bus-off at 1.5 s: true speed %.0f rpm at 2.0 s, gates off at %.3f s, EMCY 0x8140 at %.3f s\n",
+                b.rpm_at(2.0), b.t_gates_off, t_emcy);
+}
+
+TEST(BusLoss, BusOffWithOptionNoneKeepsRunningOptionFaultCoastsIntoTheFaultState)
+{
+    Bus none;
+    none.script = [](Bus &bb, double t) {
+        if (t == 0.0) {
+            bb.send(0x000, {0x01, kNode});
+            bb.sdo_write(0x6007, 0, 0, 2);
+        }
+        long tick = std::lround(t / 200e-6);
+        if (tick == 7500)
+            hal_host_can_loopback_set_bus_off(&bb.loop, true);
+        if (tick == 8000)
+            hal_host_can_loopback_set_bus_off(&bb.loop, false);
+    };
+    sim_result r = run(none);
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_NEAR(none.true_rpm.back(), 500.0, 10.0) << "0x6007 = 0: no action";
+    EXPECT_TRUE(has(none.emcy, 0x8140));
+
+    Bus fault;
+    fault.script = [](Bus &bb, double t) {
+        if (t == 0.0) {
+            bb.send(0x000, {0x01, kNode});
+            bb.sdo_write(0x6007, 0, 1, 2);
+        }
+        long tick = std::lround(t / 200e-6);
+        if (tick == 7500)
+            hal_host_can_loopback_set_bus_off(&bb.loop, true);
+        if (tick == 8000)
+            hal_host_can_loopback_set_bus_off(&bb.loop, false);
+    };
+    r = run(fault);
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    EXPECT_NEAR(fault.t_gates_off, 1.5, 0.01) << "0x6007 = 1: gates off at the bus-off";
     EXPECT_TRUE(has(fault.emcy, 0x8100));
     EXPECT_EQ(fault.statusword, CO_CIA402_FAULT);
 }

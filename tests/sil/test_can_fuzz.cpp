@@ -51,6 +51,8 @@ Dump dump(drive *d)
             continue;
         if (p->bind == DRIVE_BIND_FN && (p->flags & CO_F_PERSIST) == 0 && p->index != 0x2000 && p->index != 0x60FF)
             continue; // commands (store, restore, controlword, scope command) read constants
+        if (p->bind == CO_BIND_ERRHIST)
+            continue; // the error history 0x1003 records the fuzz's EMCYs (short RPDOs): diagnostics, not a parameter
         co_num v;
         v.u = 0;
         co_od_read_num(&d->co, p, &v);

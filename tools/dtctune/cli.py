@@ -9,7 +9,6 @@ import argparse
 import os
 import sys
 import time
-from pathlib import Path
 
 from . import __version__
 from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_OK, EXIT_USAGE
@@ -37,8 +36,27 @@ The EDS is --eds PATH, else $DTCTUNE_EDS, else build/host/drive.eds in the repos
 """
 
 
+class _Formatter(argparse.RawDescriptionHelpFormatter):
+    """argparse's formatter with the terminal width from os (argparse asks shutil, whose import
+    brings bz2 and lzma: ~50 ms of every command's start-up inside User-Mode Linux, though the
+    width is needed only to print help)."""
+
+    def __init__(self, prog, indent_increment=2, max_help_position=24, width=None):
+        if width is None:
+            try:
+                width = int(os.environ.get("COLUMNS", "0")) or os.get_terminal_size(sys.__stdout__.fileno()).columns
+            except (AttributeError, ValueError, OSError):
+                width = 80
+            width -= 2
+        super().__init__(prog, indent_increment, max_help_position, width)
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse that reports a usage error as one line."""
+    """argparse that reports a usage error as one line (and formats with _Formatter)."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", _Formatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message):  # noqa: D401 - argparse API
         raise DtctuneError("%s (see %s --help)" % (message, self.prog), EXIT_USAGE)
@@ -46,7 +64,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="dtctune", description=__doc__.split("\n\n")[0],
-                epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+                epilog=EPILOG, formatter_class=_Formatter)
     p.add_argument("--interface", default="socketcan",
                    help="python-can interface (socketcan, virtual, pcan, ...; default socketcan)")
     p.add_argument("--channel", default="vcan0", help="CAN channel (default vcan0)")
@@ -282,6 +300,7 @@ def cmd_monitor(args, dic, out) -> int:
 
 
 def cmd_record(args, dic, out) -> int:
+    from pathlib import Path
     dest = Path(args.csv)
     if dest.parent and not dest.parent.exists():
         raise DtctuneError("cannot write %s: directory %s does not exist" % (dest, dest.parent))

@@ -5,6 +5,10 @@ transports: a raw SocketCAN socket (the standard library only, for `--interface 
 python-can or canopen import, so a command starts in a fraction of a second) or a python-can bus
 (every other interface; python-can is imported only then).
 
+Large objects (the scope capture) go by block upload (CiA 301 block transfer: up to 127
+segments per acknowledge, CRC-16 checked), falling back to a segmented upload when the server
+refuses the block protocol.
+
 The drive has one SDO server channel (requests 0x600 + id, answers 0x580 + id). Two clients
 using it at once receive each other's answers, so every SDO transfer of dtctune holds an
 advisory lock (fcntl.flock) on a file per interface, channel and node: two dtctune processes on
@@ -36,7 +40,20 @@ NMT_COMMANDS = {"OPERATIONAL": 0x01, "STOPPED": 0x02, "PRE-OPERATIONAL": 0x80, "
 ABORT_TOGGLE = 0x05030000
 ABORT_TIMEOUT = 0x05040000
 ABORT_COMMAND = 0x05040001
+ABORT_BLKSIZE = 0x05040002
+ABORT_SEQNO = 0x05040003
+ABORT_CRC = 0x05040004
 ABORT_MEMORY = 0x05040005
+BLOCK_SEGMENTS = 127  # segments per block dtctune accepts (the protocol's largest)
+
+
+def crc16(data: bytes, crc: int = 0) -> int:
+    """CRC-16 of CiA 301 block transfers: CCITT polynomial 0x1021, initial 0, no reflection."""
+    for b in data:
+        crc ^= b << 8
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1021) & 0xFFFF if crc & 0x8000 else (crc << 1) & 0xFFFF
+    return crc
 MAX_UPLOAD = 1 << 20  # a segmented upload longer than this is a confused server: abort it
 
 # How long a command waits for another dtctune's SDO transfer to finish (a scope upload of
@@ -113,11 +130,15 @@ class SocketcanTransport:
             raise
 
     def recv(self, timeout_s: float):
-        """(can_id, data) of the next frame, or None after timeout_s."""
-        r, _, _ = select.select([self.sock], [], [], max(0.0, timeout_s))
-        if not r:
-            return None
-        frame = self.sock.recv(16)
+        """(can_id, data) of the next frame, or None after timeout_s. A frame already waiting
+        is taken without select (a block upload brings 127 at once)."""
+        try:
+            frame = self.sock.recv(16, self._socket_mod.MSG_DONTWAIT)
+        except BlockingIOError:
+            r, _, _ = select.select([self.sock], [], [], max(0.0, timeout_s))
+            if not r:
+                return None
+            frame = self.sock.recv(16)
         can_id, dlc, payload = _CAN_FRAME.unpack(frame)
         if can_id & 0x60000000:  # RTR or error frame
             return (None, b"")
@@ -391,6 +412,92 @@ class Link:
                 raise SdoProtocolError("%d bytes uploaded, %d announced" % (len(data), size))
             return bytes(data)
 
+    def _upload_block(self, index: int, subindex: int) -> bytes:
+        """Block upload (CiA 301): initiate with CRC support and 127 segments per block, start,
+        then per block the segments in sequence and our acknowledge of the last one in order (the
+        server sends the rest again); the end frame gives the padding of the last segment and the
+        CRC. A server that refuses the block protocol (0x05040001) is read segmented instead."""
+        mux = struct.pack("<HB", index, subindex)
+        with self.lock:
+            self.transport.flush()
+            try:
+                resp = self._exchange(bytes([0xA4]) + mux + bytes([BLOCK_SEGMENTS, 0, 0, 0]), mux, True)
+            except SdoAbort as e:
+                if e.code != ABORT_COMMAND:
+                    raise
+                return self._upload(index, subindex)
+            if resp[0] & 0xE1 != 0xC0:  # scs 6, ss 0 (initiate response)
+                self._abort(mux, ABORT_COMMAND)
+                raise SdoProtocolError("answer 0x%02X to a block upload request" % resp[0])
+            crc_on = bool(resp[0] & 0x04)
+            size = struct.unpack_from("<L", resp, 4)[0] if resp[0] & 0x02 else None
+            if size is not None and size > MAX_UPLOAD:
+                self._abort(mux, ABORT_MEMORY)
+                raise SdoProtocolError("upload of %d bytes announced" % size)
+            data = bytearray()
+            self.transport.send(self.tx_id, bytes([0xA3]) + bytes(7))
+            while True:
+                ackseq, last = self._receive_block(mux, data)
+                ack = bytes([0xA2, ackseq, BLOCK_SEGMENTS]) + bytes(5)
+                if last:
+                    break
+                self.transport.send(self.tx_id, ack)
+                if len(data) > MAX_UPLOAD:
+                    self._abort(mux, ABORT_MEMORY)
+                    raise SdoProtocolError("upload longer than %d bytes" % MAX_UPLOAD)
+            end = self._exchange(ack, mux, False)
+            if end[0] & 0xE3 != 0xC1:
+                self._abort(mux, ABORT_COMMAND)
+                raise SdoProtocolError("answer 0x%02X where the end of a block upload was due" % end[0])
+            pad = (end[0] >> 2) & 7
+            if pad:
+                del data[len(data) - pad:]
+            if crc_on and crc16(bytes(data)) != struct.unpack_from("<H", end, 1)[0]:
+                self._abort(mux, ABORT_CRC)
+                raise SdoProtocolError("CRC error in a block upload (0x%04X computed, 0x%04X sent)"
+                                       % (crc16(bytes(data)), struct.unpack_from("<H", end, 1)[0]))
+            self.transport.send(self.tx_id, bytes([0xA1]) + bytes(7))
+            if size is not None and len(data) != size:
+                raise SdoProtocolError("%d bytes uploaded, %d announced" % (len(data), size))
+            return bytes(data)
+
+    def _receive_block(self, mux: bytes, data: bytearray):
+        """One block's segments, in order, appended to `data`. @return (the last seqno received
+        in order, True when that segment was the last of the transfer). A segment out of order
+        (one was lost) ends our acceptance: the rest of the block is passed over and the server
+        sends it again after our acknowledge. A timeout after segments received in order
+        acknowledges them (the server continues from there); a timeout without any ends the
+        transfer."""
+        ackseq = 0
+        in_order = True
+        deadline = time.monotonic() + self.timeout_s
+        while True:
+            left = deadline - time.monotonic()
+            f = self.transport.recv(left) if left > 0 else None
+            if f is None:
+                if ackseq == 0:
+                    self._abort(mux, ABORT_TIMEOUT)
+                    raise SdoTimeout()
+                return ackseq, False
+            can_id, seg = f
+            if can_id != self.rx_id or len(seg) < 1:
+                continue
+            seg = bytes(seg).ljust(8, b"\0")
+            if seg[0] == 0x80 and seg[1:4] == mux:
+                raise SdoAbort(struct.unpack_from("<L", seg, 4)[0])
+            seq = seg[0] & 0x7F
+            last = bool(seg[0] & 0x80)
+            if in_order and seq == ackseq + 1:
+                ackseq = seq
+                data += seg[1:8]
+                if last:
+                    return ackseq, True
+            else:
+                in_order = False
+            if last or seq >= BLOCK_SEGMENTS:
+                return ackseq, False
+            deadline = time.monotonic() + self.timeout_s
+
     def _download(self, index: int, subindex: int, data: bytes) -> None:
         mux = struct.pack("<HB", index, subindex)
         data = bytes(data)
@@ -429,6 +536,13 @@ class Link:
     def upload(self, index: int, subindex: int, what: str) -> bytes:
         try:
             return self._upload(index, subindex)
+        except self._errors() as e:
+            raise self._translate(e, what) from None
+
+    def upload_block(self, index: int, subindex: int, what: str) -> bytes:
+        """A large object by block upload (segmented if the server has no block protocol)."""
+        try:
+            return self._upload_block(index, subindex)
         except self._errors() as e:
             raise self._translate(e, what) from None
 

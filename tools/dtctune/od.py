@@ -5,13 +5,11 @@ build, so the names, units, ranges and access rights shown here are the table's.
 """
 from __future__ import annotations
 
-import difflib
 import math
 import os
 import re
 import struct
 import sys
-from pathlib import Path
 
 from .errors import DtctuneError, EXIT_USAGE
 
@@ -107,8 +105,9 @@ class Var:
         return st.pack(value)
 
 
-# Where the build puts the EDS, relative to the repository root.
-REPO_EDS = Path("build") / "host" / "drive.eds"
+# Where the build puts the EDS, relative to the repository root. (Paths are plain strings
+# here: pathlib alone costs ~0.1 s of start-up inside User-Mode Linux.)
+REPO_EDS = os.path.join("build", "host", "drive.eds")
 
 
 _INT_RANGES = {
@@ -131,54 +130,58 @@ _TYPE_NAMES = {
 }
 
 
-def repo_root() -> Optional[Path]:
+def repo_root() -> Optional[str]:
     """The repository this package sits in (tools/dtctune/ -> repo), if it is one."""
-    here = Path(__file__).resolve().parent
-    root = here.parent.parent
-    if (root / "tools" / "dtctune").is_dir() and (root / "CMakeLists.txt").is_file():
+    here = os.path.dirname(os.path.realpath(__file__))
+    root = os.path.dirname(os.path.dirname(here))
+    if os.path.isdir(os.path.join(root, "tools", "dtctune")) and os.path.isfile(os.path.join(root, "CMakeLists.txt")):
         return root
     return None
 
 
-def eds_candidates() -> List[Path]:
+def eds_candidates() -> List[str]:
     """Where the EDS is looked for when --eds is not given, in order."""
-    out: List[Path] = []
+    out: List[str] = []
     env = os.environ.get("DTCTUNE_EDS")
     if env:
-        out.append(Path(env))
+        out.append(env)
     root = repo_root()
     if root is not None:
-        out.append(root / REPO_EDS)
+        out.append(os.path.join(root, REPO_EDS))
     # The current directory or one of its parents may be a checkout of the project.
-    cwd = Path.cwd()
-    for d in [cwd, *cwd.parents]:
-        if (d / "tools" / "params").is_dir() or (d / REPO_EDS).is_file():
-            out.append(d / REPO_EDS)
+    d = os.getcwd()
+    while True:
+        if os.path.isdir(os.path.join(d, "tools", "params")) or os.path.isfile(os.path.join(d, REPO_EDS)):
+            out.append(os.path.join(d, REPO_EDS))
             break
-    out.append(Path(sys.prefix) / "share" / "dtctune" / "drive.eds")
+        parent = os.path.dirname(d)
+        if parent == d:
+            break
+        d = parent
+    out.append(os.path.join(sys.prefix, "share", "dtctune", "drive.eds"))
     seen, unique = set(), []
     for p in out:
-        key = str(p.resolve()) if p.exists() else str(p)
+        key = os.path.realpath(p) if os.path.exists(p) else p
         if key not in seen:
             seen.add(key)
             unique.append(p)
     return unique
 
 
-def find_eds(explicit: Optional[str]) -> Path:
+def find_eds(explicit: Optional[str]) -> str:
     """The EDS to use: --eds PATH if given (it must exist), else the first candidate found."""
     if explicit:
-        p = Path(explicit)
-        if not p.is_file():
+        p = str(explicit)
+        if not os.path.isfile(p):
             raise DtctuneError("EDS file not found: %s" % p, EXIT_USAGE)
         return p
     cands = eds_candidates()
     for p in cands:
-        if p.is_file():
+        if os.path.isfile(p):
             return p
     raise DtctuneError(
         "no EDS found (looked for %s); build it with `cmake --build --preset host` "
-        "or pass --eds PATH" % ", ".join(str(p) for p in cands), EXIT_USAGE)
+        "or pass --eds PATH" % ", ".join(cands), EXIT_USAGE)
 
 
 class Param:
@@ -359,11 +362,12 @@ def _unit_suffix(unit: str) -> str:
 class Dictionary:
     """The loaded EDS: every readable value under a unique name."""
 
-    def __init__(self, path: Path, node_id: int):
-        self.path = Path(path)
+    def __init__(self, path, node_id: int):
+        self.path = os.fspath(path)
         self.node_id = node_id
         try:
-            text = self.path.read_text(encoding="utf-8", errors="replace")
+            with open(self.path, encoding="utf-8", errors="replace") as f:
+                text = f.read()
         except OSError as e:
             raise DtctuneError("cannot read EDS %s: %s" % (self.path, e.strerror or e), EXIT_USAGE) from None
         try:
@@ -433,6 +437,7 @@ class Dictionary:
             if p is not None:
                 return p
             raise DtctuneError("no object %s in the EDS %s" % (name.strip(), self.path))
+        import difflib  # only for this message: not on every command's start-up path
         close = difflib.get_close_matches(name.lower(), list(self._by_name), n=3, cutoff=0.6)
         hint = "; did you mean %s?" % ", ".join(self._by_name[c].name for c in close) if close else \
             "; `dtctune list` shows the names"

@@ -195,7 +195,7 @@ def _finish(args, link, out, chans, samples, pretrigger, decimation, p_cmd, p_st
         raise DtctuneError("scope: no capture within %.0f s (state %s); the trigger did not come"
                            % (args.wait, STATE_WORDS.get(state, state)), EXIT_NO_ANSWER)
     trig_tick = int(link.read(p_tick))
-    data = link.upload(p_data.index, p_data.subindex, "the upload of the scope data (%s)" % p_data.address)
+    data = link.upload_block(p_data.index, p_data.subindex, "the upload of the scope data (%s)" % p_data.address)
     traces = decode(data, len(chans), samples)
 
     dt = decimation * TICK_S

@@ -20,7 +20,7 @@ def default_sim() -> Path:
     env = os.environ.get("DTC_SIM")
     if env:
         return Path(env)
-    root = repo_root() or Path.cwd()
+    root = Path(repo_root() or Path.cwd())
     return root / "build" / "host" / "bin" / "dtc-sim"
 
 
@@ -29,7 +29,7 @@ def default_scenario() -> Path:
     env = os.environ.get("DTC_CAN_SCENARIO")
     if env:
         return Path(env)
-    root = repo_root() or Path.cwd()
+    root = Path(repo_root() or Path.cwd())
     for name in SCENARIO_CHOICES:
         p = root / "host_sim" / "scenarios" / name
         if p.is_file():

@@ -228,6 +228,12 @@ def check_param(p: Param, fn_names: set) -> None:
         p.bind_kind, p.bind_struct, p.path = ("CO_BIND_CONST" if b == "const" else "CO_BIND_NODEID"), None, None
         if p.access == "rw":
             raise TableError(f"{p.name}: a constant cannot be rw")
+    elif b == "errhist":
+        # The device's own error history (CiA 301 0x1003): sub 0 the number of errors
+        # recorded (rw: writing 0 clears), sub 1.. the errors, newest first.
+        p.bind_kind, p.bind_struct, p.path = "CO_BIND_ERRHIST", None, None
+        if p.index != 0x1003:
+            raise TableError(f"{p.name}: bind errhist belongs to 0x1003")
     elif b.startswith("fn."):
         fn = b[3:]
         if not NAME_RE.match(fn):
@@ -448,13 +454,21 @@ class Table:
             if len(subs) == 1 and subs[0].sub == 0:
                 self.indices.append((index, None, subs))
                 continue
-            if any(p.sub == 0 for p in subs):
-                raise TableError(f"0x{index:04X}: subindex 0 is generated for objects with subindexes")
+            given0 = [p for p in subs if p.sub == 0]
+            if given0 and given0[0].bind_kind != "CO_BIND_ERRHIST":
+                raise TableError(f"0x{index:04X}: subindex 0 is generated for objects with subindexes "
+                                 "(only the error history 0x1003 gives its own: the count of errors)")
             obj = self.objects.get(index)
             if obj is None:
                 raise TableError(f"0x{index:04X}: needs an [[object]] entry (name of the record)")
-            if obj.get("kind") == "array" and len({p.type for p in subs}) != 1:
+            elements = [p for p in subs if p.sub != 0]
+            if obj.get("kind") == "array" and len({p.type for p in elements}) != 1:
                 raise TableError(f"0x{index:04X}: an array needs one data type")
+            if given0:
+                if given0[0].type != "UNSIGNED8":
+                    raise TableError(f"{given0[0].name}: subindex 0 is UNSIGNED8")
+                self.indices.append((index, obj, given0 + sorted(elements, key=lambda p: p.sub)))
+                continue
             # Subindex 0 of a record or array: the highest subindex, constant.
             sub0 = Param(name=f"{obj['name']}_highest_subindex", base=obj["name"], index=index, sub=0,
                          type="UNSIGNED8", unit="", scale=1.0, resolution=1.0, min=None, max=None,
@@ -695,8 +709,32 @@ def eds_var(section: str, p: Param, name: str) -> list[str]:
     return out
 
 
-def gen_eds(t: Table) -> str:
+def eds_time(epoch: float) -> tuple:
+    """CiA 306 FileInfo date and time of a UTC instant: ('mm-dd-yyyy', 'hh:mm(AM|PM)')."""
+    import time as _time
+    tm = _time.gmtime(epoch)
+    hour12 = tm.tm_hour % 12 or 12
+    return (f"{tm.tm_mon:02d}-{tm.tm_mday:02d}-{tm.tm_year:04d}",
+            f"{hour12:02d}:{tm.tm_min:02d}{'AM' if tm.tm_hour < 12 else 'PM'}")
+
+
+def eds_created(t: Table) -> float:
+    """[device] eds_created ('YYYY-MM-DD HH:MM', UTC) as a UNIX time."""
+    import calendar
+    import time as _time
+    v = t.device.get("eds_created")
+    try:
+        return float(calendar.timegm(_time.strptime(str(v), "%Y-%m-%d %H:%M")))
+    except ValueError:
+        raise TableError(f"[device]: eds_created must be 'YYYY-MM-DD HH:MM' (UTC), got {v!r}") from None
+
+
+def gen_eds(t: Table, modified: float = 0.0) -> str:
+    """The EDS; FileInfo's creation date from the table, its modification date @p modified
+    (UNIX time: SOURCE_DATE_EPOCH, else the table file's modification time)."""
     d = t.device
+    c_date, c_time = eds_time(eds_created(t))
+    m_date, m_time = eds_time(max(modified, eds_created(t)))
     mandatory = [0x1000, 0x1001, 0x1018]
     groups = {"MandatoryObjects": [], "OptionalObjects": [], "ManufacturerObjects": []}
     for index, _, _ in t.indices:
@@ -714,7 +752,12 @@ def gen_eds(t: Table) -> str:
         "FileRevision=0",
         "EDSVersion=4.0",
         f"Description={d['product_name']}",
+        f"CreationTime={c_time}",
+        f"CreationDate={c_date}",
         "CreatedBy=gen_params.py",
+        f"ModificationTime={m_time}",
+        f"ModificationDate={m_date}",
+        "ModifiedBy=gen_params.py",
         "",
         "[DeviceInfo]",
         f"VendorName={d['vendor_name']}",
@@ -750,7 +793,7 @@ def gen_eds(t: Table) -> str:
                 f"ObjectType={'0x8' if kind == 'array' else '0x9'}", f"SubNumber={len(subs)}",
                 f"Description={obj.get('description', '')}", ""]
         for p in subs:
-            name = "highest_subindex" if p.sub == 0 else p.name
+            name = "highest_subindex" if p.sub == 0 and p.generated else p.name
             out += eds_var(f"{index:04X}sub{p.sub:X}", p, name)
     return "\n".join(out)
 
@@ -930,7 +973,7 @@ def gen_md(t: Table) -> str:
         out += ["| Sub | Name | Type | Unit | Min | Max | Default | Access | P | R | Description |",
                 "|---|---|---|---|---|---|---|---|---|---|---|"]
         for p in subs:
-            if p.sub == 0 and obj is not None:
+            if p.sub == 0 and obj is not None and p.generated:
                 continue
             lo = md_value(p, p.raw_min) if p.kind not in ("string", "domain") and p.min is not None else ""
             hi = md_value(p, p.raw_max) if p.kind not in ("string", "domain") and p.max is not None else ""
@@ -971,10 +1014,14 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     try:
         table = Table(load_table(args.table))
+        eds_created(table)
     except TableError as e:
         print(f"{os.path.basename(args.table)}: {e}", file=sys.stderr)
         return 2
-    outputs = [(args.c_header, gen_header), (args.c_source, gen_source), (args.eds, gen_eds),
+    sde = os.environ.get("SOURCE_DATE_EPOCH", "")
+    modified = float(sde) if sde.isdigit() else os.stat(args.table).st_mtime
+    outputs = [(args.c_header, gen_header), (args.c_source, gen_source),
+               (args.eds, lambda t: gen_eds(t, modified)),
                (args.dbc, gen_dbc), (args.md, gen_md)]
     texts = [(path, fn(table)) for path, fn in outputs if path]
     for path, text in texts:

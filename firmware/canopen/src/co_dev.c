@@ -84,15 +84,43 @@ static void service_reset(co_dev *c)
     start(c);
 }
 
-void co_dev_comm_error(co_dev *c, co_event ev, uint16_t emcy_code)
+/* A communication error's NMT state (0x1029), then the application's reaction. */
+static void comm_error_reaction(co_dev *c, co_event ev)
 {
-    const co_emcy_entry e = {0u, emcy_code, 4u}; /* error register bit 4: communication */
-    co_emcy_event(c, &e, false);
     if (c->comm.error_behaviour == 0u && c->nmt.state == CO_NMT_OPERATIONAL)
         c->nmt.state = CO_NMT_PRE_OPERATIONAL;
     else if (c->comm.error_behaviour == 2u)
         c->nmt.state = CO_NMT_STOPPED;
     c->app->event(c->app->ctx, ev);
+}
+
+void co_dev_comm_error(co_dev *c, co_event ev, uint16_t emcy_code)
+{
+    const co_emcy_entry e = {0u, emcy_code, 4u}; /* error register bit 4: communication */
+    co_emcy_event(c, &e, false);
+    comm_error_reaction(c, ev);
+}
+
+/* Bus-off: nothing can be sent while off the bus, so the reaction comes at
+ * once and the EMCY (0x8140, recovered from bus-off) when back on it. The
+ * count, not the flag, tells a new entry: a bus-off shorter than a pass is
+ * not missed, and a long one is reported once. */
+static void watch_bus_off(co_dev *c)
+{
+    if (!c->bus_primed) {
+        c->bus_primed = true;
+        c->bus_off_count = c->pass.bus_off_count;
+    }
+    if (c->pass.bus_off_count != c->bus_off_count) {
+        c->bus_off_count = c->pass.bus_off_count;
+        c->bus_off_pending = true;
+        comm_error_reaction(c, CO_EVENT_BUS_OFF);
+    }
+    if (c->bus_off_pending && !c->pass.bus_off) {
+        const co_emcy_entry e = {0u, CO_EMCY_CODE_BUS_OFF_RECOVERED, 4u};
+        c->bus_off_pending = false;
+        co_emcy_event(c, &e, false);
+    }
 }
 
 void co_dev_begin_pass(co_dev *c, const co_pass *pass)
@@ -102,6 +130,7 @@ void co_dev_begin_pass(co_dev *c, const co_pass *pass)
         c->pass.tick_hz = 1u;
     if (!c->started)
         start(c);
+    watch_bus_off(c);
 }
 
 void co_dev_rx(co_dev *c, const hal_can_frame *f)

@@ -44,6 +44,8 @@ int co_emcy_send(co_dev *c, uint16_t code, uint8_t error_register, uint32_t faul
     if (rc == 0) {
         c->emcy.sent_once = true;
         c->emcy.last_ms = c->pass.now_ms;
+        if (code != 0x0000u) /* the return to no error is not an error */
+            co_err_history_push(&c->err_history, code, error_register);
     }
     return rc;
 }
@@ -108,3 +110,27 @@ void co_emcy_event(co_dev *c, const co_emcy_entry *entry, bool latch)
 }
 
 void co_emcy_clear_extra(co_emcy *e) { e->extra_reg = 0u; }
+
+void co_err_history_push(co_err_history *h, uint16_t code, uint8_t error_register)
+{
+    for (uint32_t i = CO_ERR_HISTORY - 1u; i > 0u; i--)
+        h->entry[i] = h->entry[i - 1u];
+    h->entry[0] = (uint32_t)code | ((uint32_t)error_register << 16);
+    if (h->count < CO_ERR_HISTORY)
+        h->count++;
+}
+
+uint32_t co_err_history_read(const co_err_history *h, uint8_t sub, uint32_t *value)
+{
+    *value = 0u;
+    if (sub == 0u) {
+        *value = h->count;
+        return CO_ABORT_NONE;
+    }
+    if (sub > CO_ERR_HISTORY)
+        return CO_ABORT_NO_SUB;
+    *value = h->entry[sub - 1u]; /* above the count: 0 (cleared or never used) */
+    return CO_ABORT_NONE;
+}
+
+void co_err_history_clear(co_err_history *h) { memset(h, 0, sizeof *h); }

@@ -280,6 +280,8 @@ uint32_t co_od_read_num(co_dev *c, const co_param *p, co_num *out)
     case CO_BIND_COMM:
         *out = co_od_to_raw(p, co_field_get(&c->comm, p));
         return CO_ABORT_NONE;
+    case CO_BIND_ERRHIST:
+        return co_err_history_read(&c->err_history, p->sub, &out->u);
     default: {
         if (p->bind < CO_BIND_APP)
             return CO_ABORT_GENERAL;
@@ -386,6 +388,14 @@ uint32_t co_od_write(co_dev *c, const co_param *p, const uint8_t *data, size_t l
             return CO_ABORT_STATE;
         if (p->max_step > 0.0f && !within_step(c, p, &v))
             return CO_ABORT_STATE;
+    }
+    if (p->bind == CO_BIND_ERRHIST) {
+        if (p->sub != 0u)
+            return CO_ABORT_READ_ONLY;
+        if (v.u != 0u)
+            return CO_ABORT_INVALID_VALUE; /* CiA 301: only 0 (clear) may be written */
+        co_err_history_clear(&c->err_history);
+        return CO_ABORT_NONE;
     }
     co_num in = co_od_to_internal(p, &v);
     if (p->bind == CO_BIND_COMM) {

@@ -367,8 +367,10 @@ static int app_open(void *ctx, uint32_t bitrate_bps)
 
 static bool app_running(void *ctx) { return drive_co_running(ctx); }
 
-/* CiA 402 abort connection option 0x6007: what losing the master (or its NMT
- * stop or reset) does to a drive whose operation is enabled. */
+/* CiA 402 abort connection option 0x6007: what losing the master (heartbeat,
+ * RPDO timeout), a bus-off, or an NMT stop or reset does to a drive whose
+ * operation is enabled. The device reports each event once (a bus-off once
+ * per entry), and a reaction under way is not restarted. */
 static void app_event(void *ctx, co_event ev)
 {
     drive *d = ctx;
@@ -507,7 +509,10 @@ void drive_co_process(drive *d)
         drive_set_run(d, false);
         co_cia402_quick_stop_done(&d->co.cia402);
     }
-    co_pass pass = {hal_millis(), d->bg_snap.tick, tick_hz(d), d->bg_snap.tel.faults | d->drive_faults};
+    hal_can_state bus;
+    hal_can_get_state(&bus);
+    co_pass pass = {hal_millis(), d->bg_snap.tick, tick_hz(d), d->bg_snap.tel.faults | d->drive_faults,
+                    bus.bus_off, bus.bus_off_count};
     co_dev_begin_pass(&d->co, &pass);
 
     hal_can_frame f;

@@ -113,6 +113,19 @@ int hal_can_send(const hal_can_frame *frame);
  */
 int hal_can_recv(hal_can_frame *frame);
 
+/**
+ * The controller's bus condition. A controller whose transmit error counter
+ * passes 255 goes bus-off (ISO 11898-1 fault confinement): it leaves the bus
+ * and the binding starts the recovery by itself (on the STM32G4 after 100 ms;
+ * the controller then waits for 128 x 11 recessive bits, about 5.6 ms at
+ * 250 kbit/s). bus_off stays true until the controller takes part in traffic
+ * again; bus_off_count counts every entry, so a bus-off shorter than the
+ * caller's polling period is still seen. Constant time, never blocks.
+ * @param[out] out the condition (bus_off false and count 0 before hal_can_open).
+ * Context: BG.
+ */
+void hal_can_get_state(hal_can_state *out);
+
 /* -------------------------------------------------------- non-volatile */
 
 /** @return size of the non-volatile area, bytes. Context: ANY. */

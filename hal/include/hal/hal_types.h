@@ -70,6 +70,12 @@ typedef struct {
     uint8_t data[8]; /**< payload; bytes past dlc are undefined */
 } hal_can_frame;
 
+/** The CAN controller's condition on the bus (hal_can_get_state). */
+typedef struct {
+    bool bus_off;            /**< off the bus now (bus-off, or its recovery still under way): nothing is sent or received */
+    uint32_t bus_off_count;  /**< bus-off events since power-on (each entry into bus-off counts once), wraps at 2^32 */
+} hal_can_state;
+
 #ifdef __cplusplus
 }
 #endif

@@ -370,13 +370,19 @@ uint32_t fdcan_read(board *b, uint32_t off) {
   case 0x024: return tscv(b);
   case 0x028: return f->tocc;
   case 0x02C: return 0xFFFFu; /* TOCV: the timeout counter is not modelled (ETOC faults) */
-  case 0x040: {                /* ECR: CEL is cleared by the read */
-    uint32_t tec = f->tec > 255u ? 255u : f->tec, rec = f->rec > 127u ? 127u : f->rec;
+  case 0x040: {                /* ECR: CEL is cleared by the read; REC counts the recovery sequences */
+    uint32_t r = f->bo ? fdcan_bus_recovery_sequences(b) : f->rec;
+    uint32_t tec = f->tec > 255u ? 255u : f->tec, rec = r > 127u ? 127u : r;
     uint32_t v = tec | (rec << 8) | (f->rec >= 128u ? 1u << 15 : 0u) | (f->cel << 16);
     f->cel = 0;
     return v;
   }
   case 0x044: { /* PSR: LEC and DLEC go back to 7 ("no change") on a read */
+    uint32_t seq = fdcan_bus_recovery_sequences(b);
+    if (seq != f->recovery_lec_seq) { /* each 11 recessive bits of a recovery: Bit0Error */
+      f->recovery_lec_seq = seq;
+      f->lec = 5u;
+    }
     uint32_t v = f->lec | ((uint32_t)f->act << 3) | (f->ep ? 1u << 5 : 0u) | (f->ew ? 1u << 6 : 0u) |
                  (f->bo ? 1u << 7 : 0u) | (7u << 8);
     f->lec = 7;

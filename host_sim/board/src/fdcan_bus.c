@@ -82,6 +82,7 @@ static void go_bus_off(board *b) {
   f->tx_cur = -1; /* the request stays pending (TXBRP) and is sent after the recovery */
   f->rx_cur = false;
   f->lec = LEC_BIT0;
+  f->recovery_lec_seq = 0;
   f->n_busoff++;
   update_error_state(b);
   fdcan_set_ir(b, IR_BO);
@@ -403,6 +404,15 @@ void board_can_attach(board *b, hal_host_can_backend *be, uint32_t bus_bitrate) 
   f->rx_poll_t = now_s(b);
 }
 
+uint32_t fdcan_bus_recovery_sequences(board *b) {
+  const fdcan_state *f = &b->fdcan;
+  if (!f->bo || f->on_bus_t < 0) return 0; /* not bus-off, or INIT still set: no recovery yet */
+  double seq_s = 11.0 * fdcan_bit_s(b);
+  double start = f->on_bus_t - RECOVERY_BITS * fdcan_bit_s(b);
+  double n = floor((now_s(b) - start) / seq_s);
+  return n < 0 ? 0u : (uint32_t)n;
+}
+
 void board_can_get_status(board *b, board_can_status *st) {
   fdcan_state *f = &b->fdcan;
   memset(st, 0, sizeof *st);
@@ -414,7 +424,7 @@ void board_can_get_status(board *b, board_can_status *st) {
   st->error_passive = f->ep;
   st->error_warning = f->ew;
   st->tec = f->tec > 255u ? 255u : f->tec;
-  st->rec = f->rec;
+  st->rec = f->bo ? fdcan_bus_recovery_sequences(b) : f->rec;
   st->tx_frames = f->n_tx;
   st->tx_errors = f->n_tx_errors;
   st->rx_frames = f->n_rx;

@@ -38,6 +38,7 @@ typedef struct {
   bool bo, ew, ep;
   int act;                      /* PSR.ACT: 0 synchronising, 1 idle, 2 receiver, 3 transmitter */
   double on_bus_t;              /* integration (11 recessive bits) or bus-off recovery ends; <0 none */
+  uint32_t recovery_lec_seq;    /* recovery sequences already shown as PSR.LEC = Bit0Error */
   bool on_bus;                  /* integrated: takes part in bus traffic */
   /* FIFOs: Rx FIFO 0/1, Tx FIFO (elements of the Tx buffer section), Tx event FIFO */
   uint32_t rxf_get[2], rxf_fill[2];
@@ -93,6 +94,9 @@ bool fdcan_bus_check_tx_element(board *b, uint32_t i);
 void fdcan_bus_cancel(board *b, uint32_t mask);
 double fdcan_bus_next_event(board *b);
 void fdcan_bus_event(board *b);
+/* Bus-off recovery: sequences of 11 recessive bits monitored since INIT was cleared (0 when no
+ * recovery is under way); M_CAN counts them in ECR.REC and shows each in PSR.LEC as Bit0Error. */
+uint32_t fdcan_bus_recovery_sequences(board *b);
 
 /* can_frame_bits.c: bits on the wire of a classic base-format frame, intermission included */
 unsigned can_frame_bits(uint16_t id, bool rtr, unsigned dlc, const uint8_t *data);

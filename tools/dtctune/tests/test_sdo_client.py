@@ -191,3 +191,114 @@ def test_short_and_garbage_frames_do_not_crash(setup):
 
     srv, lk = setup(script)
     assert lk.upload(0x1001, 0, "x") == bytes([5])
+
+
+# ------------------------------------------------------------------ block upload
+
+def crc_xmodem(data: bytes) -> int:
+    """CRC-16/XMODEM, table-driven (independent of link.crc16); check value 0x31C3."""
+    table = []
+    for i in range(256):
+        r = i << 8
+        for _ in range(8):
+            r = ((r << 1) ^ 0x1021) & 0xFFFF if r & 0x8000 else (r << 1) & 0xFFFF
+        table.append(r)
+    crc = 0
+    for b in data:
+        crc = ((crc << 8) & 0xFFFF) ^ table[((crc >> 8) ^ b) & 0xFF]
+    return crc
+
+
+def test_crc16_check_value():
+    assert link_mod.crc16(b"123456789") == 0x31C3
+    assert crc_xmodem(b"123456789") == 0x31C3
+
+
+class BlockServer:
+    """A CiA 301 block upload server for `data` as a script: blocks as the client asks, the
+    segments in `drop` (a set of (block number, seqno)) never sent, an optional wrong CRC."""
+
+    def __init__(self, data: bytes, drop=(), bad_crc=False):
+        self.data, self.drop, self.bad_crc = data, set(drop), bad_crc
+        self.pos = 0
+        self.block = 0
+        self.blksize = 0
+        self.acks = []
+
+    def _send_block(self):
+        out = []
+        for seq in range(1, self.blksize + 1):
+            at = self.pos + 7 * (seq - 1)
+            chunk = self.data[at:at + 7]
+            last = at + 7 >= len(self.data)
+            if (self.block, seq) not in self.drop:
+                out.append(bytes([seq | (0x80 if last else 0)]) + chunk.ljust(7, b"\0"))
+            if last:
+                self.last_seq = seq
+                break
+        else:
+            self.last_seq = 0
+        return out
+
+    def __call__(self, req, n):
+        cmd = req[0]
+        if cmd & 0xE3 == 0xA0:  # initiate
+            self.blksize = req[4]
+            return [bytes([0xC6]) + req[1:4] + struct.pack("<L", len(self.data))]
+        if cmd == 0xA3:
+            return self._send_block()
+        if cmd == 0xA2:
+            ackseq, self.blksize = req[1], req[2]
+            self.acks.append(ackseq)
+            done = self.last_seq and ackseq >= self.last_seq
+            self.pos += 7 * ackseq
+            if done:
+                pad = self.pos - len(self.data)
+                crc = crc_xmodem(self.data) ^ (1 if self.bad_crc else 0)
+                return [bytes([0xC1 | (pad << 2)]) + struct.pack("<H", crc) + bytes(5)]
+            self.block += 1
+            return self._send_block()
+        return []
+
+
+def test_block_upload_of_several_blocks_with_crc(setup):
+    data = bytes((i * 13 + 5) & 0xFF for i in range(2000))  # 286 segments: blocks 127, 127, 32
+    srv_script = BlockServer(data)
+    srv, lk = setup(srv_script)
+    assert lk.upload_block(0x1008, 0, "x") == data
+    assert srv_script.acks == [127, 127, 32]
+    import time
+    t_end = time.monotonic() + 2.0
+    while srv.requests[-1][0] != 0xA1 and time.monotonic() < t_end:
+        time.sleep(0.01)
+    assert srv.requests[-1][0] == 0xA1  # the end response
+
+
+def test_block_upload_lost_segment_is_acknowledged_short_and_sent_again(setup):
+    data = bytes(range(256)) * 4
+    srv_script = BlockServer(data, drop={(0, 50)})
+    srv, lk = setup(srv_script)
+    assert lk.upload_block(0x1008, 0, "x") == data
+    assert srv_script.acks[0] == 49, "only the segments in order are acknowledged"
+
+
+def test_block_upload_crc_error_aborts(setup):
+    srv, lk = setup(BlockServer(b"hello block upload", bad_crc=True))
+    with pytest.raises(DtctuneError, match="CRC error"):
+        lk.upload_block(0x1008, 0, "x")
+    assert struct.unpack_from("<L", last_abort(srv), 4)[0] == 0x05040004
+
+
+def test_block_upload_falls_back_to_segmented_when_refused(setup):
+    text = b"DTC3L-RBFN segmented fallback"
+
+    def script(req, n):
+        if req[0] & 0xE0 == 0xA0:
+            return [bytes([0x80]) + req[1:4] + struct.pack("<L", 0x05040001)]
+        if req[0] == 0x40:
+            return [bytes([0x41]) + req[1:4] + struct.pack("<L", len(text))]
+        k = sum(1 for r in srv.requests if r[0] & 0xE0 == 0x60) - 1
+        return [segments(text)[k]]
+
+    srv, lk = setup(script)
+    assert lk.upload_block(0x1008, 0, "x") == text

@@ -237,12 +237,11 @@ def test_eds_read_once_without_canopen(tmp_path):
             "opened = []\n"
             "real = builtins.open\n"
             "from dtctune.od import Dictionary\n"
-            "import pathlib\n"
-            "orig = pathlib.Path.read_text\n"
-            "def rt(self, *a, **k):\n"
-            "    opened.append(str(self)); return orig(self, *a, **k)\n"
-            "pathlib.Path.read_text = rt\n"
-            "d = Dictionary(pathlib.Path(sys.argv[1]), 1)\n"
+            "def op(f, *a, **k):\n"
+            "    if str(f).endswith('.eds'): opened.append(str(f))\n"
+            "    return real(f, *a, **k)\n"
+            "builtins.open = op\n"
+            "d = Dictionary(sys.argv[1], 1)\n"
             "assert d.lookup('rbfn.gamma_w').var.max == 1000.0, d.lookup('rbfn.gamma_w').var\n"
             "print(len(opened), 'can' in sys.modules, 'canopen' in sys.modules)\n")
     r = subprocess.run([sys.executable, "-c", code, str(EDS)], capture_output=True, text=True, timeout=60)

@@ -48,6 +48,12 @@ typedef struct {
      *         passed, HAL_EAGAIN a signal interrupted the wait, HAL_EIO on failure.
      */
     int (*wait_rx)(void *ctx, const struct timespec *timeout);
+    /**
+     * Optional (NULL: never bus-off). The controller's bus condition as
+     * hal_can_get_state reports it (SocketCAN: from CAN_ERR_BUSOFF and
+     * CAN_ERR_RESTARTED error frames; loopback: injected by a test).
+     */
+    void (*state)(void *ctx, hal_can_state *out);
 } hal_host_can_backend;
 
 #define HAL_HOST_NVM_SIZE 4096u
@@ -128,8 +134,11 @@ bool hal_host_watchdog_expired(const hal_host_board *b);
  * Open a non-blocking PF_CAN/SOCK_RAW/CAN_RAW socket bound to @p iface
  * (classic 11-bit frames; CAN_RAW_LOOPBACK on so other local sockets see our
  * frames, CAN_RAW_RECV_OWN_MSGS off so we never receive our own frames;
- * extended, error and FD frames are skipped on receive). wait_rx polls the
- * socket (ppoll), so recv() stays silent while the bus is idle.
+ * extended and FD frames are skipped on receive). The error filter
+ * (CAN_RAW_ERR_FILTER) passes the controller's bus-off and restarted error
+ * frames: they set and clear the bus-off state (state()), never reach recv's
+ * caller. wait_rx polls the socket (ppoll), so recv() stays silent while the
+ * bus is idle.
  * @param[out] out backend to assign to hal_host_board.can
  * @return 0, or a negative errno: -EAFNOSUPPORT (97) when the kernel has no
  *         CAN support, -ENODEV for an unknown interface, -EINVAL for a bad name.
@@ -155,6 +164,9 @@ typedef struct {
 typedef struct {
     hal_host_can_queue to_drive;
     hal_host_can_queue from_drive;
+    bool bus_off;            /**< injected bus-off: sends fail (HAL_EIO), frames to the drive are lost */
+    uint32_t bus_off_count;  /**< bus-off entries injected */
+    uint32_t lost_bus_off;   /**< frames to the drive dropped while bus-off */
 } hal_host_can_loopback;
 
 /**
@@ -169,6 +181,14 @@ int hal_host_can_loopback_inject(hal_host_can_loopback *q, const hal_can_frame *
 
 /** Take the oldest frame FROM the drive. @return HAL_OK or HAL_EAGAIN (none). */
 int hal_host_can_loopback_take(hal_host_can_loopback *q, hal_can_frame *f);
+
+/**
+ * Inject a bus-off (@p on true: the controller leaves the bus, counted once
+ * per entry) or its end (@p on false: recovered, back on the bus). While
+ * bus-off the drive's sends fail with HAL_EIO and frames queued to it are
+ * dropped on receive, as a controller off the bus sees nothing.
+ */
+void hal_host_can_loopback_set_bus_off(hal_host_can_loopback *q, bool on);
 
 #ifdef __cplusplus
 }

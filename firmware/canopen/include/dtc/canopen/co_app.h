@@ -36,6 +36,7 @@ typedef enum {
     CO_EVENT_RPDO_TIMEOUT = 2,   /**< RPDO1 stopped arriving (event timer 0x1400:5) */
     CO_EVENT_NMT_STOPPED = 3,    /**< an NMT stop command: SDO and RPDO are ignored from now on */
     CO_EVENT_RESET = 4,          /**< an NMT reset (node or communication) is pending, see reset_ready */
+    CO_EVENT_BUS_OFF = 5,        /**< the CAN controller went bus-off (co_pass.bus_off_count moved); once per entry */
 } co_event;
 
 typedef struct co_app {

@@ -53,6 +53,8 @@ typedef struct {
     uint32_t tick;    /**< the application's control-tick counter (telemetry pacing) */
     uint32_t tick_hz; /**< control ticks per second, >= 1 */
     uint32_t faults;  /**< the application's fault word (EMCY, error register 0x1001) */
+    bool bus_off;     /**< the CAN controller is off the bus now (hal_can_state.bus_off) */
+    uint32_t bus_off_count; /**< its bus-off entries so far (hal_can_state.bus_off_count), wraps */
 } co_pass;
 
 typedef struct co_dev {
@@ -64,10 +66,14 @@ typedef struct co_dev {
     co_nmt nmt;
     co_sdo_server sdo;
     co_emcy emcy;
+    co_err_history err_history; /**< 0x1003, kept over NMT resets (cleared by co_dev_init) */
     co_pdo pdo;
     co_cia402 cia402;
     uint32_t rx_frames;     /**< frames received since boot */
     bool reset_announced;   /**< the pending NMT reset was told to the application */
+    bool bus_primed;        /**< bus_off_count holds the controller's count */
+    bool bus_off_pending;   /**< a bus-off was reported: EMCY 0x8140 once back on the bus */
+    uint32_t bus_off_count; /**< the controller's bus-off count last seen */
 } co_dev;
 
 /**
@@ -79,7 +85,13 @@ void co_dev_init(co_dev *c, const co_app *app);
 /** Set the communication settings (CO_BIND_COMM entries) to their defaults. Context: BG. */
 void co_dev_comm_defaults(co_dev *c);
 
-/** Start a pass: remember @p pass; the first time (and after resets) open CAN and boot up. Context: BG. */
+/**
+ * Start a pass: remember @p pass; the first time (and after resets) open CAN
+ * and boot up. A bus-off entry seen in @p pass (its count moved) is a
+ * communication error: the NMT state per 0x1029 and the application's event
+ * CO_EVENT_BUS_OFF, once per entry; back on the bus, EMCY 0x8140 (recovered
+ * from bus-off). Context: BG.
+ */
 void co_dev_begin_pass(co_dev *c, const co_pass *pass);
 
 /** Handle one received frame; an NMT reset it carries is carried out at once. Context: BG. */

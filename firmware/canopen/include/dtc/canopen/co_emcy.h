@@ -28,8 +28,21 @@ typedef struct {
 
 /** The device's own event: an RPDO shorter than its mapping (CiA 301 0x8210, generic). */
 #define CO_EMCY_CODE_RPDO_LENGTH 0x8210u
+/** The device's own event: back on the bus after a bus-off (CiA 301 0x8140, communication). */
+#define CO_EMCY_CODE_BUS_OFF_RECOVERED 0x8140u
 
 #define CO_EMCY_QUEUE 4u /**< events waiting for the inhibit time (0x1015) at most */
+#define CO_ERR_HISTORY 8u /**< errors kept in the history 0x1003 */
+
+/**
+ * The pre-defined error field 0x1003 (CiA 301): one entry per EMCY sent with
+ * a non-zero code, newest first; an entry is the code (bits 15..0) and the
+ * error register the message carried (bits 23..16). Kept over NMT resets.
+ */
+typedef struct {
+    uint32_t entry[CO_ERR_HISTORY]; /**< entry[0] newest */
+    uint8_t count;                  /**< entries recorded, 0..CO_ERR_HISTORY */
+} co_err_history;
 
 typedef struct {
     uint32_t reported;   /**< fault bits already announced */
@@ -76,6 +89,19 @@ void co_emcy_event(struct co_dev *c, const co_emcy_entry *entry, bool latch);
 
 /** Clear the latched events (e.g. after a successful save or restore). Context: BG. */
 void co_emcy_clear_extra(co_emcy *e);
+
+/** Record an error: the oldest falls out when the history is full. Context: BG. */
+void co_err_history_push(co_err_history *h, uint16_t code, uint8_t error_register);
+
+/**
+ * Sub @p sub of 0x1003: 0 the count, 1..count the entries newest first,
+ * 0 above the count. @return CO_ABORT_NONE, CO_ABORT_NO_SUB above
+ * CO_ERR_HISTORY. Context: BG.
+ */
+uint32_t co_err_history_read(const co_err_history *h, uint8_t sub, uint32_t *value);
+
+/** Clear the history (0x1003:0 written with 0). Context: BG. */
+void co_err_history_clear(co_err_history *h);
 
 #ifdef __cplusplus
 }

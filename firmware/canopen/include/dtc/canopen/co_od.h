@@ -37,6 +37,9 @@ struct co_dev;
 #define CO_ABORT_TOGGLE 0x05030000u          /**< toggle bit not alternated */
 #define CO_ABORT_TIMEOUT 0x05040000u         /**< SDO protocol timed out */
 #define CO_ABORT_CMD 0x05040001u             /**< command specifier not valid or unknown */
+#define CO_ABORT_BLKSIZE 0x05040002u         /**< invalid block size (block mode) */
+#define CO_ABORT_SEQNO 0x05040003u           /**< invalid sequence number (block mode) */
+#define CO_ABORT_CRC 0x05040004u             /**< CRC error (block mode) */
 #define CO_ABORT_WRITE_ONLY 0x06010001u      /**< attempt to read a write-only object */
 #define CO_ABORT_READ_ONLY 0x06010002u       /**< attempt to write a read-only object */
 #define CO_ABORT_NO_OBJECT 0x06020000u       /**< object does not exist */
@@ -79,6 +82,7 @@ typedef enum {
     CO_BIND_CONST = 0,  /**< constant: def (numbers) or str (strings) */
     CO_BIND_NODEID = 1, /**< constant def + the active node id (COB-IDs) */
     CO_BIND_COMM = 2,   /**< co_comm_cfg member at offset (the device's own settings) */
+    CO_BIND_ERRHIST = 3, /**< the device's error history 0x1003 (co_emcy.h): sub 0 the count (writing 0 clears), sub k the k-th newest */
     CO_BIND_APP = 8,    /**< this and above: the application's (read and written through co_app hooks) */
 } co_bind;
 
