@@ -112,4 +112,9 @@ if(NOT DTC_SANITIZE)
   add_test(NAME board.watchdog_uml
            COMMAND sh -c "${CMAKE_SOURCE_DIR}/tools/setup_venv.sh >/dev/null && exec ${CMAKE_SOURCE_DIR}/tests/can/uml/run_in_uml.sh --timeout 240 -- ${CMAKE_SOURCE_DIR}/.venv/bin/python ${CMAKE_CURRENT_SOURCE_DIR}/test_twin_dtctune.py watchdog $<TARGET_FILE:dtc-board> ${BCAN_FW_ELF} ${CMAKE_BINARY_DIR}/drive.eds ${CMAKE_CURRENT_BINARY_DIR}/twin-watchdog ${DTC_STM32G4_BUILD_DIR}/dtc-fw-stalltest.elf")
   set_tests_properties(board.watchdog_uml PROPERTIES LABELS board TIMEOUT 330 RUN_SERIAL TRUE SKIP_RETURN_CODE 77)
+  # Tuning while the emulated motor runs: dtc-board run CASE2 --can vcan0 --realtime, dtctune
+  # get/set/read back (and a stopped-only setting refused) during the run.
+  add_test(NAME board.twin_running_uml
+           COMMAND sh -c "${CMAKE_SOURCE_DIR}/tools/setup_venv.sh >/dev/null && exec ${CMAKE_SOURCE_DIR}/tests/can/uml/run_in_uml.sh --timeout 300 -- ${CMAKE_SOURCE_DIR}/.venv/bin/python ${CMAKE_CURRENT_SOURCE_DIR}/test_twin_dtctune.py running $<TARGET_FILE:dtc-board> ${BCAN_FW_ELF} ${CMAKE_BINARY_DIR}/drive.eds ${CMAKE_CURRENT_BINARY_DIR}/twin-running ${CMAKE_SOURCE_DIR}/host_sim/scenarios/case2.ini")
+  set_tests_properties(board.twin_running_uml PROPERTIES LABELS board TIMEOUT 390 RUN_SERIAL TRUE SKIP_RETURN_CODE 77)
 endif()

@@ -4,6 +4,10 @@ where the host kernel has no CAN), as a drive engineer would run them against a 
 flashable image (build/stm32g4/dtc-fw.elf, byte for byte, with its control tick running) under
 `dtc-board exec --can vcan0 --realtime --nvm FILE`, one dtc-board process per power-on.
 
+    test_twin_dtctune.py running DTC_BOARD ELF EDS WORKDIR CASE2_INI
+  `dtc-board run` CASE2 (as flashed) with --can vcan0 --realtime: dtctune get, set, read back a
+  gain and is refused a stopped-only setting while the emulated motor runs; the run ends on speed.
+
     test_twin_dtctune.py tune DTC_BOARD ELF EDS WORKDIR
   get -> set -> get (read back) -> save (0x1010, the firmware's flash store on the twin's flash
   model) -> power-cycle (SIGTERM, new dtc-board on the same --nvm file) -> get = the saved value
@@ -208,7 +212,79 @@ def watchdog(exe, elf, eds, work, stall_elf):
           f"the control tick runs again after the reset ({t.group(1) if t else '?'} interrupts in {sim:.2f} s)")
 
 
+def running(exe, elf, eds, work, case2):
+    """Tuning while the emulated motor runs: dtc-board run CASE2 (as flashed: no [control] keys,
+    the plant with the 1 V device drop the firmware compensates) with the image's FDCAN1 on vcan0;
+    dtctune reads, sets and reads back a parameter during the run; the run ends normally, on
+    speed, without a fault, and its metrics are written."""
+    import json
+    flashed = os.path.join(work, "case2_as_flashed.ini")
+    out, skip = [], False
+    with open(case2) as f:
+        for line in f:
+            if line.startswith("["):
+                skip = line.strip() == "[control]"
+            if line.strip().startswith("v_on_V"):
+                line = "v_on_V = 1\n"
+            if not skip:
+                out.append(line)
+    with open(flashed, "w") as f:
+        f.writelines(out)
+    metrics = os.path.join(work, "running.json")
+    if os.path.exists(metrics):
+        os.remove(metrics)
+    log = open(os.path.join(work, "running.log"), "w")
+    p = subprocess.Popen([exe, "run", flashed, "--elf", elf, "--can", "vcan0", "--realtime", "--metrics", metrics],
+                         stdout=log, stderr=log)
+    try:
+        time.sleep(3.0)  # boot and the start of the run
+        check(p.poll() is None, "dtc-board run is running")
+        default = eds_default(eds)
+        rc, out = dtctune(eds, "get", PARAM)
+        check(rc == 0 and value_of(out) == default, f"while running: {PARAM} is the EDS default {default:g}")
+        new = default + 250.0
+        rc, out = dtctune(eds, "set", PARAM, f"{new:g}")
+        check(rc == 0, f"while running: set {PARAM} {new:g} (a gain: changes within its step while running)")
+        rc, out = dtctune(eds, "get", PARAM)
+        check(rc == 0 and value_of(out) == new, f"while running: read back {PARAM} = {new:g}")
+        rc, out = dtctune(eds, "get", "obs_k_gain")
+        check(rc == 0 and value_of(out) is not None, "while running: an observer setting reads")
+        rc, out = dtctune(eds, "set", "obs_k_gain", "2")
+        check(rc != 0 and "0x08000022" in out.lower(), "while running: a stopped-only setting is refused (0x08000022)")
+        p.wait(timeout=200)
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.wait()
+        log.close()
+    with open(os.path.join(work, "running.log")) as f:
+        text = f.read()
+    print(text.strip(), flush=True)
+    check(p.returncode == 0, f"dtc-board run exit status {p.returncode}")
+    if os.path.exists(metrics):
+        with open(metrics) as f:
+            m = json.load(f)
+        check(m["faults"] == 0, f"no fault during the run (0x{m['faults']:x})")
+        check(abs(m["speed_final_rpm"] - 500.0) < 10.0, f"CASE2 ended on speed ({m['speed_final_rpm']:.1f} rpm)")
+    else:
+        check(False, "metrics written")
+
+
 def main():
+    if len(sys.argv) >= 2 and sys.argv[1] == "running":
+        if len(sys.argv) != 7:
+            sys.exit(__doc__)
+        exe, elf, eds, work, case2 = sys.argv[2:7]
+        if not os.path.exists(elf):
+            print(f"skipped: {elf} not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)")
+            return 77
+        os.makedirs(work, exist_ok=True)
+        allow_overcommit()
+        running(exe, elf, eds, work, case2)
+        for f in fails:
+            print("FAIL:", f)
+        print("twin running session:", "ok" if not fails else f"{len(fails)} failure(s)")
+        return 1 if fails else 0
     if len(sys.argv) < 6 or sys.argv[1] not in ("tune", "watchdog") or (sys.argv[1] == "watchdog") != (len(sys.argv) == 7):
         sys.exit(__doc__)
     mode, exe, elf, eds, work = sys.argv[1:6]

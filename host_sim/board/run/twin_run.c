@@ -19,7 +19,9 @@
 #include "twin_run.h"
 
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -114,6 +116,10 @@ static void can_drain(board *b, can_listener *c, double t0) {
 
 static can_listener g_can;
 
+/* SIGINT/SIGTERM end a --realtime run after the tick in progress; the outputs are written. */
+static volatile sig_atomic_t g_stop;
+static void on_signal(int sig) { (void)sig; g_stop = 1; }
+
 static void read_snapshot(fw *f, drive_snapshot *s) {
   /* seq + ctl_telemetry + floats: no enums, the same layout on both sides (checked by size) */
   for (int tries = 0; tries < 4; tries++) {
@@ -130,11 +136,19 @@ static int fail(char *err, size_t n, const char *fmt, const char *a) {
 static const char usage_text[] =
     "usage: dtc-board run SCENARIO --elf FILE [--controller ip|nominal|rbfn] [--csv OUT] [--metrics OUT]\n"
     "                  [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S] [--quiet]\n"
+    "                  [--can IFACE --realtime]\n"
+    "  --can IFACE        the image's FDCAN1 on SocketCAN interface IFACE (only with --realtime): tune\n"
+    "                     the running drive with dtctune; without it a listening node on a private bus\n"
+    "                     acknowledges the frames and records the EMCYs\n"
+    "  --realtime         never run ahead of the wall clock (the twin is slower than real time, so\n"
+    "                     this only matters on a faster machine); SIGINT/SIGTERM end the run cleanly\n"
     "  --fault-line T_S   test hook: the gate drivers' fault line (PB10, HRTIM FLT3) is pulled low at\n"
     "                     scenario time T_S and held; the metrics gain a \"fault\" section\n";
 
 int twin_run_main(int argc, char **argv) {
   const char *path = NULL, *elf = NULL, *csv = NULL, *metrics_path = NULL, *nvm = NULL, *ctl_name = NULL;
+  const char *can_iface = NULL;
+  int realtime = 0;
   const char *sets[MAX_SETS];
   L = fw_layout_get();
   if (L->snap_size != sizeof(drive_snapshot)) { fprintf(stderr, "dtc-board: drive_snapshot layout differs\n"); return 1; }
@@ -143,6 +157,7 @@ int twin_run_main(int argc, char **argv) {
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
     if (strcmp(a, "--quiet") == 0) { quiet = 1; continue; }
+    if (strcmp(a, "--realtime") == 0) { realtime = 1; continue; }
     if (a[0] != '-' && !path) { path = a; continue; }
     if (i + 1 >= argc) { fputs(usage_text, stderr); return 2; }
     const char *v = argv[++i];
@@ -151,6 +166,7 @@ int twin_run_main(int argc, char **argv) {
     else if (strcmp(a, "--metrics") == 0) metrics_path = v;
     else if (strcmp(a, "--nvm") == 0) nvm = v;
     else if (strcmp(a, "--controller") == 0) ctl_name = v;
+    else if (strcmp(a, "--can") == 0) can_iface = v;
     else if (strcmp(a, "--fault-line") == 0) fault_t = atof(v);
     else if (strcmp(a, "--set") == 0) {
       if (n_sets >= MAX_SETS) { fprintf(stderr, "dtc-board: too many --set options\n"); return 2; }
@@ -158,6 +174,7 @@ int twin_run_main(int argc, char **argv) {
     } else { fputs(usage_text, stderr); return 2; }
   }
   if (!path || !elf) { fputs(usage_text, stderr); return 2; }
+  if (can_iface && !realtime) { fprintf(stderr, "dtc-board: --can needs --realtime (a bus has a clock)\n"); return 2; }
 
   static scenario sc;
   char err[1536];
@@ -177,8 +194,8 @@ int twin_run_main(int argc, char **argv) {
     return 2;
   }
   if (sc.n_control > 0) {
-    fprintf(stderr, "dtc-board: %s: [control] keys need the CAN parameter path (FDCAN is a placeholder in this "
-                    "build); run without them\n", path);
+    fprintf(stderr, "dtc-board: %s: [control] keys are not applied by the twin's runner (the image keeps its "
+                    "stored parameters); set them over CAN instead (--can IFACE --realtime, dtctune)\n", path);
     return 2;
   }
   (void)fail;
@@ -193,7 +210,27 @@ int twin_run_main(int argc, char **argv) {
   if (board_attach_plant(b, &sc.plant) != 0) { fprintf(stderr, "dtc-board: %s: invalid plant configuration\n", path); board_close(b); return 2; }
   memset(&g_can, 0, sizeof g_can);
   hal_host_can_loopback_init(&g_can.q, &g_can.be);
-  board_can_attach(b, &g_can.be, 0u);
+  hal_host_can_backend sock;
+  memset(&sock, 0, sizeof sock);
+  if (can_iface) {
+    int e = hal_host_socketcan_open(can_iface, &sock);
+    if (e != 0) {
+      fprintf(stderr, "dtc-board: --can %s: %s%s\n", can_iface, strerror(-e),
+              e == -EAFNOSUPPORT ? " (this kernel has no CAN: run under User-Mode Linux, tests/can/uml/run_in_uml.sh)" : "");
+      board_close(b);
+      return 2;
+    }
+    board_can_attach(b, &sock, 0u);
+  } else {
+    board_can_attach(b, &g_can.be, 0u);
+  }
+  if (realtime) {
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+  }
   fw f = {b, 0};
   uint32_t size = 0;
   if (board_symbol(b, "g_drive", &f.drv, &size) != 0) { fprintf(stderr, "dtc-board: %s has no g_drive symbol\n", elf); board_close(b); return 2; }
@@ -315,7 +352,14 @@ int twin_run_main(int argc, char **argv) {
       sim_trace_row row = {ts, tr.omega_m_rad_s, tr.te_Nm, tr.ia_A, tr.ib_A, tr.ic_A, tr.vc1_V, tr.vc2_V, ref, ps->t_load_Nm, eps_t, &snap};
       trace_write(&trace, &row);
     }
-    if (k >= n_ticks) break;
+    if (k >= n_ticks || g_stop) break;
+    if (realtime) { /* never ahead of the wall clock */
+      double ahead = board_time_s(b) - (wall() - w0);
+      if (ahead > 0) {
+        struct timespec sl = {(time_t)ahead, (long)((ahead - (double)(time_t)ahead) * 1e9)};
+        nanosleep(&sl, NULL);
+      }
+    }
   }
   double w = wall() - w0;
 
@@ -351,6 +395,7 @@ int twin_run_main(int argc, char **argv) {
   if (trace_open_ok && trace_close(&trace, rc == 0, err, sizeof err) != 0) { fprintf(stderr, "%s\n", err); rc = 1; }
   metrics_acc_free(&acc);
   board_close(b);
+  if (can_iface) hal_host_socketcan_close(&sock);
   return rc;
 }
 
