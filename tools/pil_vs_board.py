@@ -19,6 +19,8 @@ import subprocess
 import sys
 import tempfile
 
+from scenario_as_flashed import as_flashed
+
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.path.join(SRC, "build", "host", "bin")
 FW = os.path.join(SRC, "build", "stm32g4", "dtc-fw.elf")
@@ -28,19 +30,7 @@ TICK = "ADC1_2 (control tick)"
 
 
 def case2_as_flashed(tmp):
-    out, skip = [], False
-    with open(CASE2) as f:
-        for line in f:
-            if line.startswith("["):
-                skip = line.strip() == "[control]"
-            if line.strip().startswith("v_on_V"):
-                line = "v_on_V = 1\n"
-            if not skip:
-                out.append(line)
-    path = os.path.join(tmp, "case2_as_flashed.ini")
-    with open(path, "w") as f:
-        f.writelines(out)
-    return path
+    return as_flashed(CASE2, os.path.join(tmp, "case2_as_flashed.ini"))
 
 
 def run(args):

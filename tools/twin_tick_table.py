@@ -20,23 +20,11 @@ import subprocess
 import sys
 import tempfile
 
+from scenario_as_flashed import as_flashed
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_SCENARIOS = ["case2", "nameplate", "field_weakening", "low_speed_30rpm", "rated_step_500"]
 TICK = "ADC1_2 (control tick)"
-
-
-def as_flashed(src, dst):
-    out, skip = [], False
-    with open(src) as f:
-        for line in f:
-            if line.startswith("["):
-                skip = line.strip() == "[control]"
-            if line.strip().startswith("v_on_V"):
-                line = "v_on_V = 1\n"
-            if not skip:
-                out.append(line)
-    with open(dst, "w") as f:
-        f.writelines(out)
 
 
 def main():

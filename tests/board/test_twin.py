@@ -22,6 +22,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from scenario_as_flashed import as_flashed  # noqa: E402
+
 SRC = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = os.environ.get("DTC_HOST_BIN", os.path.join(SRC, "build", "host", "bin"))
 ELF = os.environ.get("DTC_FW_ELF", os.path.join(SRC, "build", "stm32g4", "dtc-fw.elf"))
@@ -62,22 +65,9 @@ def metrics(tmp, name, args):
 
 
 def case2_as_flashed(tmp):
-    """case2.ini without its [control] section: the twin commands the image through its RAM, not
-    through the CAN parameter path, so both runs use the firmware's defaults as flashed. The
-    firmware compensates 1 V per device (v_drop_V), so the plant has that drop (v_on_V = 1)."""
-    out, skip = [], False
-    with open(CASE2) as f:
-        for line in f:
-            if line.startswith("["):
-                skip = line.strip() == "[control]"
-            if line.strip().startswith("v_on_V"):
-                line = "v_on_V = 1\n"
-            if not skip:
-                out.append(line)
-    path = os.path.join(tmp, "case2_as_flashed.ini")
-    with open(path, "w") as f:
-        f.writelines(out)
-    return path
+    """case2.ini as the flashed image runs it (tools/scenario_as_flashed.py): both runs use the
+    firmware's defaults, the plant the 1 V device drop they compensate."""
+    return as_flashed(CASE2, os.path.join(tmp, "case2_as_flashed.ini"))
 
 
 def common_board_checks(b):

@@ -32,6 +32,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from scenario_as_flashed import as_flashed  # noqa: E402
+
 PARAM = "rbfn_gamma_w"
 PARAM_INDEX, PARAM_SUB = 0x2100, 2
 RESET_POWER_ON, RESET_WATCHDOG = 1, 4  # reset_cause (0x2510:7), hal.h enum hal_reset_cause
@@ -218,18 +221,7 @@ def running(exe, elf, eds, work, case2):
     dtctune reads, sets and reads back a parameter during the run; the run ends normally, on
     speed, without a fault, and its metrics are written."""
     import json
-    flashed = os.path.join(work, "case2_as_flashed.ini")
-    out, skip = [], False
-    with open(case2) as f:
-        for line in f:
-            if line.startswith("["):
-                skip = line.strip() == "[control]"
-            if line.strip().startswith("v_on_V"):
-                line = "v_on_V = 1\n"
-            if not skip:
-                out.append(line)
-    with open(flashed, "w") as f:
-        f.writelines(out)
+    flashed = as_flashed(case2, os.path.join(work, "case2_as_flashed.ini"))
     metrics = os.path.join(work, "running.json")
     if os.path.exists(metrics):
         os.remove(metrics)
