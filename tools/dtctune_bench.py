@@ -17,7 +17,8 @@ tools/can_bench.py does) and stops it at the end.
   startup  times whole dtctune processes, each a new interpreter, N runs each, alternating:
            `python -c pass` (the interpreter alone), `python -S -c pass` (without the site
            module), `dtctune --help` and `dtctune get PARAM` against the SIL (EDS read, socket,
-           one SDO upload), as `python -m dtctune` and as the venv's console script. Also the import time of each module dtctune's get path loads
+           one SDO upload), as `python -m dtctune` and as the venv's `dtctune` (the launcher
+           tools/setup_venv.sh writes: python -S, the quick command-line path). Also the import time of each module dtctune's get path loads
            (python -X importtime, one run) and the EDS read alone.
 """
 from __future__ import annotations
@@ -113,7 +114,7 @@ def bench_startup(args, eds: str) -> None:
         "python -m dtctune --help": [py, "-m", "dtctune", "--help"],
         "python -m dtctune get": [py, "-m", "dtctune"] + common + ["get", args.param],
     }
-    script = Path(py).parent / "dtctune"  # the console script pip installed (what users run)
+    script = Path(py).parent / "dtctune"  # the launcher tools/setup_venv.sh writes (what users run)
     if script.is_file():
         cmds["dtctune --help"] = [str(script), "--help"]
         cmds["dtctune get"] = [str(script)] + common + ["get", args.param]
@@ -125,8 +126,8 @@ def bench_startup(args, eds: str) -> None:
     for k, vals in times.items():
         print("  %-28s %s" % (k, stats(vals)))
     # Where a get spends its time: the heaviest imports (cumulative, one run) and the EDS read.
-    r = subprocess.run([py, "-X", "importtime", "-m", "dtctune"] + common + ["get", args.param],
-                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+    how = [py, "-S", "-X", "importtime", str(script)] if script.is_file() else [py, "-X", "importtime", "-m", "dtctune"]
+    r = subprocess.run(how + common + ["get", args.param], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
     rows = []
     for line in r.stderr.decode().splitlines():
         if line.startswith("import time:") and "|" in line:
@@ -135,7 +136,8 @@ def bench_startup(args, eds: str) -> None:
                 rows.append((int(parts[1]), parts[2][1:]))  # the name, indented 2 per level
     top = [x for x in rows if not x[1].startswith(" ")]
     top.sort(reverse=True)
-    print("  heaviest top-level imports of `get` (python -X importtime, cumulative, one run):")
+    print("  heaviest top-level imports of `get` (%s, python -X importtime, cumulative, one run):"
+          % ("the launcher" if script.is_file() else "python -m dtctune"))
     for us, name in top[:8]:
         print("    %8.1f ms  %s" % (us / 1e3, name.strip()))
     t0 = time.perf_counter()

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import math
 import os
-import re
 import struct
 import sys
 
@@ -316,7 +315,7 @@ class Param:
                 if d.lower() == t.lower():
                     return k
             try:
-                if code in _INT_RANGES and self.factor == 1 and re.fullmatch(r"[+-]?(0[xX][0-9a-fA-F]+|\d+)", t):
+                if code in _INT_RANGES and self.factor == 1 and _is_int_literal(t):
                     v: Number = int(t, 0)
                 else:
                     v = float(t)
@@ -429,11 +428,9 @@ class Dictionary:
         p = self._by_name.get(name.strip().lower())
         if p is not None:
             return p
-        m = re.fullmatch(r"\s*(0x[0-9a-fA-F]{1,4})\s*(?:(?::|sub)\s*(\w+))?\s*", name)
-        if m:
-            index = int(m.group(1), 16)
-            sub = int(m.group(2), 0) if m.group(2) else 0
-            p = self._by_addr.get((index, sub))
+        addr = _parse_address(name)
+        if addr is not None:
+            p = self._by_addr.get(addr)
             if p is not None:
                 return p
             raise DtctuneError("no object %s in the EDS %s" % (name.strip(), self.path))
@@ -455,7 +452,55 @@ class Dictionary:
             yield p
 
 
-_SECTION = re.compile(r"([0-9A-Fa-f]{4})(?:[Ss]ub([0-9A-Fa-f]+))?")
+# Plain string tests instead of regular expressions: importing `re` costs 0.07 s of every
+# command's start-up inside User-Mode Linux (tools/dtctune_bench.py startup).
+_HEX = frozenset("0123456789abcdefABCDEF")
+
+
+def _is_hex(t: str) -> bool:
+    return bool(t) and all(c in _HEX for c in t)
+
+
+def _is_int_literal(t: str) -> bool:
+    """[+-]?(0x<hex>|<decimal digits>): what int(t, 0) reads as an integer."""
+    u = t[1:] if t[:1] in ("+", "-") else t
+    if u[:2] in ("0x", "0X"):
+        return _is_hex(u[2:])
+    return u.isascii() and u.isdigit()
+
+
+def _parse_address(name: str) -> Optional[Tuple[int, int]]:
+    """(index, subindex) of `0x2001:3`, `0x2001sub3` or `0x2001` (1-4 hex digits, subindex in
+    any int() notation), or None when name is not an address."""
+    t = name.strip()
+    if not t.startswith("0x"):
+        return None
+    head, sep, sub = t.partition(":")
+    if not sep:
+        head, sep, sub = t.partition("sub")
+    digits = head.strip()[2:]
+    if not 1 <= len(digits) <= 4 or not _is_hex(digits):
+        return None
+    if not sep:
+        return int(digits, 16), 0
+    sub = sub.strip()
+    if not sub or not all(c.isascii() and (c.isalnum() or c == "_") for c in sub):
+        return None
+    try:
+        return int(digits, 16), int(sub, 0)
+    except ValueError:
+        raise DtctuneError("'%s': the subindex '%s' is not a number" % (name.strip(), sub)) from None
+
+
+def _section_address(name: str) -> Optional[Tuple[int, Optional[int]]]:
+    """EDS section names: '2001' -> (0x2001, None), '2001sub3' -> (0x2001, 3) (hex), else None."""
+    if len(name) < 4 or not _is_hex(name[:4]):
+        return None
+    if len(name) == 4:
+        return int(name, 16), None
+    if name[4:5] in ("s", "S") and name[5:7] == "ub" and _is_hex(name[7:]):
+        return int(name[:4], 16), int(name[7:], 16)
+    return None
 
 
 def _ini_sections(text: str) -> Dict[str, Dict[str, str]]:
@@ -491,7 +536,10 @@ def _number(text: str, data_type: int, node_id: Optional[int]):
     if data_type in dt.FLOAT_TYPES:
         return float(t)
     if "$NODEID" in t.upper():
-        t = re.sub(r"\+?\$NODEID\+?", "", t, flags=re.IGNORECASE) or "0"
+        k = t.upper().find("$NODEID")  # "$NODEID+0x180", "0x180+$NODEID": drop it and its "+"
+        before, after = t[:k], t[k + len("$NODEID"):]
+        t = (before[:-1] if before.endswith("+") else before) + (after[1:] if after.startswith("+") else after)
+        t = t or "0"
         return int(t, 0) + (node_id or 0)
     return int(t, 0)
 
@@ -502,10 +550,10 @@ def parse_eds(text: str, node_id: Optional[int]):
     secs = _ini_sections(text)
     objects: Dict[int, tuple] = {}
     for name, sec in secs.items():
-        m = _SECTION.fullmatch(name)
-        if not m or m.group(2) is not None:
+        addr = _section_address(name)
+        if addr is None or addr[1] is not None:
             continue
-        index = int(m.group(1), 16)
+        index = addr[0]
         otype = int(sec.get("ObjectType", "0x7") or "0x7", 0)
         pname = sec.get("ParameterName", "0x%04X" % index)
         subs: Dict[int, Var] = {}
@@ -516,10 +564,10 @@ def parse_eds(text: str, node_id: Optional[int]):
             objects[index] = (pname, False, subs)
         # DOMAIN definitions etc.: not values dtctune reads
     for name, sec in secs.items():
-        m = _SECTION.fullmatch(name)
-        if not m or m.group(2) is None:
+        addr = _section_address(name)
+        if addr is None or addr[1] is None:
             continue
-        index, sub = int(m.group(1), 16), int(m.group(2), 16)
+        index, sub = addr
         if index in objects and not objects[index][1]:
             objects[index][2][sub] = _var(sec, index, sub, node_id)
     return objects

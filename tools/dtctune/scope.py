@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 from typing import List
 
+from . import need_third_party
 from .errors import DtctuneError, EXIT_NO_ANSWER
 from .od import Dictionary, Param
 
@@ -226,6 +227,7 @@ def _write_csv(dest: Path, t, chans, traces) -> None:
 
 
 def plot(dest: Path, t, chans, traces, title: str) -> None:
+    need_third_party()
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -329,3 +329,21 @@ def test_start_up_imports_no_can_library(argv):
     r = subprocess.run([sys.executable, "-S", "-c", code, "--eds", str(EDS)] + argv, capture_output=True,
                        text=True, timeout=60)
     assert r.stderr.split()[-len(mods):] == ["False"] * len(mods), (mods, r.stderr)
+
+
+@pytest.mark.parametrize("argv", [["list", "--no-values"], ["--timeout", "0.2", "get", "speed.ref_rpm"],
+                                  ["--node", "1", "set", "speed.ref_rpm", "1"], ["save"], ["restore-defaults"]])
+def test_short_commands_import_no_argparse_re_or_socket_py(argv):
+    """The short commands read their line without argparse (quick_args) and open the CAN socket
+    through _socket: argparse, re, gettext, locale, enum and socket.py stay out of the process
+    (together about 0.2 s of each command's start-up inside User-Mode Linux)."""
+    import subprocess
+    import sys
+    mods = ('argparse', 're', 'gettext', 'locale', 'enum', 'socket', 'selectors')
+    code = ("import sys\nsys.path[:0] = %r\nfrom dtctune.cli import main\n"
+            "main(sys.argv[1:])\n"
+            "print(*[m in sys.modules for m in %r], file=sys.stderr)\n" % ([str(TOOLS)], mods))
+    r = subprocess.run([sys.executable, "-S", "-c", code, "--eds", str(EDS)] + argv, capture_output=True,
+                       text=True, timeout=60)
+    assert "Traceback" not in r.stderr, r.stderr
+    assert r.stderr.split()[-len(mods):] == ["False"] * len(mods), (mods, r.stderr)
