@@ -313,22 +313,29 @@ def test_monitor_piped_in_a_real_process_has_no_screen_codes(tmp_path):
     assert "\x1b" not in dest.read_text() and "\x1b" not in r.stderr
 
 
+def modules_loaded(argv, mods):
+    """Which of mods a dtctune command (in a new interpreter without site, -S, as the launcher
+    runs it) has imported when it ends: a list of booleans."""
+    import subprocess
+    import sys
+    code = ("import sys\nsys.path[:0] = %r\nfrom dtctune.cli import main\n"
+            "try:\n    main(sys.argv[1:])\nexcept SystemExit:\n    pass\n"
+            "print(*[m in sys.modules for m in %r], file=sys.stderr)\n" % ([str(TOOLS)], mods))
+    r = subprocess.run([sys.executable, "-S", "-c", code, "--eds", str(EDS)] + argv, capture_output=True,
+                       text=True, timeout=60)
+    assert "Traceback" not in r.stderr, r.stderr
+    return r.stderr.split()[-len(mods):]
+
+
 @pytest.mark.parametrize("argv", [["--help"], ["list", "--no-values"], ["--timeout", "0.2", "get", "speed.ref_rpm"],
                                   ["--timeout", "0.2", "set", "speed.ref_rpm", "1"]])
 def test_start_up_imports_no_can_library(argv):
     """Start-up (issue 12): --help, list, get and set on socketcan import neither python-can nor
     canopen nor numpy/matplotlib (on this machine without kernel CAN, get/set end at the socket),
     nor pathlib, shutil or difflib (0.05-0.1 s each inside User-Mode Linux; tools/dtctune_bench.py
-    startup). (-S: without site, which imports what the venv's .pth files ask for.)"""
-    import subprocess
-    import sys
+    startup)."""
     mods = ('can', 'canopen', 'numpy', 'matplotlib', 'pathlib', 'shutil', 'difflib')
-    code = ("import sys\nsys.path[:0] = %r\nfrom dtctune.cli import main\n"
-            "try:\n    main(sys.argv[1:])\nexcept SystemExit:\n    pass\n"
-            "print(*[m in sys.modules for m in %r], file=sys.stderr)\n" % ([str(TOOLS)], mods))
-    r = subprocess.run([sys.executable, "-S", "-c", code, "--eds", str(EDS)] + argv, capture_output=True,
-                       text=True, timeout=60)
-    assert r.stderr.split()[-len(mods):] == ["False"] * len(mods), (mods, r.stderr)
+    assert modules_loaded(argv, mods) == ["False"] * len(mods)
 
 
 @pytest.mark.parametrize("argv", [["list", "--no-values"], ["--timeout", "0.2", "get", "speed.ref_rpm"],
@@ -337,13 +344,5 @@ def test_short_commands_import_no_argparse_re_or_socket_py(argv):
     """The short commands read their line without argparse (quick_args) and open the CAN socket
     through _socket: argparse, re, gettext, locale, enum and socket.py stay out of the process
     (together about 0.2 s of each command's start-up inside User-Mode Linux)."""
-    import subprocess
-    import sys
     mods = ('argparse', 're', 'gettext', 'locale', 'enum', 'socket', 'selectors')
-    code = ("import sys\nsys.path[:0] = %r\nfrom dtctune.cli import main\n"
-            "main(sys.argv[1:])\n"
-            "print(*[m in sys.modules for m in %r], file=sys.stderr)\n" % ([str(TOOLS)], mods))
-    r = subprocess.run([sys.executable, "-S", "-c", code, "--eds", str(EDS)] + argv, capture_output=True,
-                       text=True, timeout=60)
-    assert "Traceback" not in r.stderr, r.stderr
-    assert r.stderr.split()[-len(mods):] == ["False"] * len(mods), (mods, r.stderr)
+    assert modules_loaded(argv, mods) == ["False"] * len(mods)
