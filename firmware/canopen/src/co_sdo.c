@@ -180,45 +180,73 @@ static void download_segment(co_dev *c, const uint8_t *req, uint32_t now_ms)
     s->toggle ^= 1u;
 }
 
+/* The entry @p index:@p sub if it exists and may be read; else the abort is
+ * sent and NULL returned. */
+static const co_param *find_readable(co_dev *c, uint16_t index, uint8_t sub)
+{
+    uint32_t abort;
+    const co_param *p = co_od_find(&c->app->od, index, sub, &abort);
+    if (p == NULL) {
+        send_abort(c, index, sub, abort);
+        return NULL;
+    }
+    if ((p->flags & CO_F_READ) == 0u) {
+        send_abort(c, index, sub, CO_ABORT_WRITE_ONLY);
+        return NULL;
+    }
+    return p;
+}
+
+/* The size of @p p for an upload, its value read into the transfer buffer
+ * (a domain is read piecewise while it is sent). Returns an abort code. */
+static uint32_t read_for_upload(co_dev *c, const co_param *p, uint32_t *size)
+{
+    if (p->dtype == CO_DT_DOMAIN) {
+        *size = c->app->domain_size(c->app->ctx, p);
+        return CO_ABORT_NONE;
+    }
+    size_t len;
+    uint32_t rc = co_od_read(c, p, c->sdo.buf, sizeof c->sdo.buf, &len);
+    *size = (uint32_t)len;
+    return rc;
+}
+
 static void initiate_upload(co_dev *c, const uint8_t *req, uint32_t now_ms)
 {
     co_sdo_server *s = &c->sdo;
     uint16_t index = (uint16_t)(req[1] | (req[2] << 8));
     uint8_t sub = req[3];
-    uint32_t abort;
     s->state = CO_SDO_IDLE;
-    const co_param *p = co_od_find(&c->app->od, index, sub, &abort);
-    if (p == NULL) {
-        send_abort(c, index, sub, abort);
+    const co_param *p = find_readable(c, index, sub);
+    if (p == NULL)
         return;
-    }
-    if ((p->flags & CO_F_READ) == 0u) {
-        send_abort(c, index, sub, CO_ABORT_WRITE_ONLY);
-        return;
-    }
     uint32_t size;
-    if (p->dtype == CO_DT_DOMAIN) {
-        size = c->app->domain_size(c->app->ctx, p);
-    } else {
-        size_t len;
-        uint32_t rc = co_od_read(c, p, s->buf, sizeof s->buf, &len);
-        if (rc != CO_ABORT_NONE) {
-            send_abort(c, index, sub, rc);
-            return;
-        }
-        size = (uint32_t)len;
-        if (len >= 1u && len <= 4u) {
-            uint8_t data[4] = {0u, 0u, 0u, 0u};
-            memcpy(data, s->buf, len);
-            respond_mux(c, (uint8_t)(0x43u | ((4u - len) << 2)), index, sub, data);
-            return;
-        }
+    uint32_t rc = read_for_upload(c, p, &size);
+    if (rc != CO_ABORT_NONE) {
+        send_abort(c, index, sub, rc);
+        return;
+    }
+    if (p->dtype != CO_DT_DOMAIN && size >= 1u && size <= 4u) {
+        uint8_t data[4] = {0u, 0u, 0u, 0u};
+        memcpy(data, s->buf, size);
+        respond_mux(c, (uint8_t)(0x43u | ((4u - size) << 2)), index, sub, data);
+        return;
     }
     /* Segmented upload with the size indicated (also for 0 bytes). */
     begin_transfer(c, CO_SDO_UPLOAD, p, size, now_ms);
     uint8_t data[4];
     put_u32(data, size);
     respond_mux(c, 0x41u, index, sub, data);
+}
+
+/* @p n bytes of the entry being uploaded from byte @p offset. */
+static void upload_bytes(co_dev *c, uint32_t offset, uint8_t *buf, uint32_t n)
+{
+    const co_param *p = &c->app->od.params[c->sdo.param];
+    if (p->dtype == CO_DT_DOMAIN)
+        c->app->domain_read(c->app->ctx, p, offset, buf, n);
+    else
+        memcpy(buf, &c->sdo.buf[offset], n);
 }
 
 static void upload_segment(co_dev *c, const uint8_t *req, uint32_t now_ms)
@@ -232,11 +260,7 @@ static void upload_segment(co_dev *c, const uint8_t *req, uint32_t now_ms)
     bool last = count == left;
     uint8_t b[8] = {0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     b[0] = (uint8_t)(((uint32_t)t << 4) | ((7u - count) << 1) | (last ? 1u : 0u));
-    const co_param *p = &c->app->od.params[s->param];
-    if (p->dtype == CO_DT_DOMAIN)
-        c->app->domain_read(c->app->ctx, p, s->pos, &b[1], count);
-    else
-        memcpy(&b[1], &s->buf[s->pos], count);
+    upload_bytes(c, s->pos, &b[1], count);
     s->pos += count;
     s->toggle ^= 1u;
     s->last_ms = now_ms;
@@ -258,48 +282,25 @@ uint16_t co_sdo_crc16(uint16_t crc, const uint8_t *data, uint32_t n)
     return (uint16_t)r;
 }
 
-/* @p n bytes of the entry being uploaded from byte @p offset. */
-static void upload_bytes(co_dev *c, uint32_t offset, uint8_t *buf, uint32_t n)
-{
-    const co_param *p = &c->app->od.params[c->sdo.param];
-    if (p->dtype == CO_DT_DOMAIN)
-        c->app->domain_read(c->app->ctx, p, offset, buf, n);
-    else
-        memcpy(buf, &c->sdo.buf[offset], n);
-}
-
 static void initiate_block_upload(co_dev *c, const uint8_t *req, uint32_t now_ms)
 {
     co_sdo_server *s = &c->sdo;
     uint16_t index = (uint16_t)(req[1] | (req[2] << 8));
     uint8_t sub = req[3];
     uint8_t blksize = req[4];
-    uint32_t abort;
     s->state = CO_SDO_IDLE;
-    const co_param *p = co_od_find(&c->app->od, index, sub, &abort);
-    if (p == NULL) {
-        send_abort(c, index, sub, abort);
+    const co_param *p = find_readable(c, index, sub);
+    if (p == NULL)
         return;
-    }
-    if ((p->flags & CO_F_READ) == 0u) {
-        send_abort(c, index, sub, CO_ABORT_WRITE_ONLY);
-        return;
-    }
     if (blksize == 0u || blksize > BLK_MAX_SEGMENTS) {
         send_abort(c, index, sub, CO_ABORT_BLKSIZE);
         return;
     }
     uint32_t size;
-    if (p->dtype == CO_DT_DOMAIN) {
-        size = c->app->domain_size(c->app->ctx, p);
-    } else {
-        size_t len;
-        uint32_t rc = co_od_read(c, p, s->buf, sizeof s->buf, &len);
-        if (rc != CO_ABORT_NONE) {
-            send_abort(c, index, sub, rc);
-            return;
-        }
-        size = (uint32_t)len;
+    uint32_t rc = read_for_upload(c, p, &size);
+    if (rc != CO_ABORT_NONE) {
+        send_abort(c, index, sub, rc);
+        return;
     }
     /* The protocol switch threshold (byte 5) is not used: always a block transfer. */
     begin_transfer(c, CO_SDO_BLOCK_UPLOAD, p, size, now_ms);
