@@ -9,9 +9,10 @@
  *    switches, hardware dead time, preloaded compare/set/reset programs
  *    transferred at the period start (RM0440 27.3);
  *  - fault: the gate drivers' active-low fault line on HRTIM FLT3 (PB10);
- *  - sampling: ADC1 + ADC2 injected simultaneous conversions triggered by
- *    the HRTIM master at a fixed instant of the period; their end-of-sequence
- *    interrupt is the control tick (RM0440 21.4);
+ *  - sampling: ADC1 + ADC2 injected simultaneous conversions and ADC3
+ *    (ic) triggered by the same HRTIM master compare at a fixed instant of
+ *    the period; ADC1's end-of-sequence interrupt is the control tick
+ *    (RM0440 21.4);
  *  - CAN: FDCAN1 classic CAN, fixed message RAM layout (RM0440 44.3);
  *  - NVM: two 2 KiB flash pages of bank 2 (RM0440 5.3);
  *  - watchdog: IWDG refreshed only when both the tick and the background have
@@ -49,7 +50,7 @@
 
 /* Sampling instant and switching keep-out, ns after the period start. */
 #define BOARD_SAMPLE_DELAY_NS 4000u  /* after the period-start edges and their dead time */
-#define BOARD_KEEPOUT_END_NS 7000u   /* sampling (3 x 0.87 us) is over by then */
+#define BOARD_KEEPOUT_END_NS 7000u   /* sampling (2 ranks x 0.87 us, to 5.74 us) is over by then */
 #define BOARD_MIN_PULSE_NS 2000u     /* shortest second-vector pulse at the period end */
 #define BOARD_START_EVENT_COUNTS 3u  /* CMP2: period-start event, 3 counts after roll-over */
 
@@ -111,17 +112,19 @@ static const board_pin g_pins[] = {
     /* Analog inputs. */
     PIN_ANALOG(GPIOA_BASE, 0u), /* ADC1_IN1 ia */
     PIN_ANALOG(GPIOA_BASE, 1u), /* ADC2_IN2 ib */
-    PIN_ANALOG(GPIOB_BASE, 1u), /* ADC1_IN12 ic */
+    PIN_ANALOG(GPIOB_BASE, 1u), /* ADC3_IN1 ic */
     PIN_ANALOG(GPIOC_BASE, 0u), /* ADC1_IN6 vc1 */
     PIN_ANALOG(GPIOC_BASE, 1u), /* ADC2_IN7 vc2 */
 };
 
-/* ADC channels: ADC1 ranks [ia, ic, vc1], ADC2 ranks [ib, vc2, vc2]. */
+/* ADC channels: ADC1 ranks [ia, vc1], ADC2 ranks [ib, vc2] (dual injected
+ * simultaneous), ADC3 rank [ic] on the same trigger: the three currents are
+ * sampled at one instant, the two capacitor voltages at the next rank. */
 #define ADC1_CH_IA 1u
-#define ADC1_CH_IC 12u
 #define ADC1_CH_VC1 6u
 #define ADC2_CH_IB 2u
 #define ADC2_CH_VC2 7u
+#define ADC3_CH_IC 1u /* PB1 = ADC3_IN1 (datasheet pin table, LQFP64) */
 
 /* ------------------------------------------------------------- state */
 
@@ -507,59 +510,73 @@ static void adc_set_sampling(uint32_t base, uint32_t ch)
 }
 
 /*
- * ADC1 (master) + ADC2 (slave), dual injected simultaneous mode, 3 ranks
- * each, triggered by HRTIM ADC trigger 2 (master compare 1) on the rising
- * edge; clock HCLK / 4 = 42.5 MHz, synchronous with the HRTIM, so the
- * sampling instant has no jitter (RM0440 21.4.3, 21.4.31). 24.5 + 12.5 ADC
- * cycles = 0.87 us per rank. ia and ib are sampled at the same instant, ic
- * and vc2 one rank (0.87 us) later.
+ * ADC1 (master) + ADC2 (slave), dual injected simultaneous mode, 2 ranks
+ * each, and ADC3 (independent, 1 rank), all three triggered by HRTIM ADC
+ * trigger 2 (master compare 1) on the rising edge: JEXTSEL 19 is
+ * hrtim_adc_trg2 in both the ADC1/2 and the ADC3/4/5 injected trigger tables
+ * (RM0440, ADC chapter). Both ADC pairs are clocked HCLK / 4 = 42.5 MHz,
+ * synchronous with the HRTIM, so the sampling instants have no jitter
+ * (RM0440 21.4.3, 21.4.31). 24.5 + 12.5 ADC cycles = 0.87 us per rank:
+ * ia, ib and ic are sampled at the trigger (rank 1), vc1 and vc2 one rank
+ * later; ADC3's single rank ends one rank before ADC1's sequence.
  */
 static bool adc_init(void)
 {
-    RCC_CCIPR = (RCC_CCIPR & ~RCC_CCIPR_ADC12SEL_MASK) | RCC_CCIPR_ADC12SEL_SYSCLK;
-    RCC_AHB2ENR |= RCC_AHB2ENR_ADC12EN;
+    RCC_CCIPR = (RCC_CCIPR & ~(RCC_CCIPR_ADC12SEL_MASK | RCC_CCIPR_ADC345SEL_MASK)) | RCC_CCIPR_ADC12SEL_SYSCLK |
+                RCC_CCIPR_ADC345SEL_SYSCLK;
+    RCC_AHB2ENR |= RCC_AHB2ENR_ADC12EN | RCC_AHB2ENR_ADC345EN;
     (void)RCC_AHB2ENR;
-    /* Clock mode and dual mode may be written only while both ADCs are
-     * disabled (RM0440, ADC chapter, ADC_CCR description). */
+    /* Clock mode and dual mode may be written only while the ADCs of the
+     * pair are disabled (RM0440, ADC chapter, ADC_CCR description). */
     ADC12_CCR = (ADC12_CCR & ~(ADC12_CCR_CKMODE_MASK | ADC12_CCR_DUAL_MASK)) | ADC12_CCR_CKMODE_HCLK_DIV4 |
                 ADC12_CCR_DUAL_INJ_SIMULT;
+    ADC345_CCR = (ADC345_CCR & ~(ADC345_CCR_CKMODE_MASK | ADC345_CCR_DUAL_MASK)) | ADC345_CCR_CKMODE_HCLK_DIV4;
 
-    if (!adc_power_up(ADC1_BASE) || !adc_power_up(ADC2_BASE))
+    if (!adc_power_up(ADC1_BASE) || !adc_power_up(ADC2_BASE) || !adc_power_up(ADC3_BASE))
         return false;
 
     ADC_REG(ADC1_BASE, ADC_CFGR_OFS) |= ADC_CFGR_JQDIS;
     ADC_REG(ADC2_BASE, ADC_CFGR_OFS) |= ADC_CFGR_JQDIS;
+    ADC_REG(ADC3_BASE, ADC_CFGR_OFS) |= ADC_CFGR_JQDIS;
     adc_set_sampling(ADC1_BASE, ADC1_CH_IA);
-    adc_set_sampling(ADC1_BASE, ADC1_CH_IC);
     adc_set_sampling(ADC1_BASE, ADC1_CH_VC1);
     adc_set_sampling(ADC2_BASE, ADC2_CH_IB);
     adc_set_sampling(ADC2_BASE, ADC2_CH_VC2);
+    adc_set_sampling(ADC3_BASE, ADC3_CH_IC);
 
-    ADC_REG(ADC1_BASE, ADC_JSQR_OFS) = (2u << ADC_JSQR_JL_SHIFT) | (ADC_JEXTSEL_HRTIM_TRG2 << ADC_JSQR_JEXTSEL_SHIFT) |
+    ADC_REG(ADC1_BASE, ADC_JSQR_OFS) = (1u << ADC_JSQR_JL_SHIFT) | (ADC_JEXTSEL_HRTIM_TRG2 << ADC_JSQR_JEXTSEL_SHIFT) |
                                       ADC_JSQR_JEXTEN_RISING | (ADC1_CH_IA << ADC_JSQR_JSQ1_SHIFT) |
-                                      (ADC1_CH_IC << ADC_JSQR_JSQ2_SHIFT) | (ADC1_CH_VC1 << ADC_JSQR_JSQ3_SHIFT);
+                                      (ADC1_CH_VC1 << ADC_JSQR_JSQ2_SHIFT);
     /* The slave follows the master's trigger: its own trigger stays off. */
-    ADC_REG(ADC2_BASE, ADC_JSQR_OFS) = (2u << ADC_JSQR_JL_SHIFT) | (ADC2_CH_IB << ADC_JSQR_JSQ1_SHIFT) |
-                                      (ADC2_CH_VC2 << ADC_JSQR_JSQ2_SHIFT) | (ADC2_CH_VC2 << ADC_JSQR_JSQ3_SHIFT);
+    ADC_REG(ADC2_BASE, ADC_JSQR_OFS) =
+        (1u << ADC_JSQR_JL_SHIFT) | (ADC2_CH_IB << ADC_JSQR_JSQ1_SHIFT) | (ADC2_CH_VC2 << ADC_JSQR_JSQ2_SHIFT);
+    ADC3_JSQR = (0u << ADC_JSQR_JL_SHIFT) | (ADC345_JEXTSEL_HRTIM_TRG2 << ADC_JSQR_JEXTSEL_SHIFT) |
+                ADC_JSQR_JEXTEN_RISING | (ADC3_CH_IC << ADC_JSQR_JSQ1_SHIFT);
 
     ADC_REG(ADC1_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
     ADC_REG(ADC2_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
-    ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTART; /* the master starts both */
+    ADC3_ISR = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    /* ADC3 armed first: both wait for the same HRTIM trigger edge. */
+    ADC_REG(ADC3_BASE, ADC_CR_OFS) |= ADC_CR_JADSTART;
+    ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTART; /* the master starts both of its pair */
     return true;
 }
 
-/* Stop the injected conversions and disable both ADCs (JADSTP, then ADDIS,
+/* Stop the injected conversions and disable the three ADCs (JADSTP, then ADDIS,
  * RM0440, ADC chapter, "Stopping an ongoing conversion" / "ADC on-off
  * control"), so a later adc_init() finds them disabled as it must. */
 static void adc_stop(void)
 {
     ADC_REG(ADC1_BASE, ADC_IER_OFS) = 0u;
-    if ((ADC_REG(ADC1_BASE, ADC_CR_OFS) & ADC_CR_JADSTART) != 0u) {
-        ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTP;
-        (void)wait_set(&ADC_REG(ADC1_BASE, ADC_CR_OFS), ADC_CR_JADSTART, 0u, WAIT_LOOPS);
-    }
-    const uint32_t bases[2] = {ADC1_BASE, ADC2_BASE};
+    const uint32_t masters[2] = {ADC1_BASE, ADC3_BASE};
     for (unsigned k = 0u; k < 2u; k++) {
+        if ((ADC_REG(masters[k], ADC_CR_OFS) & ADC_CR_JADSTART) != 0u) {
+            ADC_REG(masters[k], ADC_CR_OFS) |= ADC_CR_JADSTP;
+            (void)wait_set(&ADC_REG(masters[k], ADC_CR_OFS), ADC_CR_JADSTART, 0u, WAIT_LOOPS);
+        }
+    }
+    const uint32_t bases[3] = {ADC1_BASE, ADC2_BASE, ADC3_BASE};
+    for (unsigned k = 0u; k < 3u; k++) {
         if ((ADC_REG(bases[k], ADC_CR_OFS) & ADC_CR_ADEN) != 0u) {
             ADC_REG(bases[k], ADC_CR_OFS) |= ADC_CR_ADDIS;
             (void)wait_set(&ADC_REG(bases[k], ADC_CR_OFS), ADC_CR_ADEN, 0u, WAIT_LOOPS);
@@ -567,25 +584,35 @@ static void adc_stop(void)
     }
 }
 
-/* Read the six injected results; @return false if one was saturated. */
-static bool adc_read_codes(uint32_t code[6])
+/*
+ * Read the five injected results (ia, ib, ic, vc1, vc2) once ADC1's sequence
+ * has ended. ADC3's single rank ends one rank (0.87 us) before ADC1's two on
+ * the same trigger, but its result is taken only with its own JEOS set: a
+ * missed or late ADC3 conversion is refused, never read stale.
+ * @return ADC_CODES_OK, or why the sample must be refused.
+ */
+enum adc_codes { ADC_CODES_OK, ADC_CODES_SATURATED, ADC_CODES_IC_MISSING };
+
+static enum adc_codes adc_read_codes(uint32_t code[5])
 {
+    bool ic_done = (ADC3_ISR & ADC_ISR_JEOS) != 0u;
     code[0] = ADC_JDR(ADC1_BASE, 0u) & 0xFFFu; /* ia */
     code[1] = ADC_JDR(ADC2_BASE, 0u) & 0xFFFu; /* ib */
-    code[2] = ADC_JDR(ADC1_BASE, 1u) & 0xFFFu; /* ic */
-    code[3] = ADC_JDR(ADC1_BASE, 2u) & 0xFFFu; /* vc1 */
+    code[2] = ADC3_JDR1 & 0xFFFu;               /* ic */
+    code[3] = ADC_JDR(ADC1_BASE, 1u) & 0xFFFu; /* vc1 */
     code[4] = ADC_JDR(ADC2_BASE, 1u) & 0xFFFu; /* vc2 */
-    code[5] = ADC_JDR(ADC2_BASE, 2u) & 0xFFFu; /* vc2, second sample */
     ADC_REG(ADC1_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
     ADC_REG(ADC2_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
-    bool ok = true;
-    for (unsigned k = 0u; k < 6u; k++) {
-        if (k != 3u && k != 4u && k != 5u && (code[k] <= BOARD_ADC_SAT_LOW || code[k] >= BOARD_ADC_SAT_HIGH))
-            ok = false; /* a current at the rail: the sensor or the converter is saturated */
-        if ((k >= 3u) && code[k] >= BOARD_ADC_SAT_HIGH)
-            ok = false; /* a capacitor voltage at full scale (0 V is a valid reading) */
+    ADC3_ISR = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    if (!ic_done)
+        return ADC_CODES_IC_MISSING;
+    for (unsigned k = 0u; k < 5u; k++) {
+        if (k < 3u && (code[k] <= BOARD_ADC_SAT_LOW || code[k] >= BOARD_ADC_SAT_HIGH))
+            return ADC_CODES_SATURATED; /* a current at the rail: the sensor or the converter is saturated */
+        if (k >= 3u && code[k] >= BOARD_ADC_SAT_HIGH)
+            return ADC_CODES_SATURATED; /* a capacitor voltage at full scale (0 V is a valid reading) */
     }
-    return ok;
+    return ADC_CODES_OK;
 }
 
 /* Current offsets with the gates off: average BOARD_OFFSET_SAMPLES periods. */
@@ -595,8 +622,9 @@ static bool adc_calibrate_offsets(void)
     for (uint32_t n = 0u; n < BOARD_OFFSET_SAMPLES; n++) {
         if (!wait_set(&ADC_REG(ADC1_BASE, ADC_ISR_OFS), ADC_ISR_JEOS, ADC_ISR_JEOS, WAIT_LOOPS))
             return false;
-        uint32_t code[6];
-        (void)adc_read_codes(code);
+        uint32_t code[5];
+        if (adc_read_codes(code) == ADC_CODES_IC_MISSING)
+            return false; /* ADC3 did not convert with ADC1/2: no offset for ic */
         for (unsigned k = 0u; k < 3u; k++)
             sum[k] += code[k];
     }
@@ -698,12 +726,14 @@ void SysTick_Handler(void) { g_board.millis++; }
 
 static void sample_latch(void)
 {
-    uint32_t code[6];
-    bool in_range = adc_read_codes(code);
+    uint32_t code[5];
+    enum adc_codes got = adc_read_codes(code);
     g_board.seq++;
-    if (!in_range)
+    if (got == ADC_CODES_SATURATED)
         g_board.faults |= BOARD_FAULT_ADC_RANGE;
-    if (!g_board.adc_ok || !in_range) {
+    if (got == ADC_CODES_IC_MISSING)
+        g_board.faults |= BOARD_FAULT_ADC_SYNC;
+    if (!g_board.adc_ok || got != ADC_CODES_OK) {
         /* No trustworthy measurement: refuse it (the control core then sees a
          * stale sample and goes to its safe state). */
         g_board.sample_fresh = false;
@@ -716,7 +746,7 @@ static void sample_latch(void)
     s->ib_A = ((float)code[1] - g_board.offset_code[1]) * i_scale;
     s->ic_A = ((float)code[2] - g_board.offset_code[2]) * i_scale;
     s->vc1_V = (float)code[3] * v_scale;
-    s->vc2_V = 0.5f * (float)(code[4] + code[5]) * v_scale;
+    s->vc2_V = (float)code[4] * v_scale;
     s->speed_meas_rad_s = 0.0f;
     s->speed_meas_valid = false; /* no speed sensor on the board */
     s->seq = g_board.seq;

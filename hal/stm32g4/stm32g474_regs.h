@@ -124,6 +124,7 @@
 #define RCC_AHB2ENR_GPIOBEN (1u << 1)   /* @svd RCC.RCC_AHB2ENR.GPIOBEN */
 #define RCC_AHB2ENR_GPIOCEN (1u << 2)   /* @svd RCC.RCC_AHB2ENR.GPIOCEN */
 #define RCC_AHB2ENR_ADC12EN (1u << 13)  /* @svd RCC.RCC_AHB2ENR.ADC12EN */
+#define RCC_AHB2ENR_ADC345EN (1u << 14) /* @svd RCC.RCC_AHB2ENR.ADC345EN */
 #define RCC_APB1ENR1_FDCANEN (1u << 25) /* @svd RCC.RCC_APB1ENR1.FDCANEN */
 #define RCC_APB1ENR1_PWREN (1u << 28)   /* @svd RCC.RCC_APB1ENR1.PWREN */
 #define RCC_APB2ENR_SYSCFGEN (1u << 0)  /* @svd RCC.RCC_APB2ENR.SYSCFGEN */
@@ -132,6 +133,8 @@
 #define RCC_CCIPR_FDCANSEL_PCLK1 (2u << 24) /* @svd RCC.RCC_CCIPR.FDCANSEL=2 */
 #define RCC_CCIPR_ADC12SEL_MASK (3u << 28)  /* @svd RCC.RCC_CCIPR.ADC12SEL */
 #define RCC_CCIPR_ADC12SEL_SYSCLK (2u << 28) /* @svd RCC.RCC_CCIPR.ADC12SEL=2 */
+#define RCC_CCIPR_ADC345SEL_MASK (3u << 30)  /* @svd RCC.RCC_CCIPR.ADC345SEL */
+#define RCC_CCIPR_ADC345SEL_SYSCLK (2u << 30) /* @svd RCC.RCC_CCIPR.ADC345SEL=2 */
 #define RCC_CSR_LSION (1u << 0)    /* @svd RCC.RCC_CSR.LSION */
 #define RCC_CSR_RMVF (1u << 23)     /* @svd RCC.RCC_CSR.RMVF */
 #define RCC_CSR_OBLRSTF (1u << 25)  /* @svd RCC.RCC_CSR.OBLRSTF */
@@ -351,6 +354,8 @@
 #define ADC1_BASE 0x50000000u          /* @svd-base ADC1 */
 #define ADC2_BASE 0x50000100u          /* @svd-base ADC2 */
 #define ADC12_COMMON_BASE 0x50000300u  /* @svd-base ADC12_Common */
+#define ADC3_BASE 0x50000400u          /* @svd-base ADC3 */
+#define ADC345_COMMON_BASE 0x50000700u /* @svd-base ADC345_Common */
 #define ADC_ISR_OFS 0x00u              /* @svd-offset ADC1.ISR */
 #define ADC_IER_OFS 0x04u              /* @svd-offset ADC1.IER */
 #define ADC_CR_OFS 0x08u               /* @svd-offset ADC1.CR */
@@ -363,6 +368,11 @@
 #define ADC_REG(base, ofs) REG32((base) + (ofs)) /* @const */
 #define ADC_JDR(base, k) REG32((base) + ADC_JDR1_OFS + 4u * (k)) /* @const k = 0..3: JDR1..JDR4 */
 #define ADC12_CCR REG32(ADC12_COMMON_BASE + 0x08u) /* @svd ADC12_Common.CCR */
+#define ADC345_CCR REG32(ADC345_COMMON_BASE + 0x08u) /* @svd ADC345_Common.CCR */
+/* ADC3 has ADC1's register layout (ADC_*_OFS above); the two the tick reads, checked on their own: */
+#define ADC3_ISR REG32(ADC3_BASE + 0x00u)  /* @svd ADC3.ISR */
+#define ADC3_JDR1 REG32(ADC3_BASE + 0x80u) /* @svd ADC3.JDR1 */
+#define ADC3_JSQR REG32(ADC3_BASE + 0x4Cu) /* @svd ADC3.JSQR */
 
 #define ADC_ISR_ADRDY (1u << 0)     /* @svd ADC1.ISR.ADRDY */
 #define ADC_ISR_JEOC (1u << 5)      /* @svd ADC1.ISR.JEOC */
@@ -387,10 +397,14 @@
 #define ADC_JSQR_JSQ2_SHIFT 15u     /* @svd-shift ADC1.JSQR.JSQ2 */
 #define ADC_JSQR_JSQ3_SHIFT 21u     /* @svd-shift ADC1.JSQR.JSQ3 */
 #define ADC_JEXTSEL_HRTIM_TRG2 19u  /* @const RM0440 table 164: adc_jext_trg19 = hrtim_adc_trg2 (ADC1/2) */
+#define ADC345_JEXTSEL_HRTIM_TRG2 19u /* @const RM0440 ADC3/4/5 injected trigger table: adc_jext_trg19 = hrtim_adc_trg2 too */
 #define ADC12_CCR_DUAL_MASK (0x1Fu << 0)   /* @svd ADC12_Common.CCR.DUAL */
 #define ADC12_CCR_DUAL_INJ_SIMULT (5u << 0) /* @svd ADC12_Common.CCR.DUAL=5 injected simultaneous only */
 #define ADC12_CCR_CKMODE_MASK (3u << 16)   /* @svd ADC12_Common.CCR.CKMODE */
 #define ADC12_CCR_CKMODE_HCLK_DIV4 (3u << 16) /* @svd ADC12_Common.CCR.CKMODE=3 */
+#define ADC345_CCR_DUAL_MASK (0x1Fu << 0)     /* @svd ADC345_Common.CCR.DUAL */
+#define ADC345_CCR_CKMODE_MASK (3u << 16)     /* @svd ADC345_Common.CCR.CKMODE */
+#define ADC345_CCR_CKMODE_HCLK_DIV4 (3u << 16) /* @svd ADC345_Common.CCR.CKMODE=3 */
 
 /* ------------------------------------------------ FDCAN1 (RM0440 44.4) */
 #define FDCAN1_BASE 0x40006400u                    /* @svd-base FDCAN1 */

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
 
 extern "C" {
@@ -216,6 +217,119 @@ TEST_F(Board, DualInjectedConversionOfThePlantSensors) {
   EXPECT_EQ(adc_read(b, 0x088), v_code);   // ADC1 JDR3 vc1
   EXPECT_EQ(adc_read(b, 0x180), 2048u);    // ADC2 JDR1 ib
   EXPECT_EQ(adc_read(b, 0x184), v_code);   // ADC2 JDR2 vc2
+}
+
+// Power up, calibrate and enable the ADCs at these offsets (from 0x50000000), synchronous HCLK/4
+// clock on both groups; `dual` puts ADC1/ADC2 in injected simultaneous mode.
+static void adc_power_up(board *b, std::initializer_list<uint32_t> bases, bool dual) {
+  auto advance = [&](double s) {
+    b->cycles += (uint64_t)std::ceil(s * board_core_hz(b));
+    adc_event(b);
+  };
+  adc_write(b, 0x308, (3u << 16) | (dual ? 5u : 0u));
+  adc_write(b, 0x708, 3u << 16);
+  for (uint32_t base : bases) {
+    adc_write(b, base + 0x08, 0u);
+    adc_write(b, base + 0x08, 1u << 28);
+  }
+  advance(25e-6);
+  for (uint32_t base : bases) adc_write(b, base + 0x08, (1u << 28) | (1u << 31));
+  advance(40e-6);
+  for (uint32_t base : bases) adc_write(b, base + 0x08, (1u << 28) | 1u);
+  advance(2e-6);
+}
+
+// The board's scheme (docs/board.md, "Sampling"): ADC1/ADC2 dual injected [ia, vc1] / [ib, vc2] and
+// ADC3 [ic], all on HRTIM ADC trigger 2 (JEXTSEL 19 in both groups' tables). The three currents are
+// sampled at the same instant, 24.5 ADC clocks after the trigger (the fixture runs on HSI16: HCLK/4
+// = 4 MHz; 576 ns at 42.5 MHz on the board); ADC3's
+// one rank ends before ADC1's two; every code against the closed form at standstill.
+TEST_F(Board, Adc3SamplesIcAtTheInstantOfIaAndIb) {
+  plant_config pc;
+  plant_default_config(&pc);
+  ASSERT_EQ(board_attach_plant(b, &pc), 0);
+  adc_power_up(b, {0x000u, 0x100u, 0x400u}, true);
+  for (uint32_t base : {0x000u, 0x100u, 0x400u}) adc_write(b, base + 0x14, 03333333333u);  // SMP = 3: 24.5 cycles, ch 0-9
+  adc_write(b, 0x000 + 0x4C, 1u | (19u << 2) | (1u << 7) | (1u << 9) | (6u << 15));
+  adc_write(b, 0x100 + 0x4C, 1u | (2u << 9) | (7u << 15));
+  adc_write(b, 0x400 + 0x4C, 0u | (19u << 2) | (1u << 7) | (1u << 9));
+  adc_write(b, 0x400 + 0x08, (1u << 28) | 1u | (1u << 3));  // ADC3 JADSTART
+  adc_write(b, 0x000 + 0x08, (1u << 28) | 1u | (1u << 3));  // ADC1 JADSTART (starts both of the pair)
+  ASSERT_FALSE(faulted()) << msg();
+  const double t_adc = 4.0 / rcc_hclk_hz(b), t0 = board_now(b);
+  adc_hrtim_trigger(b, 2, t0);
+  b->cycles += (uint64_t)std::ceil(40 * t_adc * board_core_hz(b));  // one rank (24.5 + 12.5 clocks) + a bit
+  adc_event(b);
+  EXPECT_NE(adc_read(b, 0x400) & (1u << 6), 0u) << "ADC3 JEOS after its one rank";
+  EXPECT_EQ(adc_read(b, 0x000) & (1u << 6), 0u) << "ADC1 JEOS only after its second rank";
+  b->cycles += (uint64_t)std::ceil(40 * t_adc * board_core_hz(b));
+  adc_event(b);
+  ASSERT_FALSE(faulted()) << msg();
+  EXPECT_NE(adc_read(b, 0x000) & (1u << 6), 0u);
+  board_current_sampling cs;
+  board_current_sampling_get(b, &cs);
+  EXPECT_EQ(cs.triples, 1u);
+  EXPECT_LE(cs.max_skew_s, t_adc);
+  for (int k = 0; k < 3; k++) EXPECT_NEAR(cs.after_trigger_s[k], 24.5 * t_adc, 1e-12) << "current " << k;
+  const double v_plant = (double)std::lround(155.5 / 500.0 * 4095.0) * 500.0 / 4095.0;
+  const uint32_t v_code = (uint32_t)std::floor(v_plant * 3.3 / 500.0 / 3.3 * 4096.0);
+  EXPECT_EQ(adc_read(b, 0x080), 2048u);   // ADC1 JDR1 ia
+  EXPECT_EQ(adc_read(b, 0x180), 2048u);   // ADC2 JDR1 ib
+  EXPECT_EQ(adc_read(b, 0x480), 2048u);   // ADC3 JDR1 ic
+  EXPECT_EQ(adc_read(b, 0x084), v_code);  // ADC1 JDR2 vc1
+  EXPECT_EQ(adc_read(b, 0x184), v_code);  // ADC2 JDR2 vc2
+}
+
+// JEXTSEL 27 is HRTIM ADC trigger 1 for ADC3 (ADC3/4/5 table): trigger 2 does not start it, trigger 1
+// does. For ADC1/2, 27 is a timer event (TIM16 CC1 in their table), not modelled: refused.
+TEST_F(Board, Adc3ConvertsOnlyOnTheTriggerItsTableSelects) {
+  adc_power_up(b, {0x000u, 0x400u}, false);
+  adc_write(b, 0x400 + 0x4C, (27u << 2) | (1u << 7) | (1u << 9));
+  adc_write(b, 0x400 + 0x08, (1u << 28) | 1u | (1u << 3));
+  ASSERT_FALSE(faulted()) << msg();
+  const double rank_s = 40 * 4.0 / rcc_hclk_hz(b);  // one rank of 37 ADC clocks (HCLK/4) + a bit
+  adc_hrtim_trigger(b, 2, board_now(b));
+  b->cycles += (uint64_t)std::ceil(rank_s * board_core_hz(b));
+  adc_event(b);
+  EXPECT_EQ(adc_read(b, 0x400) & (1u << 6), 0u) << "no conversion on another trigger";
+  adc_hrtim_trigger(b, 1, board_now(b));
+  b->cycles += (uint64_t)std::ceil(rank_s * board_core_hz(b));
+  adc_event(b);
+  EXPECT_NE(adc_read(b, 0x400) & (1u << 6), 0u) << "HRTIM ADC trigger 1 converts";
+  ASSERT_FALSE(faulted()) << msg();
+  adc_write(b, 0x000 + 0x4C, (27u << 2) | (1u << 7) | (1u << 9));
+  adc_write(b, 0x000 + 0x08, (1u << 28) | 1u | (1u << 3));
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("JEXTSEL 27: not an HRTIM ADC trigger in ADC1/2"), std::string::npos) << msg();
+}
+
+TEST_F(Board, Adc3JadstartWithoutAdenIsRefused) {
+  adc_write(b, 0x708, 3u << 16);
+  adc_write(b, 0x400 + 0x4C, (19u << 2) | (1u << 7) | (1u << 9));
+  adc_write(b, 0x400 + 0x08, 1u << 3);
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("ADC3_CR: JADSTART while not enabled"), std::string::npos) << msg();
+}
+
+TEST_F(Board, Adc345DualModeAndAdc4AreRefused) {
+  adc_write(b, 0x708, (3u << 16) | 5u);
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("ADC345_CCR DUAL 5"), std::string::npos) << msg();
+}
+
+TEST_F(Board, Adc4IsNotModelled) {
+  adc_write(b, 0x500 + 0x08, 0u);
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("ADC4 is not modelled"), std::string::npos) << msg();
+}
+
+TEST_F(Board, Adc3ChannelOnAPinNotInAnalogModeIsRefused) {
+  adc_power_up(b, {0x400u}, false);
+  gpio_write(b, 1, 0x00, 0xFFFFFFF3u, 0xFFFFFFFFu);  // GPIOB MODER: PB1 input
+  adc_write(b, 0x400 + 0x4C, (19u << 2) | (1u << 7) | (1u << 9));
+  adc_write(b, 0x400 + 0x08, (1u << 28) | 1u | (1u << 3));
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("ADC3 channel 1: pin PB1 is not in analog mode"), std::string::npos) << msg();
 }
 
 TEST_F(Board, AdcChannelNotWiredIsRefused) {

@@ -4,7 +4,10 @@
   test_twin.py case2 CONTROLLER   CASE2 on the twin and on dtc-sim with the same controller:
                                   recovery time within 10 %, steady and estimate errors within
                                   0.5 rpm of dtc-sim's; no switching violation; every dead time
-                                  1 us +- one HRTIM tick (1/170 MHz); the control tick ran.
+                                  1 us +- one HRTIM tick (1/170 MHz); the control tick ran; the
+                                  three phase currents sampled at one instant (within one ADC
+                                  clock, 1 / 42.5 MHz) in every PWM period, at the end of the
+                                  24.5-cycle sampling window after the HRTIM trigger.
   test_twin.py fault              the gate drivers' fault line pulled low mid-run: outer switches
                                   (S1, S4) off within 60 ns (docs/board.md: 20-60 ns), inner ones
                                   (S2, S3) at least BOARD_FAULT_INNER_DELAY_NS = 0.6 us after the
@@ -36,6 +39,8 @@ ALL_OFF_WITHIN = 1.0e-6       # issue 9: outputs inactive within a microsecond
 EMCY_HW = 0x2320              # tools/params/parameters.toml [[emcy]] CTL_FAULT_HW
 ERR_REG_CURRENT = 1 << 1      # CiA 301 0x1001 bit 1
 MIN_PULSE = 2.0e-6            # BOARD_MIN_PULSE_NS: shortest second-vector pulse (npc_plan.c)
+T_ADC = 4.0 / 170e6           # ADC clock HCLK / 4 (ADC12_CCR, ADC345_CCR CKMODE = 3)
+SAMPLING_WINDOW = 24.5 * T_ADC  # SMP = 24.5 ADC cycles: the sample is taken at the window's end
 CTL_FAULT_HW = 1 << 6
 BOARD_FAULT_HRTIM = 1 << 5
 
@@ -80,6 +85,13 @@ def common_board_checks(b):
     shortest = min(min(s["min_on_s"], s["min_off_s"]) for s in b["switches"].values())
     check(shortest >= MIN_PULSE - DEAD_TIME - T_HRTIM,
           f"shortest gate pulse {shortest * 1e6:.3f} us >= minimum vector pulse - dead time (1 us)")
+    cs = b["current_sampling"]
+    check(cs["triggers"] > 1000, f"ia, ib, ic converted together on {cs['triggers']} triggers")
+    check(cs["max_skew_s"] <= T_ADC,
+          f"ia/ib/ic sampling instants at most {cs['max_skew_s'] * 1e9:.2f} ns apart (<= one ADC clock, 23.5 ns)")
+    for k in ("ia", "ib", "ic"):
+        t = cs[k + "_after_trigger_s"]
+        check(abs(t - SAMPLING_WINDOW) <= T_ADC, f"{k} sampled {t * 1e9:.1f} ns after the trigger (24.5 ADC cycles = 576 ns)")
     tick = b["interrupt_instructions"].get("ADC1_2 (control tick)")
     check(tick is not None and tick["count"] > 1000 and tick["worst"] >= tick["mean"] > 0,
           f"control tick instructions: {tick}")

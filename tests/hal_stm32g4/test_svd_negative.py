@@ -23,6 +23,11 @@ MUTATIONS = [
      "FDCAN_NBTP_NBRP_SHIFT"),
     ("field value too wide", "#define ADC12_CCR_DUAL_INJ_SIMULT (5u << 0) /* @svd ADC12_Common.CCR.DUAL=5",
      "#define ADC12_CCR_DUAL_INJ_SIMULT (5u << 0) /* @svd ADC12_Common.CCR.DUAL=37", "ADC12_CCR_DUAL_INJ_SIMULT"),
+    ("ADC3 at ADC4's base", "#define ADC3_BASE 0x50000400u", "#define ADC3_BASE 0x50000500u", "ADC3_BASE"),
+    ("wrong ADC3 result register", "#define ADC3_JDR1 REG32(ADC3_BASE + 0x80u)", "#define ADC3_JDR1 REG32(ADC3_BASE + 0x84u)",
+     "ADC3_JDR1"),
+    ("wrong clock-enable bit", "#define RCC_AHB2ENR_ADC345EN (1u << 14)", "#define RCC_AHB2ENR_ADC345EN (1u << 15)",
+     "RCC_AHB2ENR_ADC345EN"),
     ("untagged define", "#define HRTIM_MREP REG32(HRTIM_MASTER_BASE + 0x18u)  /* @svd HRTIM_Master.MREP */",
      "#define HRTIM_MREP REG32(HRTIM_MASTER_BASE + 0x18u)", "HRTIM_MREP"),
 ]

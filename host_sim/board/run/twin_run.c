@@ -436,6 +436,14 @@ int twin_metrics_extend(board *b, const char *path, const sim_metrics *m, double
   cJSON_AddNumberToObject(v, "pn_step", (double)la.pn_steps);
   cJSON_AddNumberToObject(v, "bad_combination", (double)la.bad_combinations);
   cJSON_AddNumberToObject(v, "total", (double)(la.overlaps + la.pn_steps + la.bad_combinations));
+  board_current_sampling cs;
+  board_current_sampling_get(b, &cs);
+  cJSON *smp = cJSON_AddObjectToObject(bd, "current_sampling");
+  cJSON_AddNumberToObject(smp, "triggers", (double)cs.triples);
+  cJSON_AddNumberToObject(smp, "max_skew_s", cs.max_skew_s);
+  cJSON_AddNumberToObject(smp, "ia_after_trigger_s", cs.after_trigger_s[0]);
+  cJSON_AddNumberToObject(smp, "ib_after_trigger_s", cs.after_trigger_s[1]);
+  cJSON_AddNumberToObject(smp, "ic_after_trigger_s", cs.after_trigger_s[2]);
   cJSON *irq = cJSON_AddObjectToObject(bd, "interrupt_instructions");
   for (int e = 1; e < 16 + 102; e++) {
     board_irq_stat st;

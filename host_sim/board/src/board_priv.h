@@ -241,7 +241,8 @@ uint32_t hrtim_levels(board *b, double t);   /* pin levels of TA1..TF2 from t on
 double hrtim_next_edge(board *b, double t);  /* first output edge after t, INFINITY: none */
 void hrtim_prune(board *b, double t);        /* forget edges up to t */
 
-/* adc.c (RM0440 §21); offsets from 0x50000000 (ADC1 0x000, ADC2 0x100, common 0x300) */
+/* adc.c (RM0440 §21); offsets from 0x50000000 (ADC1 0x000, ADC2 0x100, ADC12 common 0x300, ADC3 0x400,
+ * ADC345 common 0x700) */
 void adc_reset(board *b);
 uint32_t adc_read(board *b, uint32_t off);
 void adc_write(board *b, uint32_t off, uint32_t v);

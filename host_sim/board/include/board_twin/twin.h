@@ -43,6 +43,16 @@ uint32_t board_gate_levels(board *b);
 void board_la_mark(board *b);
 void board_la_get(board *b, board_la_stats *out);
 
+/* When the ADCs sampled the three phase currents (ia PA0, ib PA1, ic PB1), whichever ADC converts
+ * each: over every HRTIM trigger that converted all three, the largest spread of their sampling
+ * instants, and for the last one each instant after the trigger. */
+typedef struct {
+  uint64_t triples;           /* triggers with all three currents converted */
+  double max_skew_s;          /* largest (latest - earliest) sampling instant within one trigger */
+  double after_trigger_s[3];  /* ia, ib, ic: sampling instant - trigger instant, last trigger */
+} board_current_sampling;
+void board_current_sampling_get(board *b, board_current_sampling *out);
+
 /* Executed instructions per exception number (16 + IRQ), exact, excluding nested exceptions. */
 typedef struct {
   uint64_t count;
