@@ -8,7 +8,8 @@
  *  - gates: HRTIM timers A..F, two complementary outputs each = the 12
  *    switches, hardware dead time, preloaded compare/set/reset programs
  *    transferred at the period start (RM0440 27.3);
- *  - fault: the gate drivers' active-low fault line on HRTIM FLT3 (PB10);
+ *  - fault: the gate drivers' active-low fault line on HRTIM FLT3 (PB10,
+ *    outer switches) and external event 6 (PB5, filtered: inner switches);
  *  - sampling: ADC1 + ADC2 injected simultaneous conversions and ADC3
  *    (ic) triggered by the same HRTIM master compare at a fixed instant of
  *    the period; ADC1's end-of-sequence interrupt is the control tick
@@ -60,11 +61,12 @@
 #define WAIT_FLASH_LOOPS 20000000u /* page erase: 40 ms max (datasheet), generous */
 #define CAN_BUSOFF_RETRY_MS 100u
 
-/* HRTIM outputs in OENR/ODISR: per leg, timer A-type = S1 (out 1) / S3
- * (out 2), timer B-type = S2 (out 1) / S4 (out 2). Outer switches S1, S4:
- * TA1 TB2 TC1 TD2 TE1 TF2; inner switches S2, S3: TA2 TB1 TC2 TD1 TE2 TF1. */
-#define HRTIM_OUT_OUTER 0x999u
-#define HRTIM_OUT_INNER 0x666u
+/* HRTIM outputs in OENR/ODISR: per leg, timer A-type = S3 (out 1) / S1
+ * (out 2), timer B-type = S2 (out 1) / S4 (out 2): output 1 of every timer
+ * is an inner switch, so one external event can reset all of them in
+ * hardware. Outer switches S1, S4: TA2 TB2 .. TF2; inner S3, S2: TA1 .. TF1. */
+#define HRTIM_OUT_OUTER 0xAAAu
+#define HRTIM_OUT_INNER 0x555u
 
 /* NVM area, from stm32g474.ld. */
 extern const uint8_t __nvm_start[];
@@ -92,20 +94,21 @@ typedef struct {
 
 static const board_pin g_pins[] = {
     /* HRTIM gate outputs (pull-downs hold the drivers off while the pins float). */
-    PIN_AF(GPIOA_BASE, 8u, 13u, 2u),  /* CHA1 leg a S1 */
-    PIN_AF(GPIOA_BASE, 9u, 13u, 2u),  /* CHA2 leg a S3 */
+    PIN_AF(GPIOA_BASE, 8u, 13u, 2u),  /* CHA1 leg a S3 */
+    PIN_AF(GPIOA_BASE, 9u, 13u, 2u),  /* CHA2 leg a S1 */
     PIN_AF(GPIOA_BASE, 10u, 13u, 2u), /* CHB1 leg a S2 */
     PIN_AF(GPIOA_BASE, 11u, 13u, 2u), /* CHB2 leg a S4 */
-    PIN_AF(GPIOB_BASE, 12u, 13u, 2u), /* CHC1 leg b S1 */
-    PIN_AF(GPIOB_BASE, 13u, 13u, 2u), /* CHC2 leg b S3 */
+    PIN_AF(GPIOB_BASE, 12u, 13u, 2u), /* CHC1 leg b S3 */
+    PIN_AF(GPIOB_BASE, 13u, 13u, 2u), /* CHC2 leg b S1 */
     PIN_AF(GPIOB_BASE, 14u, 13u, 2u), /* CHD1 leg b S2 */
     PIN_AF(GPIOB_BASE, 15u, 13u, 2u), /* CHD2 leg b S4 */
-    PIN_AF(GPIOC_BASE, 8u, 3u, 2u),   /* CHE1 leg c S1 */
-    PIN_AF(GPIOC_BASE, 9u, 3u, 2u),   /* CHE2 leg c S3 */
+    PIN_AF(GPIOC_BASE, 8u, 3u, 2u),   /* CHE1 leg c S3 */
+    PIN_AF(GPIOC_BASE, 9u, 3u, 2u),   /* CHE2 leg c S1 */
     PIN_AF(GPIOC_BASE, 6u, 13u, 2u),  /* CHF1 leg c S2 */
     PIN_AF(GPIOC_BASE, 7u, 13u, 2u),  /* CHF2 leg c S4 */
     /* Gate-driver fault line, active low, open drain: pull-up. */
-    PIN_AF(GPIOB_BASE, 10u, 13u, 1u), /* HRTIM_FLT3 */
+    PIN_AF(GPIOB_BASE, 10u, 13u, 1u), /* HRTIM_FLT3: outer switches off */
+    PIN_AF(GPIOB_BASE, 5u, 13u, 1u),  /* HRTIM_EEV6, the same line: inner switches off (filtered) */
     /* FDCAN1 to the transceiver. */
     PIN_AF(GPIOB_BASE, 8u, 9u, 1u), /* FDCAN1_RX */
     PIN_AF(GPIOB_BASE, 9u, 9u, 0u), /* FDCAN1_TX */
@@ -148,7 +151,7 @@ typedef struct {
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     volatile bool gates_on;
     volatile bool fault_latched; /* set by the HRTIM fault ISR, reported once */
-    uint32_t fault_inner_cycles; /* BOARD_FAULT_INNER_DELAY_NS in core cycles, set before the fault is armed */
+    uint32_t fault_inner_cycles; /* BOARD_FAULT_BACKUP_DELAY_NS in core cycles, set before the fault is armed */
     uint32_t fault_trips;
     /* watchdog and reset cause */
     uint32_t reset_cause;         /* enum hal_reset_cause, from RCC_CSR at board_init */
@@ -362,18 +365,28 @@ static void hrtim_init_static(void)
                    (dt_counts << HRTIM_DTxR_DTF_SHIFT);
 
     for (uint32_t t = 0u; t < 6u; t++) {
-        /* Fault states, NPC order: the outer switch of each pair goes to its
-         * inactive level in hardware; the inner one keeps its waveform until
-         * the fault interrupt disables it BOARD_FAULT_INNER_DELAY_NS later. */
-        bool pair_s1_s3 = (t % 2u) == 0u; /* A, C, E: out1 = S1 (outer), out2 = S3 (inner) */
-        uint32_t fault = pair_s1_s3 ? (HRTIM_OUTxR_FAULT1_INACTIVE | HRTIM_OUTxR_FAULT2_NONE)
-                                    : (HRTIM_OUTxR_FAULT1_NONE | HRTIM_OUTxR_FAULT2_INACTIVE);
+        /* Fault states, NPC order: output 2 (the outer switch, S1 or S4) goes
+         * to its inactive level through FLT3 at once; output 1 (the inner
+         * switch, S3 or S2) keeps its waveform until the filtered external
+         * event 6 resets it BOARD_FAULT_INNER_DELAY_NS later (RSTx1R). */
+        uint32_t fault = HRTIM_OUTxR_FAULT1_NONE | HRTIM_OUTxR_FAULT2_INACTIVE;
         /* Complementary pair with dead time on both edges; POL = 0 (active
          * high), idle level inactive (IDLES = 0). */
         HRTIM_TIM_REG(t, HRTIM_OUTxR_OFS) = HRTIM_OUTxR_DTEN | fault;
         HRTIM_TIM_REG(t, HRTIM_DTxR_OFS) = dtr;
         HRTIM_TIM_REG(t, HRTIM_FLTxR_OFS) = HRTIM_FLTxR_FLT3EN | HRTIM_FLTxR_FLTLCK;
     }
+
+    /* External event 6 = the fault line's second pin (PB5): active low,
+     * level-sensitive, digital filter of 8 samples at fHRTIM / 16. Written
+     * before any counter runs (RM0440, HRTIM_EECRx: not to be changed once a
+     * timer using the event is enabled). As a reset source of output 1 it
+     * holds the inner switches off while the line is low: a reset request has
+     * priority over a simultaneous set (RM0440 27.3.7). */
+    HRTIM_EECR2 = (HRTIM_EECR2 & ~HRTIM_EECR2_EE6_MASK) | HRTIM_EECR2_EE6SRC_PIN | HRTIM_EECR2_EE6POL_LOW |
+                  HRTIM_EECR2_EE6SNS_LEVEL;
+    HRTIM_EECR3 = (HRTIM_EECR3 & ~(HRTIM_EECR3_EE6F_MASK | HRTIM_EECR3_EEVSD_MASK)) | HRTIM_EECR3_EEVSD_DIV1 |
+                  (HRTIM_EEF_DIV16_N8 << HRTIM_EECR3_EE6F_SHIFT);
 }
 
 /* Arm the fault input once PB10 is in its HRTIM alternate function (in
@@ -390,18 +403,21 @@ static void hrtim_arm_fault(void)
     HRTIM_FLTINR1 |= HRTIM_FLTINR1_FLT3LCK;
     HRTIM_ICR = HRTIM_ICR_FLT3C;
     HRTIM_IER |= HRTIM_IER_FLT3IE;
-    /* The handler's delay, precomputed: no division between the fault and the inner switches. */
+    /* The back-up stage's delay, precomputed: no division in the handler. */
     g_board.fault_inner_cycles =
-        (uint32_t)(((uint64_t)BOARD_FAULT_INNER_DELAY_NS * g_board.sysclk_hz + 999999999u) / 1000000000u);
+        (uint32_t)(((uint64_t)BOARD_FAULT_BACKUP_DELAY_NS * g_board.sysclk_hz + 999999999u) / 1000000000u);
     nvic_enable(IRQN_HRTIM1_FLT, PRIO_HRTIM_FAULT);
 }
 
-/** HRTIM fault interrupt: the outer switches are already off in hardware;
- * BOARD_FAULT_INNER_DELAY_NS after the handler's entry the inner ones follow.
- * The first action is the time stamp, the wait is a precomputed cycle count
- * (bounded by its own loop count should the cycle counter stop), the second
- * a single store of a constant. Context: interrupt, most urgent (priority 0:
- * pre-empts the control tick; nothing in the firmware masks it). */
+/** HRTIM fault interrupt, the software back-up: the outer switches are off
+ * through FLT3 and the inner ones go off through the filtered external event
+ * 6, both in hardware. BOARD_FAULT_BACKUP_DELAY_NS after the handler's entry
+ * (after the hardware inner stage) every output is disabled, so the inner
+ * switches are off even if the second input is not wired; then the trip is
+ * latched. The first action is the time stamp, the wait a precomputed cycle
+ * count (bounded by its own loop count should the cycle counter stop), the
+ * second a single store of a constant. Context: interrupt, most urgent
+ * (priority 0: pre-empts the control tick; nothing in the firmware masks it). */
 void HRTIM1_FLT_IRQHandler(void)
 {
     const uint32_t t0 = DWT_CYCCNT;
@@ -455,11 +471,10 @@ static int hrtim_start(uint32_t period_us)
         HRTIM_TIM_REG(t, HRTIM_REPxR_OFS) = 0u;
         HRTIM_TIM_REG(t, HRTIM_CMP1xR_OFS) = per / 2u;
         HRTIM_TIM_REG(t, HRTIM_CMP2xR_OFS) = BOARD_START_EVENT_COUNTS;
-        /* Every leg starts clamped to the neutral point (O): S1/S3 pair
-         * output 1 low (S3 on), S2/S4 pair output 1 high (S2 on). */
-        bool pair_s1_s3 = (t % 2u) == 0u;
-        HRTIM_TIM_REG(t, HRTIM_SETx1R_OFS) = pair_s1_s3 ? 0u : HRTIM_SET_CMP2;
-        HRTIM_TIM_REG(t, HRTIM_RSTx1R_OFS) = pair_s1_s3 ? HRTIM_RST_CMP2 : 0u;
+        /* Every leg starts clamped to the neutral point (O): output 1 (S3,
+         * S2) high in both pairs. External event 6 resets output 1 (fault). */
+        HRTIM_TIM_REG(t, HRTIM_SETx1R_OFS) = HRTIM_SET_CMP2;
+        HRTIM_TIM_REG(t, HRTIM_RSTx1R_OFS) = HRTIM_RST_EXTEVNT6;
     }
     for (uint32_t leg = 0u; leg < 3u; leg++)
         g_board.last_leg[leg] = (uint8_t)HAL_LEG_O;
@@ -879,7 +894,7 @@ int hal_actuate(const hal_actuation *act)
         for (uint32_t k = 0u; k < 2u; k++) {
             uint32_t tim = 2u * leg + k; /* A/B: leg a, C/D: leg b, E/F: leg c */
             HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = plan.set[k];
-            HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = plan.rst[k];
+            HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = plan.rst[k] | HRTIM_RST_EXTEVNT6; /* inner off on a fault */
             if (plan.t != 0u && plan.t != tm.per)
                 HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = plan.t;
         }

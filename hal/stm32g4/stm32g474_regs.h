@@ -302,6 +302,7 @@
 #define HRTIM_RST_PER (1u << 2)       /* @svd HRTIM_TIMA.RSTA1R.PER */
 #define HRTIM_RST_CMP1 (1u << 3)      /* @svd HRTIM_TIMA.RSTA1R.CMP1 */
 #define HRTIM_RST_CMP2 (1u << 4)      /* @svd HRTIM_TIMA.RSTA1R.CMP2 */
+#define HRTIM_RST_EXTEVNT6 (1u << 26) /* @svd HRTIM_TIMA.RSTA1R.EXTEVNT6 */
 #define HRTIM_OUTxR_POL1 (1u << 1)    /* @svd HRTIM_TIMA.OUTAR.POL1 */
 #define HRTIM_OUTxR_IDLES1 (1u << 3)  /* @svd HRTIM_TIMA.OUTAR.IDLES1 */
 #define HRTIM_OUTxR_FAULT1_MASK (3u << 4)     /* @svd HRTIM_TIMA.OUTAR.FAULT1 */
@@ -327,6 +328,8 @@
 #define HRTIM_ODISR REG32(HRTIM_COMMON_BASE + 0x18u)   /* @svd HRTIM_Common.ODISR */
 #define HRTIM_ODSR REG32(HRTIM_COMMON_BASE + 0x1Cu)    /* @svd HRTIM_Common.ODSR */
 #define HRTIM_ADC2R REG32(HRTIM_COMMON_BASE + 0x40u)   /* @svd HRTIM_Common.ADC2R */
+#define HRTIM_EECR2 REG32(HRTIM_COMMON_BASE + 0x34u)   /* @svd HRTIM_Common.EECR2 */
+#define HRTIM_EECR3 REG32(HRTIM_COMMON_BASE + 0x38u)   /* @svd HRTIM_Common.EECR3 */
 #define HRTIM_FLTINR1 REG32(HRTIM_COMMON_BASE + 0x50u) /* @svd HRTIM_Common.FLTINR1 */
 #define HRTIM_FLTINR2 REG32(HRTIM_COMMON_BASE + 0x54u) /* @svd HRTIM_Common.FLTINR2 */
 #define HRTIM_CR1_UDIS_ALL (0x7Fu << 0)  /* @const MUDIS|TAUDIS..TFUDIS, bits 0..6 */
@@ -344,6 +347,15 @@
 #define HRTIM_ODISR_TA1ODIS (1u << 0)    /* @svd HRTIM_Common.ODISR.TA1ODIS */
 #define HRTIM_ODISR_TF2ODIS (1u << 11)   /* @svd HRTIM_Common.ODISR.TF2ODIS */
 #define HRTIM_ADC2R_AD2MC1 (1u << 0)     /* @svd HRTIM_Common.ADC2R.AD2MC1 */
+#define HRTIM_EECR2_EE6SRC_PIN (0u << 0) /* @svd HRTIM_Common.EECR2.EE6SRC=0 source 1: the HRTIM_EEV6 pin */
+#define HRTIM_EECR2_EE6POL_LOW (1u << 2) /* @svd HRTIM_Common.EECR2.EE6POL 1: active low */
+#define HRTIM_EECR2_EE6SNS_LEVEL (0u << 3) /* @svd HRTIM_Common.EECR2.EE6SNS=0 active level, not an edge */
+#define HRTIM_EECR2_EE6_MASK (0x1Fu << 0) /* @const EE6SRC | EE6POL | EE6SNS, bits 0..4 */
+#define HRTIM_EECR3_EE6F_SHIFT 0u        /* @svd-shift HRTIM_Common.EECR3.EE6F */
+#define HRTIM_EECR3_EE6F_MASK (0xFu << 0) /* @svd HRTIM_Common.EECR3.EE6F */
+#define HRTIM_EECR3_EEVSD_MASK (3u << 30) /* @svd HRTIM_Common.EECR3.EEVSD */
+#define HRTIM_EECR3_EEVSD_DIV1 (0u << 30) /* @svd HRTIM_Common.EECR3.EEVSD=0 fEEVS = fHRTIM */
+#define HRTIM_EEF_DIV16_N8 12u           /* @const EExF 1100: fSAMPLING = fEEVS / 16, N = 8 (RM0440, HRTIM_EECR3) */
 #define HRTIM_FLTINR1_FLT3E (1u << 16)   /* @svd HRTIM_Common.FLTINR1.FLT3E */
 #define HRTIM_FLTINR1_FLT3P (1u << 17)   /* @svd HRTIM_Common.FLTINR1.FLT3P 0: active low */
 #define HRTIM_FLTINR1_FLT3SRC (1u << 18) /* @svd HRTIM_Common.FLTINR1.FLT3SRC 0: FLT3 pin */

@@ -88,6 +88,109 @@ TEST_F(Board, PulseShorterThanTheDeadTimeDisappears) {
   for (double t = 300 * tc; t < 320 * tc + 1e-6; t += 50e-9) EXPECT_EQ(hrtim_levels(b, t0 + t) & 1u, 0u);
 }
 
+// External event 6 (the fault line's second input, PB5) as a reset of output 1, through its digital
+// filter EE6F = 1100 (N = 8 samples at fEEVS / 16, fEEVS = fHRTIM) and 3 tHRTIM of resynchronisation
+// (RM0440 HRTIM_EECR2/3, §27.3.7): output 1 falls at the 8th sample of the low level, stays reset
+// through the next period's set event while the line is low (a reset request beats a set), stays
+// reset after the line is released until the next set event, and a low pulse of fewer than 8
+// samples changes nothing. Output 2 (complement) follows with its dead time.
+TEST_F(Board, ExternalEvent6ResetsOutput1AfterItsFilter) {
+  const double f = rcc_hclk_hz(b), tc = 1.0 / f, ts = 16 * tc, sync = 3 * tc;  // 16 MHz: ts = 1 us
+  auto advance_to = [&](double t) {  // through every HRTIM event on the way, each at its instant
+    for (;;) {
+      double n = hrtim_next_event(b);
+      if (!(n <= t)) break;
+      b->cycles = (uint64_t)std::llround(n * board_core_hz(b));
+      hrtim_event(b);
+    }
+    b->cycles = (uint64_t)std::llround(t * board_core_hz(b));
+    hrtim_event(b);
+  };
+  auto off_instant = [&](double t_edge) { return std::ceil(t_edge / ts - 1e-6) * ts + 7 * ts + sync; };
+  gpio_write(b, 1, 0x0C, 1u << 10, 3u << 10);    // GPIOB PUPDR: PB5 pull-up
+  gpio_write(b, 1, 0x20, 13u << 20, 15u << 20);  // AFRL: PB5 AF13 (HRTIM_EEV6)
+  gpio_write(b, 1, 0x00, 2u << 10, 3u << 10);    // MODER: PB5 alternate function
+  hrtim_write(b, COMMON + 0x34, 1u << 2);        // EECR2: EE6SRC pin, EE6POL active low, EE6SNS level
+  hrtim_write(b, COMMON + 0x38, 12u);            // EECR3: EE6F = 1100, EEVSD = 0
+  timers(1000);                                   // 62.5 us periods
+  hrtim_write(b, TIM(0) + 0x1C, 100);
+  hrtim_write(b, TIM(0) + 0x24, 900);
+  hrtim_write(b, TIM(0) + 0x3C, 1u << 3);              // set at CMP1
+  hrtim_write(b, TIM(0) + 0x40, (1u << 4) | (1u << 26));  // reset at CMP2 and on external event 6
+  hrtim_write(b, TIM(0) + 0x38, 16u | (3u << 10) | (16u << 16));  // 1 us dead times
+  hrtim_write(b, TIM(0) + 0x64, 1u << 8);
+  hrtim_write(b, COMMON + 0x14, 3u);
+  const double t0 = board_now(b), per = 1000 * tc;
+  hrtim_write(b, 0x00, 5u | 8u | (0x7Fu << 16));
+  ASSERT_FALSE(faulted()) << msg();
+  advance_to(t0 + 20e-6);
+  ASSERT_EQ(hrtim_levels(b, board_now(b)) & 3u, 1u) << "output 1 on after CMP1";
+  const double t_line = board_now(b) + 0.3e-6;  // between two samples
+  advance_to(t_line);
+  board_drive_pin(b, 'B', 5, 0);
+  const double t_off = off_instant(t_line);
+  advance_to(t_off + 0.1 * tc);
+  ASSERT_FALSE(faulted()) << msg();
+  EXPECT_EQ(hrtim_levels(b, t_off - 0.5 * tc) & 1u, 1u) << "still on just before the 8th sample";
+  EXPECT_EQ(hrtim_levels(b, t_off + 0.5 * tc) & 1u, 0u) << "reset at the 8th sample + 3 tHRTIM";
+  EXPECT_NEAR(t_off - t_line, 7.7e-6 + sync, 1e-9) << "0.7 us to the next sample, then 7 more";
+  advance_to(t_off + 1e-6 + 0.5 * tc);
+  EXPECT_EQ(hrtim_levels(b, board_now(b)) & 3u, 2u) << "output 2 on after its dead time";
+  // the next period's CMP1 set meets the reset request: output 1 stays off
+  advance_to(t0 + per + 100 * tc + 2e-6);
+  EXPECT_EQ(hrtim_levels(b, board_now(b)) & 1u, 0u) << "the set event lost against the held reset";
+  // released: off until the following set event, then on after the rising dead time
+  advance_to(t0 + per + 20e-6);
+  board_drive_pin(b, 'B', 5, 1);
+  advance_to(t0 + 2 * per);
+  EXPECT_EQ(hrtim_levels(b, board_now(b)) & 1u, 0u) << "released, but no set event yet";
+  advance_to(t0 + 2 * per + 100 * tc + 1e-6 + tc);
+  EXPECT_EQ(hrtim_levels(b, board_now(b)) & 1u, 1u) << "set again by CMP1 (+ 1 us dead time)";
+  // a low pulse of 5 samples: filtered out
+  advance_to(t0 + 2 * per + 20e-6);
+  board_drive_pin(b, 'B', 5, 0);
+  advance_to(t0 + 2 * per + 25e-6);
+  board_drive_pin(b, 'B', 5, 1);
+  for (double t = t0 + 2 * per + 20e-6; t < t0 + 2 * per + 40e-6; t += 0.25e-6) {
+    advance_to(t);
+    ASSERT_EQ(hrtim_levels(b, t) & 1u, 1u) << "a 5 us pulse does not pass the 8 us filter, at " << (t - t0) * 1e6;
+  }
+  ASSERT_FALSE(faulted()) << msg();
+}
+
+TEST_F(Board, ExternalEventConfigurationsNotOnThisBoardAreRefused) {
+  hrtim_write(b, COMMON + 0x34, 1u << 9);  // EE7POL: event 7 has no pin on this board
+  EXPECT_NE(msg().find("external event 7 is not wired"), std::string::npos) << msg();
+}
+
+TEST_F(Board, ExternalEvent6EdgeSensitivityIsRefused) {
+  hrtim_write(b, COMMON + 0x34, (1u << 2) | (2u << 3));  // EE6SNS = falling edge
+  EXPECT_NE(msg().find("EE6SNS 2: edge sensitivity not modelled"), std::string::npos) << msg();
+}
+
+TEST_F(Board, ExternalEventAsSetSourceIsRefused) {
+  hrtim_write(b, TIM(1) + 0x3C, 1u << 26);  // SETB1R.EXTEVNT6
+  EXPECT_NE(msg().find("event sources 0x04000000 not modelled"), std::string::npos) << msg();
+}
+
+TEST_F(Board, ExternalEvent7ResetIsRefused) {
+  hrtim_write(b, TIM(1) + 0x40, 1u << 27);  // RSTB1R.EXTEVNT7
+  EXPECT_NE(msg().find("event sources 0x08000000 not modelled"), std::string::npos) << msg();
+}
+
+TEST_F(Board, ExternalEventConfigurationWhileCountingIsRefused) {
+  timers(1000);
+  hrtim_write(b, 0x00, 5u | 8u | (0x7Fu << 16));
+  hrtim_write(b, COMMON + 0x38, 12u);
+  EXPECT_NE(msg().find("HRTIM_EECR3 written while the counters run"), std::string::npos) << msg();
+}
+
+TEST_F(Board, DelayedProtectionIsRefused) {
+  hrtim_write(b, TIM(0) + 0x64, (1u << 8) | (1u << 9));  // OUTAR DLYPRTEN: not the board's mechanism
+  EXPECT_TRUE(faulted());
+  EXPECT_NE(msg().find("HRTIM_OUTAR"), std::string::npos) << msg();
+}
+
 TEST_F(Board, LockedDeadTimeIsRefused) {
   hrtim_write(b, TIM(1) + 0x38, 16u | (3u << 10) | (1u << 15) | (16u << 16));  // DTRLK
   ASSERT_FALSE(faulted()) << msg();
@@ -147,11 +250,14 @@ TEST_F(Board, LogicAnalyserCountsPnStepsAndOverlaps) {
   ASSERT_EQ(board_attach_plant(b, &pc), 0);
   timers(1000);
   const uint32_t dt = 16u | (3u << 10) | (16u << 16);
-  for (int t = 0; t < 2; t++) {  // leg a: S1 (A out 1) and S2 (B out 1) set together at CMP1
+  // leg a: S1 (A output 2, the complement of S3 = A output 1) and S2 (B output 1) turn on together
+  // at CMP1 and off together at CMP2; A output 1 is set at CMP3 = 3 so the leg starts in N
+  for (int t = 0; t < 2; t++) {
     hrtim_write(b, TIM(t) + 0x1C, 300);
     hrtim_write(b, TIM(t) + 0x24, 700);
-    hrtim_write(b, TIM(t) + 0x3C, 1u << 3);
-    hrtim_write(b, TIM(t) + 0x40, 1u << 4);
+    hrtim_write(b, TIM(t) + 0x28, 3);
+    hrtim_write(b, TIM(t) + 0x3C, t == 0 ? (1u << 5) | (1u << 4) : 1u << 3);
+    hrtim_write(b, TIM(t) + 0x40, t == 0 ? 1u << 3 : 1u << 4);
     hrtim_write(b, TIM(t) + 0x38, dt);
     hrtim_write(b, TIM(t) + 0x64, 1u << 8);
   }

@@ -28,6 +28,10 @@ MUTATIONS = [
      "ADC3_JDR1"),
     ("wrong clock-enable bit", "#define RCC_AHB2ENR_ADC345EN (1u << 14)", "#define RCC_AHB2ENR_ADC345EN (1u << 15)",
      "RCC_AHB2ENR_ADC345EN"),
+    ("external event 6 reset at event 7's bit", "#define HRTIM_RST_EXTEVNT6 (1u << 26)",
+     "#define HRTIM_RST_EXTEVNT6 (1u << 27)", "HRTIM_RST_EXTEVNT6"),
+    ("wrong external-event register", "#define HRTIM_EECR3 REG32(HRTIM_COMMON_BASE + 0x38u)",
+     "#define HRTIM_EECR3 REG32(HRTIM_COMMON_BASE + 0x34u)", "HRTIM_EECR3"),
     ("untagged define", "#define HRTIM_MREP REG32(HRTIM_MASTER_BASE + 0x18u)  /* @svd HRTIM_Master.MREP */",
      "#define HRTIM_MREP REG32(HRTIM_MASTER_BASE + 0x18u)", "HRTIM_MREP"),
 ]
