@@ -36,6 +36,13 @@
  */
 #define BOARD_FAULT_BACKUP_DELAY_NS 1000u
 
+/**
+ * Before enabling the gates the fault line must have been high at least this
+ * long, ns: longer than the external event 6 filter (<= 0.77 us), so its reset
+ * request is over when the output-1 latches are set to O.
+ */
+#define BOARD_FAULT_LINE_SETTLE_NS 1000u
+
 /** Board fault bits recorded by the binding (board_faults()). */
 enum board_fault {
     BOARD_FAULT_HSE = 1u << 0,        /**< HSE did not start: running from HSI16 -> PLL */

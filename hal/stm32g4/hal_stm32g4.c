@@ -920,6 +920,17 @@ void hal_gate_enable(bool enable)
      * or while the fault line is low. */
     if (!g_board.tick_running || !g_board.adc_ok || fault_pin_active() || g_board.fault_latched)
         return;
+    /* After a trip the fault line's external event 6 has left every output-1
+     * latch reset (inner switch off): enabled as they are, the outer switches
+     * (their complements) would come on together. So, once the line has been
+     * high for longer than the event's filter, set the latches to O (S3, S2
+     * on; a software set, not preloaded: RM0440, HRTIM_SETx1R.SST) for the
+     * rest of this period: no programme has a P<->N step from O. */
+    delay_ns(BOARD_FAULT_LINE_SETTLE_NS);
+    if (fault_pin_active())
+        return;
+    for (uint32_t t = 0u; t < 6u; t++)
+        HRTIM_TIM_REG(t, HRTIM_SETx1R_OFS) |= HRTIM_SET_SST; /* the preloaded programme is written back as read */
     HRTIM_ICR = HRTIM_ICR_FLT3C;
     HRTIM_IER |= HRTIM_IER_FLT3IE;
     HRTIM_OENR = HRTIM_OUT_ALL;

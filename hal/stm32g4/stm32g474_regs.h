@@ -296,6 +296,7 @@
 #define HRTIM_DTxR_DTF_MASK (0x1FFu << 16) /* @svd HRTIM_TIMA.DTAR.DTFx */
 #define HRTIM_DTxR_DTRLK (1u << 15)   /* @svd HRTIM_TIMA.DTAR.DTRLKx */
 #define HRTIM_DTxR_DTFLK (1u << 31)   /* @svd HRTIM_TIMA.DTAR.DTFLKx */
+#define HRTIM_SET_SST (1u << 0)       /* @svd HRTIM_TIMA.SETA1R.SST software set, not preloaded */
 #define HRTIM_SET_PER (1u << 2)       /* @svd HRTIM_TIMA.SETA1R.PER */
 #define HRTIM_SET_CMP1 (1u << 3)      /* @svd HRTIM_TIMA.SETA1R.CMP1 */
 #define HRTIM_SET_CMP2 (1u << 4)      /* @svd HRTIM_TIMA.SETA1R.CMP2 */

@@ -93,10 +93,12 @@ TEST_F(Board, PulseShorterThanTheDeadTimeDisappears) {
 // (RM0440 HRTIM_EECR2/3, §27.3.7): output 1 falls at the 8th sample of the low level, stays reset
 // through the next period's set event while the line is low (a reset request beats a set), stays
 // reset after the line is released until the next set event, and a low pulse of fewer than 8
-// samples changes nothing. Output 2 (complement) follows with its dead time.
+// samples changes nothing. Output 2 (complement) follows with its dead time. The software set (SST)
+// loses against the held reset too, and sets output 1 at once after the event.
 TEST_F(Board, ExternalEvent6ResetsOutput1AfterItsFilter) {
   const double f = rcc_hclk_hz(b), tc = 1.0 / f, ts = 16 * tc, sync = 3 * tc;  // 16 MHz: ts = 1 us
   auto advance_to = [&](double t) {  // through every HRTIM event on the way, each at its instant
+    if (t < board_now(b) - 1e-12) ADD_FAILURE() << "the test went back in time";
     for (;;) {
       double n = hrtim_next_event(b);
       if (!(n <= t)) break;
@@ -139,11 +141,23 @@ TEST_F(Board, ExternalEvent6ResetsOutput1AfterItsFilter) {
   // the next period's CMP1 set meets the reset request: output 1 stays off
   advance_to(t0 + per + 100 * tc + 2e-6);
   EXPECT_EQ(hrtim_levels(b, board_now(b)) & 1u, 0u) << "the set event lost against the held reset";
+  hrtim_write(b, TIM(0) + 0x3C, (1u << 3) | 1u);  // SST while the reset is held: loses too
+  advance_to(board_now(b) + 2e-6);
+  EXPECT_EQ(hrtim_levels(b, board_now(b)) & 1u, 0u) << "a software set loses against the held reset";
+  EXPECT_EQ(hrtim_read(b, TIM(0) + 0x3C), 1u << 3) << "SST reads 0, the programme is unchanged";
   // released: off until the following set event, then on after the rising dead time
   advance_to(t0 + per + 20e-6);
   board_drive_pin(b, 'B', 5, 1);
-  advance_to(t0 + 2 * per);
+  advance_to(t0 + per + 35e-6);
   EXPECT_EQ(hrtim_levels(b, board_now(b)) & 1u, 0u) << "released, but no set event yet";
+  advance_to(t0 + per + 40e-6);
+  const double t_sst = board_now(b);
+  hrtim_write(b, TIM(0) + 0x3C, (1u << 3) | 1u);  // SST (what hal_gate_enable does before OENR)
+  advance_to(t_sst + 1e-6 + tc);
+  EXPECT_EQ(hrtim_levels(b, t_sst + 0.5 * tc) & 3u, 0u) << "output 2 off at once, output 1 in its dead time";
+  EXPECT_EQ(hrtim_levels(b, board_now(b)) & 3u, 1u) << "output 1 on 1 us after the software set";
+  advance_to(t0 + 2 * per);
+  EXPECT_EQ(hrtim_levels(b, board_now(b)) & 1u, 0u) << "reset by CMP2 as programmed";
   advance_to(t0 + 2 * per + 100 * tc + 1e-6 + tc);
   EXPECT_EQ(hrtim_levels(b, board_now(b)) & 1u, 1u) << "set again by CMP1 (+ 1 us dead time)";
   // a low pulse of 5 samples: filtered out
@@ -151,7 +165,7 @@ TEST_F(Board, ExternalEvent6ResetsOutput1AfterItsFilter) {
   board_drive_pin(b, 'B', 5, 0);
   advance_to(t0 + 2 * per + 25e-6);
   board_drive_pin(b, 'B', 5, 1);
-  for (double t = t0 + 2 * per + 20e-6; t < t0 + 2 * per + 40e-6; t += 0.25e-6) {
+  for (double t = board_now(b); t < t0 + 2 * per + 40e-6; t += 0.25e-6) {  // it would act from 27 us on
     advance_to(t);
     ASSERT_EQ(hrtim_levels(b, t) & 1u, 1u) << "a 5 us pulse does not pass the 8 us filter, at " << (t - t0) * 1e6;
   }

@@ -7,6 +7,7 @@
  *    repetition/update event (MREPU/TxREPU, REP = 0: every period), TxUDIS hold (HRTIM_CR1)
  *    and the software update TxSWU (HRTIM_CR2), §27.3.8;
  *  - output set/reset crossbar from the timer's PER and CMP1-4 events (SETxyR/RSTxyR, §27.3.5),
+ *    the software set of output 1 (SETx1R.SST: immediate, not preloaded, reads 0),
  *    and external event 6 as a reset source of output 1 (RSTx1R.EXTEVNT6). The crossbar is a
  *    set/reset latch; a reset request wins over a simultaneous set (§27.3.7). EEV6 is modelled
  *    level-sensitive only (EECR2.EE6SNS = 0): while it is active the reset request is present on
@@ -205,7 +206,7 @@ static void emit_from(board *b, int t, int out, double from) {
   hrtim_timer *x = &h->tim[t];
   bool dten = (x->outr & (1u << 8)) != 0;
   if (dten && out) return; /* output 2 is derived from output 1's reference (§27.3.10) */
-  hrtim_edge tr[5 + HRTIM_EEV_HIST + 1];
+  hrtim_edge tr[8 + HRTIM_EEV_HIST + 1];
   int n = ref_transitions(h, x, out, tr);
   hrtim_edge last = x->last_tr[out];
   int i = 0;
@@ -262,7 +263,7 @@ static void period_start(board *b, double t0) {
   twin_sync(b, t0); /* the plant runs up to the period boundary on the old programme */
   for (int t = 0; t < 6; t++) /* the last reference transition of the period that ends: history */
     for (int out = 0; out < 2; out++) {
-      hrtim_edge tr[5 + HRTIM_EEV_HIST + 1];
+      hrtim_edge tr[8 + HRTIM_EEV_HIST + 1];
       int n = ref_transitions(h, &h->tim[t], out, tr);
       if (n) h->tim[t].last_tr[out] = tr[n - 1];
     }
@@ -371,6 +372,25 @@ void hrtim_fault_input_update(board *b, bool line_low) {
     double f = f_hrtim(b) > 0 ? f_hrtim(b) : 16e6;
     h->flt3_apply_t = board_now(b) + FLT_SYNC_TICKS / f;
   }
+}
+
+/* SETx1R.SST: a set of output 1's latch at this instant, added to the period's programme. */
+static void software_set(board *b, int t) {
+  hrtim_state *h = &b->hrtim;
+  hrtim_timer *x = &h->tim[t];
+  double now = board_now(b);
+  twin_sync(b, now);
+  if (!h->running) { /* no period programme: the latch (and the outputs' dead-time unit) directly */
+    if (!x->ref[0]) { x->ref[0] = 1; ref_edge(b, t, 0, now, 1); x->last_tr[0].t = now; x->last_tr[0].level = 1; }
+    return;
+  }
+  if (x->n_plan[0] == 8) { board_fault(b, "HRTIM model: more than 3 software sets of timer %c in one period", k_tname[t]); return; }
+  int i = x->n_plan[0];
+  while (i > 0 && x->plan[0][i - 1].t > now + EPS_T) { x->plan[0][i] = x->plan[0][i - 1]; i--; }
+  x->plan[0][i].t = now;
+  x->plan[0][i].level = 1;
+  x->n_plan[0]++;
+  emit_from(b, t, 0, now);
 }
 
 /* ---- external event 6: the fault line's second input (§27.3.11) ---- */
@@ -622,13 +642,18 @@ static void write_timer(board *b, int t, uint32_t r, uint32_t v) {
   case 0x3C: case 0x40: case 0x44: case 0x48: {
     int out = r >= 0x44u;
     bool is_set = r == 0x3Cu || r == 0x44u;
-    /* PER, CMP1-4; and external event 6 as a reset of output 1 (the fault line's second input) */
-    const uint32_t ok = 0x7Cu | (!is_set && out == 0 ? RST_EEV6 : 0u);
+    /* PER, CMP1-4; external event 6 as a reset of output 1 (the fault line's second input); the
+     * software set of output 1 (SST, bit 0) */
+    const uint32_t ok = 0x7Cu | (!is_set && out == 0 ? RST_EEV6 : 0u) | (is_set && out == 0 ? 1u : 0u);
     if (v & ~ok) {
       board_fault(b, "HRTIM_%s%c%dR 0x%08X: event sources 0x%08X not modelled (PER, CMP1-4%s only)",
                   is_set ? "SET" : "RST", k_tname[t], out + 1, v, v & ~ok,
                   !is_set && out == 0 ? ", EXTEVNT6 (external event 6, PB5)" : "");
       return;
+    }
+    if (is_set && (v & 1u)) { /* SST: set output 1 now, whatever the preload (a reset request still wins) */
+      software_set(b, t);
+      v &= ~1u;
     }
     uint32_t *reg = is_set ? (pre ? &x->p_set[out] : &x->set[out]) : (pre ? &x->p_rst[out] : &x->rst[out]);
     *reg = v;

@@ -26,7 +26,7 @@ typedef struct {
   uint32_t dtr, outr, fltr, dier, isr;
   uint8_t ref[2];                  /* crossbar output (before dead time) at the end of the emitted period */
   /* the period's crossbar programme: set/reset events in time order, and the reference at its start */
-  hrtim_edge plan[2][5];
+  hrtim_edge plan[2][8];           /* PER, CMP1-4, and software sets (SST) */
   int n_plan[2];
   uint8_t ref_start[2];
   hrtim_edge last_tr[2];           /* last reference transition before this period (t < 0: none) */
