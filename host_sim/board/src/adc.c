@@ -211,12 +211,13 @@ static uint16_t convert(board *b, adc_group *g, int i, int r, double t) {
     ci->trig_t[k] = g->t_trig;
     ci->sample_t[k] = t;
     ci->after_trigger_s[k] = t - g->t_trig;
-    if (ci->counted_trig_t != g->t_trig && ci->trig_t[0] == g->t_trig && ci->trig_t[1] == g->t_trig &&
-        ci->trig_t[2] == g->t_trig) {
+    /* every conversion of a current once all three belong to this trigger (a current converted
+     * twice, by two ADCs, counts with both instants) */
+    if (ci->trig_t[0] == g->t_trig && ci->trig_t[1] == g->t_trig && ci->trig_t[2] == g->t_trig) {
       double lo = fmin(fmin(ci->sample_t[0], ci->sample_t[1]), ci->sample_t[2]);
       double hi = fmax(fmax(ci->sample_t[0], ci->sample_t[1]), ci->sample_t[2]);
       if (hi - lo > ci->max_skew_s) ci->max_skew_s = hi - lo;
-      ci->triples++;
+      if (ci->counted_trig_t != g->t_trig) ci->triples++;
       ci->counted_trig_t = g->t_trig;
     }
   }
