@@ -20,12 +20,28 @@
 #define BOARD_DEAD_TIME_NS 1000u
 
 /**
- * Delay from the fault interrupt's entry to the inner switches (S2, S3) going
- * off, ns; the outer switches (S1, S4) went off in hardware before the entry.
- * Chosen so that every output is off within 1 us of the fault line while the
- * outer-to-inner gap stays as long as that allows (see docs/board.md, "Fault").
+ * Hardware delay from the fault line to the inner switches (S2, S3) going off,
+ * ns (nominal): the line's second input, HRTIM_EEV6 (PB5), passes a digital
+ * filter of N = 8 samples at fHRTIM / 16 (8 x 16 / 170 MHz = 753 ns; with the
+ * sampling phase and the input synchronisation 0.68-0.77 us), then resets
+ * output 1 (the inner switch) of every timer. The outer switches (S1, S4) go
+ * off through FLT3 within a few tHRTIM. See docs/board.md, "Fault".
  */
-#define BOARD_FAULT_INNER_DELAY_NS 600u
+#define BOARD_FAULT_INNER_DELAY_NS 753u
+
+/**
+ * Software back-up of the inner stage, ns after the fault interrupt's entry:
+ * later than the hardware stage, so it only matters if that one failed (PB5
+ * not wired to the fault line, for instance).
+ */
+#define BOARD_FAULT_BACKUP_DELAY_NS 1000u
+
+/**
+ * Before enabling the gates the fault line must have been high at least this
+ * long, ns: longer than the external event 6 filter (<= 0.77 us), so its reset
+ * request is over when the output-1 latches are set to O.
+ */
+#define BOARD_FAULT_LINE_SETTLE_NS 1000u
 
 /** Board fault bits recorded by the binding (board_faults()). */
 enum board_fault {
@@ -40,6 +56,7 @@ enum board_fault {
     BOARD_FAULT_WDG_RESET = 1u << 8,  /**< the last reset came from the independent watchdog */
     BOARD_FAULT_PN_STEP = 1u << 9,    /**< an actuation asked for a direct P<->N step (O inserted) */
     BOARD_FAULT_BOOT0_PIN = 1u << 10, /**< option bytes still boot from the PB8/BOOT0 pin (CAN RX!) */
+    BOARD_FAULT_ADC_SYNC = 1u << 11,  /**< ADC3 (ic) had not converted when ADC1/2 ended: sample refused */
 };
 
 /**

@@ -8,10 +8,12 @@
  *  - gates: HRTIM timers A..F, two complementary outputs each = the 12
  *    switches, hardware dead time, preloaded compare/set/reset programs
  *    transferred at the period start (RM0440 27.3);
- *  - fault: the gate drivers' active-low fault line on HRTIM FLT3 (PB10);
- *  - sampling: ADC1 + ADC2 injected simultaneous conversions triggered by
- *    the HRTIM master at a fixed instant of the period; their end-of-sequence
- *    interrupt is the control tick (RM0440 21.4);
+ *  - fault: the gate drivers' active-low fault line on HRTIM FLT3 (PB10,
+ *    outer switches) and external event 6 (PB5, filtered: inner switches);
+ *  - sampling: ADC1 + ADC2 injected simultaneous conversions and ADC3
+ *    (ic) triggered by the same HRTIM master compare at a fixed instant of
+ *    the period; ADC1's end-of-sequence interrupt is the control tick
+ *    (RM0440 21.4);
  *  - CAN: FDCAN1 classic CAN, fixed message RAM layout (RM0440 44.3);
  *  - NVM: two 2 KiB flash pages of bank 2 (RM0440 5.3);
  *  - watchdog: IWDG refreshed only when both the tick and the background have
@@ -49,7 +51,7 @@
 
 /* Sampling instant and switching keep-out, ns after the period start. */
 #define BOARD_SAMPLE_DELAY_NS 4000u  /* after the period-start edges and their dead time */
-#define BOARD_KEEPOUT_END_NS 7000u   /* sampling (3 x 0.87 us) is over by then */
+#define BOARD_KEEPOUT_END_NS 7000u   /* sampling (2 ranks x 0.87 us, to 5.74 us) is over by then */
 #define BOARD_MIN_PULSE_NS 2000u     /* shortest second-vector pulse at the period end */
 #define BOARD_START_EVENT_COUNTS 3u  /* CMP2: period-start event, 3 counts after roll-over */
 
@@ -59,11 +61,12 @@
 #define WAIT_FLASH_LOOPS 20000000u /* page erase: 40 ms max (datasheet), generous */
 #define CAN_BUSOFF_RETRY_MS 100u
 
-/* HRTIM outputs in OENR/ODISR: per leg, timer A-type = S1 (out 1) / S3
- * (out 2), timer B-type = S2 (out 1) / S4 (out 2). Outer switches S1, S4:
- * TA1 TB2 TC1 TD2 TE1 TF2; inner switches S2, S3: TA2 TB1 TC2 TD1 TE2 TF1. */
-#define HRTIM_OUT_OUTER 0x999u
-#define HRTIM_OUT_INNER 0x666u
+/* HRTIM outputs in OENR/ODISR: per leg, timer A-type = S3 (out 1) / S1
+ * (out 2), timer B-type = S2 (out 1) / S4 (out 2): output 1 of every timer
+ * is an inner switch, so one external event can reset all of them in
+ * hardware. Outer switches S1, S4: TA2 TB2 .. TF2; inner S3, S2: TA1 .. TF1. */
+#define HRTIM_OUT_OUTER 0xAAAu
+#define HRTIM_OUT_INNER 0x555u
 
 /* NVM area, from stm32g474.ld. */
 extern const uint8_t __nvm_start[];
@@ -91,37 +94,40 @@ typedef struct {
 
 static const board_pin g_pins[] = {
     /* HRTIM gate outputs (pull-downs hold the drivers off while the pins float). */
-    PIN_AF(GPIOA_BASE, 8u, 13u, 2u),  /* CHA1 leg a S1 */
-    PIN_AF(GPIOA_BASE, 9u, 13u, 2u),  /* CHA2 leg a S3 */
+    PIN_AF(GPIOA_BASE, 8u, 13u, 2u),  /* CHA1 leg a S3 */
+    PIN_AF(GPIOA_BASE, 9u, 13u, 2u),  /* CHA2 leg a S1 */
     PIN_AF(GPIOA_BASE, 10u, 13u, 2u), /* CHB1 leg a S2 */
     PIN_AF(GPIOA_BASE, 11u, 13u, 2u), /* CHB2 leg a S4 */
-    PIN_AF(GPIOB_BASE, 12u, 13u, 2u), /* CHC1 leg b S1 */
-    PIN_AF(GPIOB_BASE, 13u, 13u, 2u), /* CHC2 leg b S3 */
+    PIN_AF(GPIOB_BASE, 12u, 13u, 2u), /* CHC1 leg b S3 */
+    PIN_AF(GPIOB_BASE, 13u, 13u, 2u), /* CHC2 leg b S1 */
     PIN_AF(GPIOB_BASE, 14u, 13u, 2u), /* CHD1 leg b S2 */
     PIN_AF(GPIOB_BASE, 15u, 13u, 2u), /* CHD2 leg b S4 */
-    PIN_AF(GPIOC_BASE, 8u, 3u, 2u),   /* CHE1 leg c S1 */
-    PIN_AF(GPIOC_BASE, 9u, 3u, 2u),   /* CHE2 leg c S3 */
+    PIN_AF(GPIOC_BASE, 8u, 3u, 2u),   /* CHE1 leg c S3 */
+    PIN_AF(GPIOC_BASE, 9u, 3u, 2u),   /* CHE2 leg c S1 */
     PIN_AF(GPIOC_BASE, 6u, 13u, 2u),  /* CHF1 leg c S2 */
     PIN_AF(GPIOC_BASE, 7u, 13u, 2u),  /* CHF2 leg c S4 */
     /* Gate-driver fault line, active low, open drain: pull-up. */
-    PIN_AF(GPIOB_BASE, 10u, 13u, 1u), /* HRTIM_FLT3 */
+    PIN_AF(GPIOB_BASE, 10u, 13u, 1u), /* HRTIM_FLT3: outer switches off */
+    PIN_AF(GPIOB_BASE, 5u, 13u, 1u),  /* HRTIM_EEV6, the same line: inner switches off (filtered) */
     /* FDCAN1 to the transceiver. */
     PIN_AF(GPIOB_BASE, 8u, 9u, 1u), /* FDCAN1_RX */
     PIN_AF(GPIOB_BASE, 9u, 9u, 0u), /* FDCAN1_TX */
     /* Analog inputs. */
     PIN_ANALOG(GPIOA_BASE, 0u), /* ADC1_IN1 ia */
     PIN_ANALOG(GPIOA_BASE, 1u), /* ADC2_IN2 ib */
-    PIN_ANALOG(GPIOB_BASE, 1u), /* ADC1_IN12 ic */
+    PIN_ANALOG(GPIOB_BASE, 1u), /* ADC3_IN1 ic */
     PIN_ANALOG(GPIOC_BASE, 0u), /* ADC1_IN6 vc1 */
     PIN_ANALOG(GPIOC_BASE, 1u), /* ADC2_IN7 vc2 */
 };
 
-/* ADC channels: ADC1 ranks [ia, ic, vc1], ADC2 ranks [ib, vc2, vc2]. */
+/* ADC channels: ADC1 ranks [ia, vc1], ADC2 ranks [ib, vc2] (dual injected
+ * simultaneous), ADC3 rank [ic] on the same trigger: the three currents are
+ * sampled at one instant, the two capacitor voltages at the next rank. */
 #define ADC1_CH_IA 1u
-#define ADC1_CH_IC 12u
 #define ADC1_CH_VC1 6u
 #define ADC2_CH_IB 2u
 #define ADC2_CH_VC2 7u
+#define ADC3_CH_IC 1u /* PB1 = ADC3_IN1 (datasheet pin table, LQFP64) */
 
 /* ------------------------------------------------------------- state */
 
@@ -145,7 +151,7 @@ typedef struct {
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     volatile bool gates_on;
     volatile bool fault_latched; /* set by the HRTIM fault ISR, reported once */
-    uint32_t fault_inner_cycles; /* BOARD_FAULT_INNER_DELAY_NS in core cycles, set before the fault is armed */
+    uint32_t fault_inner_cycles; /* BOARD_FAULT_BACKUP_DELAY_NS in core cycles, set before the fault is armed */
     uint32_t fault_trips;
     /* watchdog and reset cause */
     uint32_t reset_cause;         /* enum hal_reset_cause, from RCC_CSR at board_init */
@@ -359,18 +365,28 @@ static void hrtim_init_static(void)
                    (dt_counts << HRTIM_DTxR_DTF_SHIFT);
 
     for (uint32_t t = 0u; t < 6u; t++) {
-        /* Fault states, NPC order: the outer switch of each pair goes to its
-         * inactive level in hardware; the inner one keeps its waveform until
-         * the fault interrupt disables it BOARD_FAULT_INNER_DELAY_NS later. */
-        bool pair_s1_s3 = (t % 2u) == 0u; /* A, C, E: out1 = S1 (outer), out2 = S3 (inner) */
-        uint32_t fault = pair_s1_s3 ? (HRTIM_OUTxR_FAULT1_INACTIVE | HRTIM_OUTxR_FAULT2_NONE)
-                                    : (HRTIM_OUTxR_FAULT1_NONE | HRTIM_OUTxR_FAULT2_INACTIVE);
+        /* Fault states, NPC order: output 2 (the outer switch, S1 or S4) goes
+         * to its inactive level through FLT3 at once; output 1 (the inner
+         * switch, S3 or S2) keeps its waveform until the filtered external
+         * event 6 resets it BOARD_FAULT_INNER_DELAY_NS later (RSTx1R). */
+        uint32_t fault = HRTIM_OUTxR_FAULT1_NONE | HRTIM_OUTxR_FAULT2_INACTIVE;
         /* Complementary pair with dead time on both edges; POL = 0 (active
          * high), idle level inactive (IDLES = 0). */
         HRTIM_TIM_REG(t, HRTIM_OUTxR_OFS) = HRTIM_OUTxR_DTEN | fault;
         HRTIM_TIM_REG(t, HRTIM_DTxR_OFS) = dtr;
         HRTIM_TIM_REG(t, HRTIM_FLTxR_OFS) = HRTIM_FLTxR_FLT3EN | HRTIM_FLTxR_FLTLCK;
     }
+
+    /* External event 6 = the fault line's second pin (PB5): active low,
+     * level-sensitive, digital filter of 8 samples at fHRTIM / 16. Written
+     * before any counter runs (RM0440, HRTIM_EECRx: not to be changed once a
+     * timer using the event is enabled). As a reset source of output 1 it
+     * holds the inner switches off while the line is low: a reset request has
+     * priority over a simultaneous set (RM0440 27.3.7). */
+    HRTIM_EECR2 = (HRTIM_EECR2 & ~HRTIM_EECR2_EE6_MASK) | HRTIM_EECR2_EE6SRC_PIN | HRTIM_EECR2_EE6POL_LOW |
+                  HRTIM_EECR2_EE6SNS_LEVEL;
+    HRTIM_EECR3 = (HRTIM_EECR3 & ~(HRTIM_EECR3_EE6F_MASK | HRTIM_EECR3_EEVSD_MASK)) | HRTIM_EECR3_EEVSD_DIV1 |
+                  (HRTIM_EEF_DIV16_N8 << HRTIM_EECR3_EE6F_SHIFT);
 }
 
 /* Arm the fault input once PB10 is in its HRTIM alternate function (in
@@ -387,18 +403,21 @@ static void hrtim_arm_fault(void)
     HRTIM_FLTINR1 |= HRTIM_FLTINR1_FLT3LCK;
     HRTIM_ICR = HRTIM_ICR_FLT3C;
     HRTIM_IER |= HRTIM_IER_FLT3IE;
-    /* The handler's delay, precomputed: no division between the fault and the inner switches. */
+    /* The back-up stage's delay, precomputed: no division in the handler. */
     g_board.fault_inner_cycles =
-        (uint32_t)(((uint64_t)BOARD_FAULT_INNER_DELAY_NS * g_board.sysclk_hz + 999999999u) / 1000000000u);
+        (uint32_t)(((uint64_t)BOARD_FAULT_BACKUP_DELAY_NS * g_board.sysclk_hz + 999999999u) / 1000000000u);
     nvic_enable(IRQN_HRTIM1_FLT, PRIO_HRTIM_FAULT);
 }
 
-/** HRTIM fault interrupt: the outer switches are already off in hardware;
- * BOARD_FAULT_INNER_DELAY_NS after the handler's entry the inner ones follow.
- * The first action is the time stamp, the wait is a precomputed cycle count
- * (bounded by its own loop count should the cycle counter stop), the second
- * a single store of a constant. Context: interrupt, most urgent (priority 0:
- * pre-empts the control tick; nothing in the firmware masks it). */
+/** HRTIM fault interrupt, the software back-up: the outer switches are off
+ * through FLT3 and the inner ones go off through the filtered external event
+ * 6, both in hardware. BOARD_FAULT_BACKUP_DELAY_NS after the handler's entry
+ * (after the hardware inner stage) every output is disabled, so the inner
+ * switches are off even if the second input is not wired; then the trip is
+ * latched. The first action is the time stamp, the wait a precomputed cycle
+ * count (bounded by its own loop count should the cycle counter stop), the
+ * second a single store of a constant. Context: interrupt, most urgent
+ * (priority 0: pre-empts the control tick; nothing in the firmware masks it). */
 void HRTIM1_FLT_IRQHandler(void)
 {
     const uint32_t t0 = DWT_CYCCNT;
@@ -452,11 +471,10 @@ static int hrtim_start(uint32_t period_us)
         HRTIM_TIM_REG(t, HRTIM_REPxR_OFS) = 0u;
         HRTIM_TIM_REG(t, HRTIM_CMP1xR_OFS) = per / 2u;
         HRTIM_TIM_REG(t, HRTIM_CMP2xR_OFS) = BOARD_START_EVENT_COUNTS;
-        /* Every leg starts clamped to the neutral point (O): S1/S3 pair
-         * output 1 low (S3 on), S2/S4 pair output 1 high (S2 on). */
-        bool pair_s1_s3 = (t % 2u) == 0u;
-        HRTIM_TIM_REG(t, HRTIM_SETx1R_OFS) = pair_s1_s3 ? 0u : HRTIM_SET_CMP2;
-        HRTIM_TIM_REG(t, HRTIM_RSTx1R_OFS) = pair_s1_s3 ? HRTIM_RST_CMP2 : 0u;
+        /* Every leg starts clamped to the neutral point (O): output 1 (S3,
+         * S2) high in both pairs. External event 6 resets output 1 (fault). */
+        HRTIM_TIM_REG(t, HRTIM_SETx1R_OFS) = HRTIM_SET_CMP2;
+        HRTIM_TIM_REG(t, HRTIM_RSTx1R_OFS) = HRTIM_RST_EXTEVNT6;
     }
     for (uint32_t leg = 0u; leg < 3u; leg++)
         g_board.last_leg[leg] = (uint8_t)HAL_LEG_O;
@@ -507,59 +525,73 @@ static void adc_set_sampling(uint32_t base, uint32_t ch)
 }
 
 /*
- * ADC1 (master) + ADC2 (slave), dual injected simultaneous mode, 3 ranks
- * each, triggered by HRTIM ADC trigger 2 (master compare 1) on the rising
- * edge; clock HCLK / 4 = 42.5 MHz, synchronous with the HRTIM, so the
- * sampling instant has no jitter (RM0440 21.4.3, 21.4.31). 24.5 + 12.5 ADC
- * cycles = 0.87 us per rank. ia and ib are sampled at the same instant, ic
- * and vc2 one rank (0.87 us) later.
+ * ADC1 (master) + ADC2 (slave), dual injected simultaneous mode, 2 ranks
+ * each, and ADC3 (independent, 1 rank), all three triggered by HRTIM ADC
+ * trigger 2 (master compare 1) on the rising edge: JEXTSEL 19 is
+ * hrtim_adc_trg2 in both the ADC1/2 and the ADC3/4/5 injected trigger tables
+ * (RM0440, ADC chapter). Both ADC pairs are clocked HCLK / 4 = 42.5 MHz,
+ * synchronous with the HRTIM, so the sampling instants have no jitter
+ * (RM0440 21.4.3, 21.4.31). 24.5 + 12.5 ADC cycles = 0.87 us per rank:
+ * ia, ib and ic are sampled at the trigger (rank 1), vc1 and vc2 one rank
+ * later; ADC3's single rank ends one rank before ADC1's sequence.
  */
 static bool adc_init(void)
 {
-    RCC_CCIPR = (RCC_CCIPR & ~RCC_CCIPR_ADC12SEL_MASK) | RCC_CCIPR_ADC12SEL_SYSCLK;
-    RCC_AHB2ENR |= RCC_AHB2ENR_ADC12EN;
+    RCC_CCIPR = (RCC_CCIPR & ~(RCC_CCIPR_ADC12SEL_MASK | RCC_CCIPR_ADC345SEL_MASK)) | RCC_CCIPR_ADC12SEL_SYSCLK |
+                RCC_CCIPR_ADC345SEL_SYSCLK;
+    RCC_AHB2ENR |= RCC_AHB2ENR_ADC12EN | RCC_AHB2ENR_ADC345EN;
     (void)RCC_AHB2ENR;
-    /* Clock mode and dual mode may be written only while both ADCs are
-     * disabled (RM0440, ADC chapter, ADC_CCR description). */
+    /* Clock mode and dual mode may be written only while the ADCs of the
+     * pair are disabled (RM0440, ADC chapter, ADC_CCR description). */
     ADC12_CCR = (ADC12_CCR & ~(ADC12_CCR_CKMODE_MASK | ADC12_CCR_DUAL_MASK)) | ADC12_CCR_CKMODE_HCLK_DIV4 |
                 ADC12_CCR_DUAL_INJ_SIMULT;
+    ADC345_CCR = (ADC345_CCR & ~(ADC345_CCR_CKMODE_MASK | ADC345_CCR_DUAL_MASK)) | ADC345_CCR_CKMODE_HCLK_DIV4;
 
-    if (!adc_power_up(ADC1_BASE) || !adc_power_up(ADC2_BASE))
+    if (!adc_power_up(ADC1_BASE) || !adc_power_up(ADC2_BASE) || !adc_power_up(ADC3_BASE))
         return false;
 
     ADC_REG(ADC1_BASE, ADC_CFGR_OFS) |= ADC_CFGR_JQDIS;
     ADC_REG(ADC2_BASE, ADC_CFGR_OFS) |= ADC_CFGR_JQDIS;
+    ADC_REG(ADC3_BASE, ADC_CFGR_OFS) |= ADC_CFGR_JQDIS;
     adc_set_sampling(ADC1_BASE, ADC1_CH_IA);
-    adc_set_sampling(ADC1_BASE, ADC1_CH_IC);
     adc_set_sampling(ADC1_BASE, ADC1_CH_VC1);
     adc_set_sampling(ADC2_BASE, ADC2_CH_IB);
     adc_set_sampling(ADC2_BASE, ADC2_CH_VC2);
+    adc_set_sampling(ADC3_BASE, ADC3_CH_IC);
 
-    ADC_REG(ADC1_BASE, ADC_JSQR_OFS) = (2u << ADC_JSQR_JL_SHIFT) | (ADC_JEXTSEL_HRTIM_TRG2 << ADC_JSQR_JEXTSEL_SHIFT) |
+    ADC_REG(ADC1_BASE, ADC_JSQR_OFS) = (1u << ADC_JSQR_JL_SHIFT) | (ADC_JEXTSEL_HRTIM_TRG2 << ADC_JSQR_JEXTSEL_SHIFT) |
                                       ADC_JSQR_JEXTEN_RISING | (ADC1_CH_IA << ADC_JSQR_JSQ1_SHIFT) |
-                                      (ADC1_CH_IC << ADC_JSQR_JSQ2_SHIFT) | (ADC1_CH_VC1 << ADC_JSQR_JSQ3_SHIFT);
+                                      (ADC1_CH_VC1 << ADC_JSQR_JSQ2_SHIFT);
     /* The slave follows the master's trigger: its own trigger stays off. */
-    ADC_REG(ADC2_BASE, ADC_JSQR_OFS) = (2u << ADC_JSQR_JL_SHIFT) | (ADC2_CH_IB << ADC_JSQR_JSQ1_SHIFT) |
-                                      (ADC2_CH_VC2 << ADC_JSQR_JSQ2_SHIFT) | (ADC2_CH_VC2 << ADC_JSQR_JSQ3_SHIFT);
+    ADC_REG(ADC2_BASE, ADC_JSQR_OFS) =
+        (1u << ADC_JSQR_JL_SHIFT) | (ADC2_CH_IB << ADC_JSQR_JSQ1_SHIFT) | (ADC2_CH_VC2 << ADC_JSQR_JSQ2_SHIFT);
+    ADC3_JSQR = (0u << ADC_JSQR_JL_SHIFT) | (ADC345_JEXTSEL_HRTIM_TRG2 << ADC_JSQR_JEXTSEL_SHIFT) |
+                ADC_JSQR_JEXTEN_RISING | (ADC3_CH_IC << ADC_JSQR_JSQ1_SHIFT);
 
     ADC_REG(ADC1_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
     ADC_REG(ADC2_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
-    ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTART; /* the master starts both */
+    ADC3_ISR = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    /* ADC3 armed first: both wait for the same HRTIM trigger edge. */
+    ADC_REG(ADC3_BASE, ADC_CR_OFS) |= ADC_CR_JADSTART;
+    ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTART; /* the master starts both of its pair */
     return true;
 }
 
-/* Stop the injected conversions and disable both ADCs (JADSTP, then ADDIS,
+/* Stop the injected conversions and disable the three ADCs (JADSTP, then ADDIS,
  * RM0440, ADC chapter, "Stopping an ongoing conversion" / "ADC on-off
  * control"), so a later adc_init() finds them disabled as it must. */
 static void adc_stop(void)
 {
     ADC_REG(ADC1_BASE, ADC_IER_OFS) = 0u;
-    if ((ADC_REG(ADC1_BASE, ADC_CR_OFS) & ADC_CR_JADSTART) != 0u) {
-        ADC_REG(ADC1_BASE, ADC_CR_OFS) |= ADC_CR_JADSTP;
-        (void)wait_set(&ADC_REG(ADC1_BASE, ADC_CR_OFS), ADC_CR_JADSTART, 0u, WAIT_LOOPS);
-    }
-    const uint32_t bases[2] = {ADC1_BASE, ADC2_BASE};
+    const uint32_t masters[2] = {ADC1_BASE, ADC3_BASE};
     for (unsigned k = 0u; k < 2u; k++) {
+        if ((ADC_REG(masters[k], ADC_CR_OFS) & ADC_CR_JADSTART) != 0u) {
+            ADC_REG(masters[k], ADC_CR_OFS) |= ADC_CR_JADSTP;
+            (void)wait_set(&ADC_REG(masters[k], ADC_CR_OFS), ADC_CR_JADSTART, 0u, WAIT_LOOPS);
+        }
+    }
+    const uint32_t bases[3] = {ADC1_BASE, ADC2_BASE, ADC3_BASE};
+    for (unsigned k = 0u; k < 3u; k++) {
         if ((ADC_REG(bases[k], ADC_CR_OFS) & ADC_CR_ADEN) != 0u) {
             ADC_REG(bases[k], ADC_CR_OFS) |= ADC_CR_ADDIS;
             (void)wait_set(&ADC_REG(bases[k], ADC_CR_OFS), ADC_CR_ADEN, 0u, WAIT_LOOPS);
@@ -567,25 +599,35 @@ static void adc_stop(void)
     }
 }
 
-/* Read the six injected results; @return false if one was saturated. */
-static bool adc_read_codes(uint32_t code[6])
+/*
+ * Read the five injected results (ia, ib, ic, vc1, vc2) once ADC1's sequence
+ * has ended. ADC3's single rank ends one rank (0.87 us) before ADC1's two on
+ * the same trigger, but its result is taken only with its own JEOS set: a
+ * missed or late ADC3 conversion is refused, never read stale.
+ * @return ADC_CODES_OK, or why the sample must be refused.
+ */
+enum adc_codes { ADC_CODES_OK, ADC_CODES_SATURATED, ADC_CODES_IC_MISSING };
+
+static enum adc_codes adc_read_codes(uint32_t code[5])
 {
+    bool ic_done = (ADC3_ISR & ADC_ISR_JEOS) != 0u;
     code[0] = ADC_JDR(ADC1_BASE, 0u) & 0xFFFu; /* ia */
     code[1] = ADC_JDR(ADC2_BASE, 0u) & 0xFFFu; /* ib */
-    code[2] = ADC_JDR(ADC1_BASE, 1u) & 0xFFFu; /* ic */
-    code[3] = ADC_JDR(ADC1_BASE, 2u) & 0xFFFu; /* vc1 */
+    code[2] = ADC3_JDR1 & 0xFFFu;               /* ic */
+    code[3] = ADC_JDR(ADC1_BASE, 1u) & 0xFFFu; /* vc1 */
     code[4] = ADC_JDR(ADC2_BASE, 1u) & 0xFFFu; /* vc2 */
-    code[5] = ADC_JDR(ADC2_BASE, 2u) & 0xFFFu; /* vc2, second sample */
     ADC_REG(ADC1_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
     ADC_REG(ADC2_BASE, ADC_ISR_OFS) = ADC_ISR_JEOS | ADC_ISR_JEOC;
-    bool ok = true;
-    for (unsigned k = 0u; k < 6u; k++) {
-        if (k != 3u && k != 4u && k != 5u && (code[k] <= BOARD_ADC_SAT_LOW || code[k] >= BOARD_ADC_SAT_HIGH))
-            ok = false; /* a current at the rail: the sensor or the converter is saturated */
-        if ((k >= 3u) && code[k] >= BOARD_ADC_SAT_HIGH)
-            ok = false; /* a capacitor voltage at full scale (0 V is a valid reading) */
+    ADC3_ISR = ADC_ISR_JEOS | ADC_ISR_JEOC;
+    if (!ic_done)
+        return ADC_CODES_IC_MISSING;
+    for (unsigned k = 0u; k < 5u; k++) {
+        if (k < 3u && (code[k] <= BOARD_ADC_SAT_LOW || code[k] >= BOARD_ADC_SAT_HIGH))
+            return ADC_CODES_SATURATED; /* a current at the rail: the sensor or the converter is saturated */
+        if (k >= 3u && code[k] >= BOARD_ADC_SAT_HIGH)
+            return ADC_CODES_SATURATED; /* a capacitor voltage at full scale (0 V is a valid reading) */
     }
-    return ok;
+    return ADC_CODES_OK;
 }
 
 /* Current offsets with the gates off: average BOARD_OFFSET_SAMPLES periods. */
@@ -595,8 +637,9 @@ static bool adc_calibrate_offsets(void)
     for (uint32_t n = 0u; n < BOARD_OFFSET_SAMPLES; n++) {
         if (!wait_set(&ADC_REG(ADC1_BASE, ADC_ISR_OFS), ADC_ISR_JEOS, ADC_ISR_JEOS, WAIT_LOOPS))
             return false;
-        uint32_t code[6];
-        (void)adc_read_codes(code);
+        uint32_t code[5];
+        if (adc_read_codes(code) == ADC_CODES_IC_MISSING)
+            return false; /* ADC3 did not convert with ADC1/2: no offset for ic */
         for (unsigned k = 0u; k < 3u; k++)
             sum[k] += code[k];
     }
@@ -698,12 +741,14 @@ void SysTick_Handler(void) { g_board.millis++; }
 
 static void sample_latch(void)
 {
-    uint32_t code[6];
-    bool in_range = adc_read_codes(code);
+    uint32_t code[5];
+    enum adc_codes got = adc_read_codes(code);
     g_board.seq++;
-    if (!in_range)
+    if (got == ADC_CODES_SATURATED)
         g_board.faults |= BOARD_FAULT_ADC_RANGE;
-    if (!g_board.adc_ok || !in_range) {
+    if (got == ADC_CODES_IC_MISSING)
+        g_board.faults |= BOARD_FAULT_ADC_SYNC;
+    if (!g_board.adc_ok || got != ADC_CODES_OK) {
         /* No trustworthy measurement: refuse it (the control core then sees a
          * stale sample and goes to its safe state). */
         g_board.sample_fresh = false;
@@ -716,7 +761,7 @@ static void sample_latch(void)
     s->ib_A = ((float)code[1] - g_board.offset_code[1]) * i_scale;
     s->ic_A = ((float)code[2] - g_board.offset_code[2]) * i_scale;
     s->vc1_V = (float)code[3] * v_scale;
-    s->vc2_V = 0.5f * (float)(code[4] + code[5]) * v_scale;
+    s->vc2_V = (float)code[4] * v_scale;
     s->speed_meas_rad_s = 0.0f;
     s->speed_meas_valid = false; /* no speed sensor on the board */
     s->seq = g_board.seq;
@@ -849,7 +894,7 @@ int hal_actuate(const hal_actuation *act)
         for (uint32_t k = 0u; k < 2u; k++) {
             uint32_t tim = 2u * leg + k; /* A/B: leg a, C/D: leg b, E/F: leg c */
             HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = plan.set[k];
-            HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = plan.rst[k];
+            HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = plan.rst[k] | HRTIM_RST_EXTEVNT6; /* inner off on a fault */
             if (plan.t != 0u && plan.t != tm.per)
                 HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = plan.t;
         }
@@ -875,6 +920,17 @@ void hal_gate_enable(bool enable)
      * or while the fault line is low. */
     if (!g_board.tick_running || !g_board.adc_ok || fault_pin_active() || g_board.fault_latched)
         return;
+    /* After a trip the fault line's external event 6 has left every output-1
+     * latch reset (inner switch off): enabled as they are, the outer switches
+     * (their complements) would come on together. So, once the line has been
+     * high for longer than the event's filter, set the latches to O (S3, S2
+     * on; a software set, not preloaded: RM0440, HRTIM_SETx1R.SST) for the
+     * rest of this period: no programme has a P<->N step from O. */
+    delay_ns(BOARD_FAULT_LINE_SETTLE_NS);
+    if (fault_pin_active())
+        return;
+    for (uint32_t t = 0u; t < 6u; t++)
+        HRTIM_TIM_REG(t, HRTIM_SETx1R_OFS) |= HRTIM_SET_SST; /* the preloaded programme is written back as read */
     HRTIM_ICR = HRTIM_ICR_FLT3C;
     HRTIM_IER |= HRTIM_IER_FLT3IE;
     HRTIM_OENR = HRTIM_OUT_ALL;

@@ -7,9 +7,11 @@
  * exhaustively: no S1+S4 / no direct P<->N step, keep-out of the sampling
  * window, minimum pulse. Private to hal/stm32g4 and its tests.
  *
- * Per leg two HRTIM timers drive complementary pairs: pair 0 = S1 (output 1)
- * / S3 (output 2), pair 1 = S2 (output 1) / S4 (output 2). Output 1 of a
- * pair is set/reset by two compare events: NPC_EV_START (CMP2, a few counts
+ * Per leg two HRTIM timers drive complementary pairs: pair 0 = S3 (output 1)
+ * / S1 (output 2), pair 1 = S2 (output 1) / S4 (output 2): output 1 is the
+ * inner switch of both, so the fault line's delayed external event can reset
+ * it in hardware (docs/board.md, "Fault"). Output 1 of a pair is set/reset by
+ * two compare events: NPC_EV_START (CMP2, a few counts
  * after the period roll-over) gives the level of the first vector, NPC_EV_T
  * (CMP1 = t) the change to the second one.
  */
@@ -37,7 +39,7 @@ typedef struct {
 
 /** The programme of one leg for one period. */
 typedef struct {
-    uint32_t set[2];    /**< SETx1R event bits of pair 0 (S1/S3) and pair 1 (S2/S4) */
+    uint32_t set[2];    /**< SETx1R event bits of pair 0 (S3/S1) and pair 1 (S2/S4) */
     uint32_t rst[2];    /**< RSTx1R event bits */
     uint32_t t;         /**< switching instant, counts; 0: second vector only, per: first only */
     uint8_t v0, v1;     /**< the leg states actually applied (after the P<->N guard) */
@@ -52,7 +54,7 @@ typedef struct {
  */
 void npc_plan_leg(const npc_timing *tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0, npc_leg_plan *out);
 
-/** @return output-1 level of pair @p pair (0: S1/S3, 1: S2/S4) for leg state @p leg. */
+/** @return output-1 level of pair @p pair (0: S3 of S3/S1, 1: S2 of S2/S4) for leg state @p leg. */
 bool npc_pair_level(unsigned pair, uint8_t leg);
 
 #endif /* HAL_STM32G4_NPC_PLAN_H */

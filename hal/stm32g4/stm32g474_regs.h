@@ -124,6 +124,7 @@
 #define RCC_AHB2ENR_GPIOBEN (1u << 1)   /* @svd RCC.RCC_AHB2ENR.GPIOBEN */
 #define RCC_AHB2ENR_GPIOCEN (1u << 2)   /* @svd RCC.RCC_AHB2ENR.GPIOCEN */
 #define RCC_AHB2ENR_ADC12EN (1u << 13)  /* @svd RCC.RCC_AHB2ENR.ADC12EN */
+#define RCC_AHB2ENR_ADC345EN (1u << 14) /* @svd RCC.RCC_AHB2ENR.ADC345EN */
 #define RCC_APB1ENR1_FDCANEN (1u << 25) /* @svd RCC.RCC_APB1ENR1.FDCANEN */
 #define RCC_APB1ENR1_PWREN (1u << 28)   /* @svd RCC.RCC_APB1ENR1.PWREN */
 #define RCC_APB2ENR_SYSCFGEN (1u << 0)  /* @svd RCC.RCC_APB2ENR.SYSCFGEN */
@@ -132,6 +133,8 @@
 #define RCC_CCIPR_FDCANSEL_PCLK1 (2u << 24) /* @svd RCC.RCC_CCIPR.FDCANSEL=2 */
 #define RCC_CCIPR_ADC12SEL_MASK (3u << 28)  /* @svd RCC.RCC_CCIPR.ADC12SEL */
 #define RCC_CCIPR_ADC12SEL_SYSCLK (2u << 28) /* @svd RCC.RCC_CCIPR.ADC12SEL=2 */
+#define RCC_CCIPR_ADC345SEL_MASK (3u << 30)  /* @svd RCC.RCC_CCIPR.ADC345SEL */
+#define RCC_CCIPR_ADC345SEL_SYSCLK (2u << 30) /* @svd RCC.RCC_CCIPR.ADC345SEL=2 */
 #define RCC_CSR_LSION (1u << 0)    /* @svd RCC.RCC_CSR.LSION */
 #define RCC_CSR_RMVF (1u << 23)     /* @svd RCC.RCC_CSR.RMVF */
 #define RCC_CSR_OBLRSTF (1u << 25)  /* @svd RCC.RCC_CSR.OBLRSTF */
@@ -293,12 +296,14 @@
 #define HRTIM_DTxR_DTF_MASK (0x1FFu << 16) /* @svd HRTIM_TIMA.DTAR.DTFx */
 #define HRTIM_DTxR_DTRLK (1u << 15)   /* @svd HRTIM_TIMA.DTAR.DTRLKx */
 #define HRTIM_DTxR_DTFLK (1u << 31)   /* @svd HRTIM_TIMA.DTAR.DTFLKx */
+#define HRTIM_SET_SST (1u << 0)       /* @svd HRTIM_TIMA.SETA1R.SST software set, not preloaded */
 #define HRTIM_SET_PER (1u << 2)       /* @svd HRTIM_TIMA.SETA1R.PER */
 #define HRTIM_SET_CMP1 (1u << 3)      /* @svd HRTIM_TIMA.SETA1R.CMP1 */
 #define HRTIM_SET_CMP2 (1u << 4)      /* @svd HRTIM_TIMA.SETA1R.CMP2 */
 #define HRTIM_RST_PER (1u << 2)       /* @svd HRTIM_TIMA.RSTA1R.PER */
 #define HRTIM_RST_CMP1 (1u << 3)      /* @svd HRTIM_TIMA.RSTA1R.CMP1 */
 #define HRTIM_RST_CMP2 (1u << 4)      /* @svd HRTIM_TIMA.RSTA1R.CMP2 */
+#define HRTIM_RST_EXTEVNT6 (1u << 26) /* @svd HRTIM_TIMA.RSTA1R.EXTEVNT6 */
 #define HRTIM_OUTxR_POL1 (1u << 1)    /* @svd HRTIM_TIMA.OUTAR.POL1 */
 #define HRTIM_OUTxR_IDLES1 (1u << 3)  /* @svd HRTIM_TIMA.OUTAR.IDLES1 */
 #define HRTIM_OUTxR_FAULT1_MASK (3u << 4)     /* @svd HRTIM_TIMA.OUTAR.FAULT1 */
@@ -324,6 +329,8 @@
 #define HRTIM_ODISR REG32(HRTIM_COMMON_BASE + 0x18u)   /* @svd HRTIM_Common.ODISR */
 #define HRTIM_ODSR REG32(HRTIM_COMMON_BASE + 0x1Cu)    /* @svd HRTIM_Common.ODSR */
 #define HRTIM_ADC2R REG32(HRTIM_COMMON_BASE + 0x40u)   /* @svd HRTIM_Common.ADC2R */
+#define HRTIM_EECR2 REG32(HRTIM_COMMON_BASE + 0x34u)   /* @svd HRTIM_Common.EECR2 */
+#define HRTIM_EECR3 REG32(HRTIM_COMMON_BASE + 0x38u)   /* @svd HRTIM_Common.EECR3 */
 #define HRTIM_FLTINR1 REG32(HRTIM_COMMON_BASE + 0x50u) /* @svd HRTIM_Common.FLTINR1 */
 #define HRTIM_FLTINR2 REG32(HRTIM_COMMON_BASE + 0x54u) /* @svd HRTIM_Common.FLTINR2 */
 #define HRTIM_CR1_UDIS_ALL (0x7Fu << 0)  /* @const MUDIS|TAUDIS..TFUDIS, bits 0..6 */
@@ -341,6 +348,15 @@
 #define HRTIM_ODISR_TA1ODIS (1u << 0)    /* @svd HRTIM_Common.ODISR.TA1ODIS */
 #define HRTIM_ODISR_TF2ODIS (1u << 11)   /* @svd HRTIM_Common.ODISR.TF2ODIS */
 #define HRTIM_ADC2R_AD2MC1 (1u << 0)     /* @svd HRTIM_Common.ADC2R.AD2MC1 */
+#define HRTIM_EECR2_EE6SRC_PIN (0u << 0) /* @svd HRTIM_Common.EECR2.EE6SRC=0 source 1: the HRTIM_EEV6 pin */
+#define HRTIM_EECR2_EE6POL_LOW (1u << 2) /* @svd HRTIM_Common.EECR2.EE6POL 1: active low */
+#define HRTIM_EECR2_EE6SNS_LEVEL (0u << 3) /* @svd HRTIM_Common.EECR2.EE6SNS=0 active level, not an edge */
+#define HRTIM_EECR2_EE6_MASK (0x1Fu << 0) /* @const EE6SRC | EE6POL | EE6SNS, bits 0..4 */
+#define HRTIM_EECR3_EE6F_SHIFT 0u        /* @svd-shift HRTIM_Common.EECR3.EE6F */
+#define HRTIM_EECR3_EE6F_MASK (0xFu << 0) /* @svd HRTIM_Common.EECR3.EE6F */
+#define HRTIM_EECR3_EEVSD_MASK (3u << 30) /* @svd HRTIM_Common.EECR3.EEVSD */
+#define HRTIM_EECR3_EEVSD_DIV1 (0u << 30) /* @svd HRTIM_Common.EECR3.EEVSD=0 fEEVS = fHRTIM */
+#define HRTIM_EEF_DIV16_N8 12u           /* @const EExF 1100: fSAMPLING = fEEVS / 16, N = 8 (RM0440, HRTIM_EECR3) */
 #define HRTIM_FLTINR1_FLT3E (1u << 16)   /* @svd HRTIM_Common.FLTINR1.FLT3E */
 #define HRTIM_FLTINR1_FLT3P (1u << 17)   /* @svd HRTIM_Common.FLTINR1.FLT3P 0: active low */
 #define HRTIM_FLTINR1_FLT3SRC (1u << 18) /* @svd HRTIM_Common.FLTINR1.FLT3SRC 0: FLT3 pin */
@@ -351,6 +367,8 @@
 #define ADC1_BASE 0x50000000u          /* @svd-base ADC1 */
 #define ADC2_BASE 0x50000100u          /* @svd-base ADC2 */
 #define ADC12_COMMON_BASE 0x50000300u  /* @svd-base ADC12_Common */
+#define ADC3_BASE 0x50000400u          /* @svd-base ADC3 */
+#define ADC345_COMMON_BASE 0x50000700u /* @svd-base ADC345_Common */
 #define ADC_ISR_OFS 0x00u              /* @svd-offset ADC1.ISR */
 #define ADC_IER_OFS 0x04u              /* @svd-offset ADC1.IER */
 #define ADC_CR_OFS 0x08u               /* @svd-offset ADC1.CR */
@@ -363,6 +381,11 @@
 #define ADC_REG(base, ofs) REG32((base) + (ofs)) /* @const */
 #define ADC_JDR(base, k) REG32((base) + ADC_JDR1_OFS + 4u * (k)) /* @const k = 0..3: JDR1..JDR4 */
 #define ADC12_CCR REG32(ADC12_COMMON_BASE + 0x08u) /* @svd ADC12_Common.CCR */
+#define ADC345_CCR REG32(ADC345_COMMON_BASE + 0x08u) /* @svd ADC345_Common.CCR */
+/* ADC3 has ADC1's register layout (ADC_*_OFS above); the two the tick reads, checked on their own: */
+#define ADC3_ISR REG32(ADC3_BASE + 0x00u)  /* @svd ADC3.ISR */
+#define ADC3_JDR1 REG32(ADC3_BASE + 0x80u) /* @svd ADC3.JDR1 */
+#define ADC3_JSQR REG32(ADC3_BASE + 0x4Cu) /* @svd ADC3.JSQR */
 
 #define ADC_ISR_ADRDY (1u << 0)     /* @svd ADC1.ISR.ADRDY */
 #define ADC_ISR_JEOC (1u << 5)      /* @svd ADC1.ISR.JEOC */
@@ -387,10 +410,14 @@
 #define ADC_JSQR_JSQ2_SHIFT 15u     /* @svd-shift ADC1.JSQR.JSQ2 */
 #define ADC_JSQR_JSQ3_SHIFT 21u     /* @svd-shift ADC1.JSQR.JSQ3 */
 #define ADC_JEXTSEL_HRTIM_TRG2 19u  /* @const RM0440 table 164: adc_jext_trg19 = hrtim_adc_trg2 (ADC1/2) */
+#define ADC345_JEXTSEL_HRTIM_TRG2 19u /* @const RM0440 ADC3/4/5 injected trigger table: adc_jext_trg19 = hrtim_adc_trg2 too */
 #define ADC12_CCR_DUAL_MASK (0x1Fu << 0)   /* @svd ADC12_Common.CCR.DUAL */
 #define ADC12_CCR_DUAL_INJ_SIMULT (5u << 0) /* @svd ADC12_Common.CCR.DUAL=5 injected simultaneous only */
 #define ADC12_CCR_CKMODE_MASK (3u << 16)   /* @svd ADC12_Common.CCR.CKMODE */
 #define ADC12_CCR_CKMODE_HCLK_DIV4 (3u << 16) /* @svd ADC12_Common.CCR.CKMODE=3 */
+#define ADC345_CCR_DUAL_MASK (0x1Fu << 0)     /* @svd ADC345_Common.CCR.DUAL */
+#define ADC345_CCR_CKMODE_MASK (3u << 16)     /* @svd ADC345_Common.CCR.CKMODE */
+#define ADC345_CCR_CKMODE_HCLK_DIV4 (3u << 16) /* @svd ADC345_Common.CCR.CKMODE=3 */
 
 /* ------------------------------------------------ FDCAN1 (RM0440 44.4) */
 #define FDCAN1_BASE 0x40006400u                    /* @svd-base FDCAN1 */

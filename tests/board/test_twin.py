@@ -4,16 +4,24 @@
   test_twin.py case2 CONTROLLER   CASE2 on the twin and on dtc-sim with the same controller:
                                   recovery time within 10 %, steady and estimate errors within
                                   0.5 rpm of dtc-sim's; no switching violation; every dead time
-                                  1 us +- one HRTIM tick (1/170 MHz); the control tick ran.
-  test_twin.py fault              the gate drivers' fault line pulled low mid-run: outer switches
-                                  (S1, S4) off within 60 ns (docs/board.md: 20-60 ns), inner ones
-                                  (S2, S3) at least BOARD_FAULT_INNER_DELAY_NS = 0.6 us after the
-                                  outer ones and all within 1 us of the line; the core reports
-                                  CTL_FAULT_HW, the board BOARD_FAULT_HRTIM, and a node on the CAN
-                                  bus receives the EMCY 0x2320 (CiA 301 "current, device output
-                                  side"; the parameter table's code for CTL_FAULT_HW) with the
-                                  current bit of the error register and CTL_FAULT_HW in the fault
-                                  word, after the line fell and within 10 ms.
+                                  1 us +- one HRTIM tick (1/170 MHz); the control tick ran; the
+                                  three phase currents sampled at one instant (within one ADC
+                                  clock, 1 / 42.5 MHz) in every PWM period, at the end of the
+                                  24.5-cycle sampling window after the HRTIM trigger.
+  test_twin.py fault              the gate drivers' fault line (PB10 = FLT3 and PB5 = EEV6) pulled
+                                  low mid-run: outer switches (S1, S4) off within 60 ns
+                                  (docs/board.md: 20-60 ns), the inner ones (S2, S3) after them, in
+                                  the window the EEV6 digital filter gives (8 samples at 170 MHz /
+                                  16, then 3 tHRTIM: 0.677-0.771 us after the line), so all within
+                                  1 us; the core reports CTL_FAULT_HW, the board BOARD_FAULT_HRTIM,
+                                  and a node on the CAN bus receives the EMCY 0x2320 (CiA 301
+                                  "current, device output side"; the parameter table's code for
+                                  CTL_FAULT_HW) with the current bit of the error register and
+                                  CTL_FAULT_HW in the fault word, after the line fell and within
+                                  10 ms. Then the same with the HRTIM1_FLT interrupt's NVIC enable
+                                  cleared just before the line falls (dtc-board --fault-irq-off):
+                                  the interrupt never runs and the inner switches go off at the
+                                  same instant: the sequence is hardware.
 Exit 77 (skipped) when the flashable image has not been built (cmake --preset stm32g4).
 """
 import json
@@ -31,11 +39,17 @@ ELF = os.environ.get("DTC_FW_ELF", os.path.join(SRC, "build", "stm32g4", "dtc-fw
 CASE2 = os.path.join(SRC, "host_sim", "scenarios", "case2.ini")
 T_HRTIM = 1.0 / 170e6
 DEAD_TIME = 1.0e-6            # BOARD_DEAD_TIME_NS (hal/stm32g4/board.h)
-INNER_DELAY = 0.6e-6          # BOARD_FAULT_INNER_DELAY_NS
+T_EEV_SAMPLE = 16 * T_HRTIM  # EEV6 filter EE6F = 1100: fSAMPLING = fEEVS / 16, fEEVS = fHRTIM (EEVSD = 0)
+EEV_N = 8                     # ... N = 8 consecutive samples (RM0440, HRTIM_EECR3)
+EEV_SYNC = 3 * T_HRTIM        # resynchronisation before acting on the outputs (as FLT3)
+INNER_MIN = (EEV_N - 1) * T_EEV_SAMPLE + EEV_SYNC  # the line falls just after a sample
+INNER_MAX = EEV_N * T_EEV_SAMPLE + EEV_SYNC        # ... or just on one
 ALL_OFF_WITHIN = 1.0e-6       # issue 9: outputs inactive within a microsecond
 EMCY_HW = 0x2320              # tools/params/parameters.toml [[emcy]] CTL_FAULT_HW
 ERR_REG_CURRENT = 1 << 1      # CiA 301 0x1001 bit 1
 MIN_PULSE = 2.0e-6            # BOARD_MIN_PULSE_NS: shortest second-vector pulse (npc_plan.c)
+T_ADC = 4.0 / 170e6           # ADC clock HCLK / 4 (ADC12_CCR, ADC345_CCR CKMODE = 3)
+SAMPLING_WINDOW = 24.5 * T_ADC  # SMP = 24.5 ADC cycles: the sample is taken at the window's end
 CTL_FAULT_HW = 1 << 6
 BOARD_FAULT_HRTIM = 1 << 5
 
@@ -80,6 +94,13 @@ def common_board_checks(b):
     shortest = min(min(s["min_on_s"], s["min_off_s"]) for s in b["switches"].values())
     check(shortest >= MIN_PULSE - DEAD_TIME - T_HRTIM,
           f"shortest gate pulse {shortest * 1e6:.3f} us >= minimum vector pulse - dead time (1 us)")
+    cs = b["current_sampling"]
+    check(cs["triggers"] > 1000, f"ia, ib, ic converted together on {cs['triggers']} triggers")
+    check(cs["max_skew_s"] <= T_ADC,
+          f"ia/ib/ic sampling instants at most {cs['max_skew_s'] * 1e9:.2f} ns apart (<= one ADC clock, 23.5 ns)")
+    for k in ("ia", "ib", "ic"):
+        t = cs[k + "_after_trigger_s"]
+        check(abs(t - SAMPLING_WINDOW) <= T_ADC, f"{k} sampled {t * 1e9:.1f} ns after the trigger (24.5 ADC cycles = 576 ns)")
     tick = b["interrupt_instructions"].get("ADC1_2 (control tick)")
     check(tick is not None and tick["count"] > 1000 and tick["worst"] >= tick["mean"] > 0,
           f"control tick instructions: {tick}")
@@ -100,35 +121,52 @@ def case2(controller):
     common_board_checks(twin["board"])
 
 
-def fault():
-    with tempfile.TemporaryDirectory() as tmp:
-        twin = metrics(tmp, "twin", [os.path.join(BIN, "dtc-board"), "run", case2_as_flashed(tmp), "--elf", ELF,
-                                     "--set", "sim.duration_s=1.0", "--set", "metrics.window=before 0.5 0.6",
-                                     "--fault-line", "0.8"])
+def fault_run(tmp, name, extra):
+    twin = metrics(tmp, name, [os.path.join(BIN, "dtc-board"), "run", case2_as_flashed(tmp), "--elf", ELF,
+                               "--set", "sim.duration_s=1.0", "--set", "metrics.window=before 0.5 0.6",
+                               "--fault-line", "0.8"] + extra)
     f = twin["board"]["fault"]
     print(json.dumps(f))
     check(f["outer_on_at_fault"] >= 1 and f["inner_on_at_fault"] >= 1, "switches were on when the line fell")
     check(0 < f["outer_off_after_s"] <= 60e-9, f"outer switches off after {f['outer_off_after_s'] * 1e9:.1f} ns (<= 60 ns)")
-    check(f["inner_off_after_s"] >= f["outer_off_after_s"] + INNER_DELAY - 1e-12,
-          f"inner switches off {f['inner_off_after_s'] * 1e6:.3f} us after the line, "
-          f">= {INNER_DELAY * 1e6:.2f} us after the outer ones")
+    check(f["outer_off_after_s"] < f["inner_off_after_s"],
+          f"outer switches off before the inner ones ({f['outer_off_after_s'] * 1e9:.1f} ns < "
+          f"{f['inner_off_after_s'] * 1e9:.1f} ns)")
+    check(INNER_MIN - 1e-12 <= f["inner_off_after_s"] <= INNER_MAX + 1e-12,
+          f"inner switches off {f['inner_off_after_s'] * 1e6:.3f} us after the line (EEV6 filter: "
+          f"{INNER_MIN * 1e6:.3f}..{INNER_MAX * 1e6:.3f} us)")
     check(f["inner_off_after_s"] < ALL_OFF_WITHIN,
           f"inner switches off within 1 us of the line ({f['inner_off_after_s'] * 1e6:.3f} us)")
     check(f["telemetry_faults_after"] & CTL_FAULT_HW, f"the core reports CTL_FAULT_HW ({f['telemetry_faults_after']:#x})")
-    check(f["board_faults"] & BOARD_FAULT_HRTIM, f"the board records BOARD_FAULT_HRTIM ({f['board_faults']:#x})")
     check(twin["board"]["violations"]["total"] == 0, "no switching violation through the trip")
-    flt = twin["board"]["interrupt_instructions"].get("HRTIM1_FLT")
-    check(flt is not None and flt["count"] == 1, f"one fault interrupt: {flt}")
-    emcy = [e for e in twin["board"]["can"]["emcy"] if e["code"] == EMCY_HW]
-    print(json.dumps(twin["board"]["can"]))
-    t_line = f["line_low_at_s"]
-    check(len(emcy) == 1, f"one EMCY {EMCY_HW:#06x} on the bus ({len(emcy)})")
-    if emcy:
-        e = emcy[0]
-        check(t_line < e["t_s"] <= t_line + 10e-3, f"EMCY {(e['t_s'] - t_line) * 1e3:.2f} ms after the line fell (<= 10 ms)")
-        check(e["error_register"] & ERR_REG_CURRENT and e["faults"] & CTL_FAULT_HW,
-              f"EMCY error register {e['error_register']:#x} (current bit), fault word {e['faults']:#x} (CTL_FAULT_HW)")
-        check(e["cob_id"] & 0x780 == 0x080, f"EMCY COB-ID {e['cob_id']:#x} = 0x80 + node id")
+    return twin, f
+
+
+def fault():
+    with tempfile.TemporaryDirectory() as tmp:
+        twin, f = fault_run(tmp, "twin", [])
+        flt = twin["board"]["interrupt_instructions"].get("HRTIM1_FLT")
+        check(flt is not None and flt["count"] == 1, f"one fault interrupt (the software back-up): {flt}")
+        check(f["board_faults"] & BOARD_FAULT_HRTIM, f"the board records BOARD_FAULT_HRTIM ({f['board_faults']:#x})")
+        emcy = [e for e in twin["board"]["can"]["emcy"] if e["code"] == EMCY_HW]
+        print(json.dumps(twin["board"]["can"]))
+        t_line = f["line_low_at_s"]
+        check(len(emcy) == 1, f"one EMCY {EMCY_HW:#06x} on the bus ({len(emcy)})")
+        if emcy:
+            e = emcy[0]
+            check(t_line < e["t_s"] <= t_line + 10e-3, f"EMCY {(e['t_s'] - t_line) * 1e3:.2f} ms after the line fell (<= 10 ms)")
+            check(e["error_register"] & ERR_REG_CURRENT and e["faults"] & CTL_FAULT_HW,
+                  f"EMCY error register {e['error_register']:#x} (current bit), fault word {e['faults']:#x} (CTL_FAULT_HW)")
+            check(e["cob_id"] & 0x780 == 0x080, f"EMCY COB-ID {e['cob_id']:#x} = 0x80 + node id")
+        print("-- again with the HRTIM1_FLT interrupt disabled in the NVIC: hardware only")
+        twin2, f2 = fault_run(tmp, "twin_irq_off", ["--fault-irq-off"])
+        flt2 = twin2["board"]["interrupt_instructions"].get("HRTIM1_FLT")
+        check(flt2 is None, f"the fault interrupt never ran: {flt2}")
+        check(not f2["board_faults"] & BOARD_FAULT_HRTIM,
+              f"so the board did not record BOARD_FAULT_HRTIM ({f2['board_faults']:#x})")
+        check(abs(f2["inner_off_after_s"] - f["inner_off_after_s"]) <= 1e-12 and
+              abs(f2["outer_off_after_s"] - f["outer_off_after_s"]) <= 1e-12,
+              "outer and inner turn-off instants identical with and without the interrupt")
 
 
 def main():

@@ -17,9 +17,11 @@ namespace {
 
 const npc_timing kTm = {34000u, 1190u, 340u}; // 200 us at 170 MHz, 7 us, 2 us
 
-// Leg state from the output-1 levels of pair 0 (S1) and pair 1 (S2); -1 = S1 and S4 on.
-int leg_state(bool s1, bool s2)
+// Leg state from the output-1 levels of pair 0 (S3; S1 is its complement) and
+// pair 1 (S2; S4 is its complement); -1 = S1 and S4 on.
+int leg_state(bool s3, bool s2)
 {
+    bool s1 = !s3;
     if (s1 && s2)
         return NPC_P;
     if (!s1 && s2)
@@ -120,10 +122,10 @@ TEST(NpcPlan, LongRandomSequencesStayContinuous)
 
 TEST(NpcPlan, PairLevels)
 {
-    // S1/S3 pair: S1 on only in P; S2/S4 pair: S2 on in P and O.
-    EXPECT_TRUE(npc_pair_level(0, NPC_P));
-    EXPECT_FALSE(npc_pair_level(0, NPC_O));
-    EXPECT_FALSE(npc_pair_level(0, NPC_N));
+    // Output 1 is the inner switch: S3 (pair 0) on in O and N, S2 (pair 1) on in P and O.
+    EXPECT_FALSE(npc_pair_level(0, NPC_P));
+    EXPECT_TRUE(npc_pair_level(0, NPC_O));
+    EXPECT_TRUE(npc_pair_level(0, NPC_N));
     EXPECT_TRUE(npc_pair_level(1, NPC_P));
     EXPECT_TRUE(npc_pair_level(1, NPC_O));
     EXPECT_FALSE(npc_pair_level(1, NPC_N));

@@ -10,7 +10,8 @@ register or field the subset lacks, or a wrong number fails the check.
     tools/svd/check_regs.py --pins docs/board.md hal/stm32g4/hal_stm32g4.c
 
 The second form checks that the pin table of docs/board.md and the pin table
-of the binding (g_pins) name the same pins, modes and alternate functions.
+of the binding (g_pins) name the same pins, modes and alternate functions, and each gate pin the
+same switch ("leg a S3" in the table's signal and in the binding's comment).
 Exit status 0 when everything matches, 1 otherwise. Standard library only.
 """
 import argparse
@@ -113,6 +114,8 @@ def check_header(header, subset_path):
 
 
 PIN_C_RE = re.compile(r"PIN_(AF|ANALOG)\(GPIO([A-G])_BASE,\s*(\d+)u(?:,\s*(\d+)u)?")
+# "leg a S3" in a gate pin's comment (binding) or signal (docs/board.md): which switch the pin drives
+GATE_RE = re.compile(r"\bleg ([abc]) (S[1-4])\b")
 
 
 def check_pins(board_md, binding_c):
@@ -123,7 +126,9 @@ def check_pins(board_md, binding_c):
     for m in PIN_C_RE.finditer(src):
         mode = "AF" if m.group(1) == "AF" else "Analog"
         af = m.group(4) if mode == "AF" else "-"
-        c_pins["P%s%s" % (m.group(2), m.group(3))] = (mode, af)
+        line_end = src.find("\n", m.end())
+        gate = GATE_RE.search(src[m.end():line_end])
+        c_pins["P%s%s" % (m.group(2), m.group(3))] = (mode, af, gate.groups() if gate else None)
     md_pins = {}
     with open(board_md, encoding="utf-8") as f:
         lines = f.read().splitlines()
@@ -141,14 +146,16 @@ def check_pins(board_md, binding_c):
         pin, mode, af = cells[0], cells[1], cells[2]
         if pin in md_pins:
             errors.append("%s: %s twice" % (board_md, pin))
-        md_pins[pin] = (mode, af)
+        gate = GATE_RE.search(cells[3])
+        md_pins[pin] = (mode, af, gate.groups() if gate else None)
     for pin in sorted(set(c_pins) | set(md_pins)):
         if pin not in md_pins:
             errors.append("%s configured by the firmware but not in %s" % (pin, board_md))
         elif pin not in c_pins:
             errors.append("%s in %s but not configured by the firmware" % (pin, board_md))
         elif c_pins[pin] != md_pins[pin]:
-            errors.append("%s: firmware %s, %s %s" % (pin, c_pins[pin], board_md, md_pins[pin]))
+            errors.append("%s: firmware %s, %s %s (mode, AF, gate: leg and switch)" % (pin, c_pins[pin], board_md,
+                                                                                        md_pins[pin]))
     return errors, len(c_pins)
 
 

@@ -135,15 +135,18 @@ static int fail(char *err, size_t n, const char *fmt, const char *a) {
 
 static const char usage_text[] =
     "usage: dtc-board run SCENARIO --elf FILE [--controller ip|nominal|rbfn] [--csv OUT] [--metrics OUT]\n"
-    "                  [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S] [--quiet]\n"
+    "                  [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S [--fault-irq-off]] [--quiet]\n"
     "                  [--can IFACE --realtime]\n"
     "  --can IFACE        the image's FDCAN1 on SocketCAN interface IFACE (only with --realtime): tune\n"
     "                     the running drive with dtctune; without it a listening node on a private bus\n"
     "                     acknowledges the frames and records the EMCYs\n"
     "  --realtime         never run ahead of the wall clock (the twin is slower than real time, so\n"
     "                     this only matters on a faster machine); SIGINT/SIGTERM end the run cleanly\n"
-    "  --fault-line T_S   test hook: the gate drivers' fault line (PB10, HRTIM FLT3) is pulled low at\n"
-    "                     scenario time T_S and held; the metrics gain a \"fault\" section\n";
+    "  --fault-line T_S   test hook: the gate drivers' fault line (PB10 = HRTIM FLT3 and PB5 = HRTIM\n"
+    "                     EEV6, tied on the interface board) is pulled low at scenario time T_S and\n"
+    "                     held; the metrics gain a \"fault\" section\n"
+    "  --fault-irq-off    with --fault-line: the HRTIM1_FLT interrupt's NVIC enable is cleared (as by a\n"
+    "                     debugger) just before the line falls, so only the hardware acts on the gates\n";
 
 int twin_run_main(int argc, char **argv) {
   const char *path = NULL, *elf = NULL, *csv = NULL, *metrics_path = NULL, *nvm = NULL, *ctl_name = NULL;
@@ -152,12 +155,13 @@ int twin_run_main(int argc, char **argv) {
   const char *sets[MAX_SETS];
   L = fw_layout_get();
   if (L->snap_size != sizeof(drive_snapshot)) { fprintf(stderr, "dtc-board: drive_snapshot layout differs\n"); return 1; }
-  int n_sets = 0, quiet = 0;
+  int n_sets = 0, quiet = 0, fault_irq_off = 0;
   double fault_t = -1;
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
     if (strcmp(a, "--quiet") == 0) { quiet = 1; continue; }
     if (strcmp(a, "--realtime") == 0) { realtime = 1; continue; }
+    if (strcmp(a, "--fault-irq-off") == 0) { fault_irq_off = 1; continue; }
     if (a[0] != '-' && !path) { path = a; continue; }
     if (i + 1 >= argc) { fputs(usage_text, stderr); return 2; }
     const char *v = argv[++i];
@@ -326,7 +330,8 @@ int twin_run_main(int argc, char **argv) {
       for (int n = 0; n < 20000 && !(board_gate_levels(b) & 0x999u); n++) board_run(b, 2e-6);
       board_la_mark(b);
       fault_board_t = board_time_s(b);
-      board_drive_pin(b, 'B', 10, 0);
+      if (fault_irq_off) board_nvic_disable(b, 73); /* HRTIM1_FLT: the software back-up stage cannot run */
+      board_drive_fault_line(b, 0);
       fault_done = true;
       while (tk + 0.75 * T < board_time_s(b)) { tk += T; ts += T; k++; } /* ticks spent searching: not sampled */
       board_run(b, tk + 0.75 * T - board_time_s(b));
@@ -436,6 +441,14 @@ int twin_metrics_extend(board *b, const char *path, const sim_metrics *m, double
   cJSON_AddNumberToObject(v, "pn_step", (double)la.pn_steps);
   cJSON_AddNumberToObject(v, "bad_combination", (double)la.bad_combinations);
   cJSON_AddNumberToObject(v, "total", (double)(la.overlaps + la.pn_steps + la.bad_combinations));
+  board_current_sampling cs;
+  board_current_sampling_get(b, &cs);
+  cJSON *smp = cJSON_AddObjectToObject(bd, "current_sampling");
+  cJSON_AddNumberToObject(smp, "triggers", (double)cs.triples);
+  cJSON_AddNumberToObject(smp, "max_skew_s", cs.max_skew_s);
+  cJSON_AddNumberToObject(smp, "ia_after_trigger_s", cs.after_trigger_s[0]);
+  cJSON_AddNumberToObject(smp, "ib_after_trigger_s", cs.after_trigger_s[1]);
+  cJSON_AddNumberToObject(smp, "ic_after_trigger_s", cs.after_trigger_s[2]);
   cJSON *irq = cJSON_AddObjectToObject(bd, "interrupt_instructions");
   for (int e = 1; e < 16 + 102; e++) {
     board_irq_stat st;
@@ -474,7 +487,7 @@ int twin_metrics_extend(board *b, const char *path, const sim_metrics *m, double
     int outer_on = 0, inner_on = 0;
     for (int o = 0; o < 12; o++) {
       if (!((la.on_at_mark >> o) & 1u)) continue;
-      bool is_outer = ((0x999u >> o) & 1u) != 0; /* S1 (out 1 of A/C/E), S4 (out 2 of B/D/F) */
+      bool is_outer = ((0x999u >> o) & 1u) != 0; /* S1, S4 (switch order: 4 x leg + 0 / 3) */
       double dt = la.off_after_mark_s[o] >= 0 ? la.off_after_mark_s[o] - la.mark_s : INFINITY;
       if (is_outer) { outer_on++; if (dt > outer) outer = dt; }
       else { inner_on++; if (dt > inner) inner = dt; }

@@ -229,6 +229,7 @@ void tim6_event(board *b);
 
 /* gpio.c: the external side of the pins */
 bool gpio_flt3_low(const board *b);
+bool gpio_eev6_low(const board *b); /* HRTIM_EEV6 (PB5, AF13) low as the HRTIM sees it */
 
 /* hrtim.c (RM0440 §27); offsets from 0x40016800 */
 void hrtim_reset(board *b);
@@ -237,11 +238,13 @@ void hrtim_write(board *b, uint32_t off, uint32_t v);
 double hrtim_next_event(board *b);
 void hrtim_event(board *b);
 void hrtim_fault_input_update(board *b, bool line_low);
+void hrtim_eev_input_update(board *b, bool pin_low); /* external event 6 input changed */
 uint32_t hrtim_levels(board *b, double t);   /* pin levels of TA1..TF2 from t on */
 double hrtim_next_edge(board *b, double t);  /* first output edge after t, INFINITY: none */
 void hrtim_prune(board *b, double t);        /* forget edges up to t */
 
-/* adc.c (RM0440 §21); offsets from 0x50000000 (ADC1 0x000, ADC2 0x100, common 0x300) */
+/* adc.c (RM0440 §21); offsets from 0x50000000 (ADC1 0x000, ADC2 0x100, ADC12 common 0x300, ADC3 0x400,
+ * ADC345 common 0x700) */
 void adc_reset(board *b);
 uint32_t adc_read(board *b, uint32_t off);
 void adc_write(board *b, uint32_t off, uint32_t v);

@@ -9,7 +9,7 @@
  * then ends the run like a power-off (the --nvm file is written, exit status 0). Exit status: the image's exit code; 1 for a strictness stop (the message
  * names the address, the PC and the function); 2 for bad usage.
  *   dtc-board run SCENARIO --elf FILE [--controller NAME] [--csv OUT] [--metrics OUT] [--set k=v]
- *                 [--nvm FILE] [--fault-line T_S]
+ *                 [--nvm FILE] [--fault-line T_S [--fault-irq-off]]
  * runs a dtc-sim scenario with the image driving the plant through the HRTIM and ADC models. */
 #define _POSIX_C_SOURCE 200809L
 #include "board_twin/board.h"
@@ -31,7 +31,7 @@ static int usage(void) {
   fprintf(stderr, "usage: dtc-board exec --elf FILE [--nvm FILE] [--seconds S] [--pins BOARD_MD] [--stats] [--peek SYM[+OFF]]...\n"
                   "                      [--can IFACE [--can-bitrate BPS]] [--realtime]\n"
                   "       dtc-board run SCENARIO --elf FILE [--controller NAME] [--csv OUT] [--metrics OUT]\n"
-                  "                 [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S] [--quiet]\n");
+                  "                 [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S [--fault-irq-off]] [--quiet]\n");
   return 2;
 }
 

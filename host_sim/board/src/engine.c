@@ -147,6 +147,7 @@ static const periph_slot k_slots[] = {
   {0x48000C00u, "GPIOD", 1, 3}, {0x48001000u, "GPIOE", 1, 4}, {0x48001400u, "GPIOF", 1, 5},
   {0x48001800u, "GPIOG", 1, 6},
   {0x50000000u, "ADC12", 1, 13},      /* AHB2ENR.ADC12EN: ADC1, ADC2 and their common registers */
+  {0x50000400u, "ADC345", 1, 14},     /* AHB2ENR.ADC345EN: ADC3 (ADC4, ADC5 refused), common registers */
   {0x40006400u, "FDCAN1", 4, 25},     /* APB1ENR1.FDCANEN (fdcan.c) */
   {0x4000A400u, "SRAMCAN", 4, 25},    /* FDCAN message RAM, same clock gate */
 };
@@ -175,7 +176,7 @@ static uint32_t periph_read32(board *b, const periph_slot *s, uint32_t off) {
   if (s->base == 0x40003000u) return iwdg_read(b, off);
   if (s->base == 0x40001000u) return tim6_read(b, off);
   if (s->base == 0x40016800u) return hrtim_read(b, off);
-  if (s->base == 0x50000000u) return adc_read(b, off);
+  if (s->base == 0x50000000u || s->base == 0x50000400u) return adc_read(b, s->base - 0x50000000u + off);
   if (s->base == 0x40006400u) return fdcan_read(b, off);
   if (s->base == 0x4000A400u) return fdcan_ram_read(b, off);
   return gpio_read(b, (int)((s->base - 0x48000000u) / 0x400u), off);
@@ -215,7 +216,7 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   else if (s->base == 0x40022000u) flash_write(b, off, v);
   else if (s->base == 0x40001000u) tim6_write(b, off, v);
   else if (s->base == 0x40016800u) hrtim_write(b, off, v);
-  else if (s->base == 0x50000000u) adc_write(b, off, v);
+  else if (s->base == 0x50000000u || s->base == 0x50000400u) adc_write(b, s->base - 0x50000000u + off, v);
   else if (s->base == 0x40006400u) fdcan_write(b, off, v);
   else if (s->base == 0x4000A400u) fdcan_ram_write(b, off, v);
   else iwdg_write(b, off, v);

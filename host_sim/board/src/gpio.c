@@ -48,12 +48,21 @@ bool gpio_flt3_low(const board *b) {
   return input_level(p, 10) == 0u;
 }
 
+/* HRTIM_EEV6 (external event 6, source 1) as the HRTIM sees it: PB5 in AF13, else a low input. */
+bool gpio_eev6_low(const board *b) {
+  const gpio_port *p = &b->gpio[1];
+  uint32_t mode = (p->moder >> 10) & 3u, af = (p->afr[0] >> 20) & 0xFu;
+  if (mode != 2u || af != 13u) return true;
+  return input_level(p, 5) == 0u;
+}
+
 void board_drive_pin(board *b, char port, int pin, int level) {
   gpio_port *p = &b->gpio[port - 'A'];
   uint32_t bit = 1u << pin;
   if (level < 0) p->ext_mask &= ~bit;
   else { p->ext_mask |= bit; p->ext_level = level ? (p->ext_level | bit) : (p->ext_level & ~bit); }
   hrtim_fault_input_update(b, gpio_flt3_low(b));
+  hrtim_eev_input_update(b, gpio_eev6_low(b));
 }
 
 uint32_t gpio_read(board *b, int port, uint32_t off) {
@@ -154,7 +163,10 @@ void gpio_write(board *b, int port, uint32_t off, uint32_t v, uint32_t mask) {
   default: board_fault(b, "write to reserved GPIO%c offset 0x%02X", 'A' + port, off); return;
   }
   mark_changes(b, port);
-  if (port == 1) hrtim_fault_input_update(b, gpio_flt3_low(b));
+  if (port == 1) {
+    hrtim_fault_input_update(b, gpio_flt3_low(b));
+    hrtim_eev_input_update(b, gpio_eev6_low(b));
+  }
 }
 
 size_t board_pins(const board *b, board_pin *out, size_t max) {

@@ -6,7 +6,20 @@
  *  - period, repetition and compare 1-4 registers with preload (PREEN) and transfer at the
  *    repetition/update event (MREPU/TxREPU, REP = 0: every period), TxUDIS hold (HRTIM_CR1)
  *    and the software update TxSWU (HRTIM_CR2), §27.3.8;
- *  - output set/reset crossbar from the timer's PER and CMP1-4 events (SETxyR/RSTxyR, §27.3.5);
+ *  - output set/reset crossbar from the timer's PER and CMP1-4 events (SETxyR/RSTxyR, §27.3.5),
+ *    the software set of output 1 (SETx1R.SST: immediate, not preloaded, reads 0),
+ *    and external event 6 as a reset source of output 1 (RSTx1R.EXTEVNT6). The crossbar is a
+ *    set/reset latch; a reset request wins over a simultaneous set (§27.3.7). EEV6 is modelled
+ *    level-sensitive only (EECR2.EE6SNS = 0): while it is active the reset request is present on
+ *    every fHRTIM clock, so the output stays reset through any set event, and after it the output
+ *    stays reset until the next set event;
+ *  - external event 6 (EECR2/EECR3, §27.3.11): source 1 = the HRTIM_EEV6 pin (PB5 in AF13; any
+ *    other pin mode gives the HRTIM a low input), polarity EE6POL, the digital filter EE6F (N
+ *    consecutive samples at fHRTIM or fEEVS / 2..32, fEEVS = fHRTIM / 2^EEVSD): the filtered
+ *    input changes at the N-th consecutive sample of the new level (a shorter pulse is ignored),
+ *    then acts after the same 3 tHRTIM of resynchronisation as FLT3. EECR1-3 may not change while
+ *    the counters run; the other events, their other sources, edge sensitivity and the external
+ *    event as a set source are refused (not wired / not modelled);
  *  - the dead-time unit (OUTxR.DTEN, DTxR: rising/falling dead time in tDTG = 2^DTPRSC x
  *    tHRTIM / 8, §27.3.10): output 1 = reference with its rising edge delayed by DTR,
  *    output 2 = complement with its rising edge delayed by DTF; a pulse shorter than the
@@ -27,6 +40,8 @@
 #define IRQ_HRTIM_FLT 73
 #define EPS_T 1e-12
 #define FLT_SYNC_TICKS 3.0 /* fault input synchronisation, in tHRTIM (docs/board.md: 20-60 ns) */
+#define EEV_SYNC_TICKS 3.0 /* external event resynchronisation before acting on outputs, in tHRTIM */
+#define RST_EEV6 (1u << 26) /* SETx1R/RSTx1R.EXTEVNT6 */
 
 /* register offsets from 0x40016800 */
 #define OFS_TIM(t) (0x80u + 0x80u * (unsigned)(t))
@@ -41,6 +56,9 @@ void hrtim_reset(board *b) {
   for (int t = 0; t < 6; t++) h->tim[t].per = h->tim[t].p_per = 0xFFDFu;
   h->flt3_apply_t = -1;
   h->flt3_line_low = gpio_flt3_low(b);
+  h->eev6_apply_t = -1;
+  h->eev6_pin_low = gpio_eev6_low(b);
+  for (int t = 0; t < 6; t++) h->tim[t].last_tr[0].t = h->tim[t].last_tr[1].t = -1;
 }
 
 static double f_hrtim(board *b) { return rcc_hclk_hz(b); } /* APB2 prescaler 1: fHRTIM = PCLK2 = HCLK */
@@ -146,32 +164,96 @@ static void transfer(hrtim_state *h, int which) { /* which: -1 master, 0..5 time
   memcpy(x->rst, x->p_rst, sizeof x->rst);
 }
 
+/* Dead times of timer t, s: rising (DTR) and falling (DTF) edges. */
+static void dead_times(board *b, const hrtim_timer *x, double *dtr, double *dtf) {
+  double tdtg = (double)(1u << ((x->dtr >> 10) & 7u)) / (8.0 * f_hrtim(b));
+  *dtr = (double)(x->dtr & 0x1FFu) * tdtg;
+  *dtf = (double)((x->dtr >> 16) & 0x1FFu) * tdtg;
+}
+
+/* The reference transitions of timer t's output `out` over the present period: its set/reset
+ * programme (plan) run through the set/reset latch together with the external event 6 reset
+ * request, as known so far (active at the period start, then eev6_hist). A reset request beats a
+ * set at the same instant (§27.3.7); an event-6 change at the instant of a set is taken first. */
+static int ref_transitions(const hrtim_state *h, const hrtim_timer *x, int out, hrtim_edge *tr) {
+  bool uses_eev = (x->rst[out] & RST_EEV6) != 0;
+  bool eev = uses_eev && h->eev6_on_at_t0;
+  uint8_t level = x->ref_start[out];
+  int n = 0;
+  if (eev && level) { level = 0; tr[n].t = h->t_period; tr[n].level = 0; n++; }
+  int i = 0, k = 0;
+  while (i < x->n_plan[out] || k < h->n_eev6_hist) {
+    bool take_eev = k < h->n_eev6_hist && (i >= x->n_plan[out] || h->eev6_hist[k].t <= x->plan[out][i].t + EPS_T);
+    if (take_eev) {
+      double tc = h->eev6_hist[k].t;
+      if (uses_eev) eev = h->eev6_hist[k].level != 0;
+      k++;
+      if (eev && level) { level = 0; tr[n].t = tc; tr[n].level = 0; n++; }
+      continue;
+    }
+    const hrtim_edge *e = &x->plan[out][i++];
+    if (e->level && eev) continue; /* the reset request holds the output */
+    if (e->level != level) { level = e->level; tr[n].t = e->t; tr[n].level = level; n++; }
+  }
+  return n;
+}
+
+/* (Re)emit timer t's output `out` from time `from` on: the queued edges at or after `from` are
+ * replaced by those of the reference transitions after it; the dead-time edge of the last
+ * transition before `from` is kept (it may still lie ahead). */
+static void emit_from(board *b, int t, int out, double from) {
+  hrtim_state *h = &b->hrtim;
+  hrtim_timer *x = &h->tim[t];
+  bool dten = (x->outr & (1u << 8)) != 0;
+  if (dten && out) return; /* output 2 is derived from output 1's reference (§27.3.10) */
+  hrtim_edge tr[8 + HRTIM_EEV_HIST + 1];
+  int n = ref_transitions(h, x, out, tr);
+  hrtim_edge last = x->last_tr[out];
+  int i = 0;
+  for (; i < n && tr[i].t < from - EPS_T; i++) last = tr[i];
+  hrtim_wave *o1 = &h->wave[2 * t], *o2 = &h->wave[2 * t + 1];
+  if (dten) {
+    wave_cut(o1, from);
+    wave_cut(o2, from);
+    double dtr, dtf;
+    dead_times(b, x, &dtr, &dtf);
+    if (last.t >= from - EPS_T) ref_edge(b, t, out, last.t, last.level); /* the counters' start, at `from` */
+    else if (last.t >= 0 && last.level && last.t + dtr >= from - EPS_T) wave_push(b, o1, last.t + dtr, 1);
+    else if (last.t >= 0 && !last.level && last.t + dtf >= from - EPS_T) wave_push(b, o2, last.t + dtf, 1);
+  } else {
+    wave_cut(out ? o2 : o1, from);
+    if (last.t >= from - EPS_T) ref_edge(b, t, out, last.t, last.level);
+  }
+  for (; i < n; i++) ref_edge(b, t, out, tr[i].t, tr[i].level);
+  x->ref[out] = n ? tr[n - 1].level : x->ref_start[out];
+}
+
 /* Crossbar of timer t for the period starting at t0 (RM0440 §27.3.5): events PER (bit 2) and
  * CMP1-4 (bits 3-6); set and reset on one event is refused (the model does not arbitrate). */
 static void plan_period(board *b, int t, double t0) {
   hrtim_state *h = &b->hrtim;
   hrtim_timer *x = &h->tim[t];
   for (int out = 0; out < 2; out++) {
-    uint32_t s = x->set[out], r = x->rst[out];
-    if (!s && !r) continue;
+    x->ref_start[out] = x->ref[out];
+    x->n_plan[out] = 0;
+    uint32_t s = x->set[out], r = x->rst[out] & ~RST_EEV6;
     if (s & r) {
       board_fault(b, "HRTIM_SET%c%dR/RST%c%dR 0x%08X/0x%08X: set and reset on the same event (not modelled)",
                   k_tname[t], out + 1, k_tname[t], out + 1, s, r);
       return;
     }
     struct { uint32_t c; uint32_t bit; } ev[5];
-    int n = 0;
+    int m = 0;
     for (int k = 0; k < 4; k++)
-      if (((s | r) >> (3 + k)) & 1u) { ev[n].c = x->cmp[k]; ev[n].bit = 1u << (3 + k); n++; }
-    if ((s | r) & 4u) { ev[n].c = x->per; ev[n].bit = 4u; n++; }
-    for (int i = 1; i < n; i++) /* insertion sort by count */
+      if (((s | r) >> (3 + k)) & 1u) { ev[m].c = x->cmp[k]; ev[m].bit = 1u << (3 + k); m++; }
+    if ((s | r) & 4u) { ev[m].c = x->per; ev[m].bit = 4u; m++; }
+    for (int i = 1; i < m; i++) /* insertion sort by count */
       for (int j = i; j > 0 && ev[j].c < ev[j - 1].c; j--) { __typeof__(ev[0]) tmp = ev[j]; ev[j] = ev[j - 1]; ev[j - 1] = tmp; }
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < m; i++) {
       if (ev[i].c > x->per) continue; /* a compare beyond the period never matches */
-      uint8_t lvl = (s & ev[i].bit) ? 1u : 0u;
-      if (lvl == x->ref[out]) continue;
-      x->ref[out] = lvl;
-      ref_edge(b, t, out, t0 + (double)ev[i].c * h->t_count, lvl);
+      x->plan[out][x->n_plan[out]].t = t0 + (double)ev[i].c * h->t_count;
+      x->plan[out][x->n_plan[out]].level = (s & ev[i].bit) ? 1u : 0u;
+      x->n_plan[out]++;
     }
   }
 }
@@ -179,6 +261,12 @@ static void plan_period(board *b, int t, double t0) {
 static void period_start(board *b, double t0) {
   hrtim_state *h = &b->hrtim;
   twin_sync(b, t0); /* the plant runs up to the period boundary on the old programme */
+  for (int t = 0; t < 6; t++) /* the last reference transition of the period that ends: history */
+    for (int out = 0; out < 2; out++) {
+      hrtim_edge tr[8 + HRTIM_EEV_HIST + 1];
+      int n = ref_transitions(h, &h->tim[t], out, tr);
+      if (n) h->tim[t].last_tr[out] = tr[n - 1];
+    }
   h->t_period = t0;
   h->periods++;
   /* repetition event with REP = 0 each period: update (transfer) unless held by TxUDIS */
@@ -192,6 +280,10 @@ static void period_start(board *b, double t0) {
                   "master's period (the port's scheme)", k_tname[t], x->per, h->mper);
     plan_period(b, t, t0);
   }
+  h->eev6_on_at_t0 = h->eev6_on; /* the new period's event-6 history starts here */
+  h->n_eev6_hist = 0;
+  for (int t = 0; t < 6; t++)
+    for (int out = 0; out < 2; out++) emit_from(b, t, out, t0);
   if (h->mper < 3u) board_fault(b, "HRTIM_MPER %u: below the minimum period of 3 (RM0440 §27.5)", h->mper);
   h->next_period_t = t0 + (double)h->mper * h->t_count;
   for (int k = 0; k < 4; k++) {
@@ -217,6 +309,7 @@ static void master_compare(board *b, int k, double when) {
 double hrtim_next_event(board *b) {
   hrtim_state *h = &b->hrtim;
   double t = h->flt3_apply_t >= 0 ? h->flt3_apply_t : INFINITY;
+  if (h->eev6_apply_t >= 0 && h->eev6_apply_t < t) t = h->eev6_apply_t;
   if (!h->running) return t;
   if (h->next_period_t < t) t = h->next_period_t;
   for (int k = 0; k < 4; k++)
@@ -225,11 +318,13 @@ double hrtim_next_event(board *b) {
 }
 
 static void apply_fault(board *b);
+static void apply_eev6(board *b);
 
 void hrtim_event(board *b) {
   hrtim_state *h = &b->hrtim;
   double now = board_now(b);
   if (h->flt3_apply_t >= 0 && now >= h->flt3_apply_t - EPS_T) { h->flt3_apply_t = -1; apply_fault(b); }
+  if (h->eev6_apply_t >= 0 && now >= h->eev6_apply_t - EPS_T) { h->eev6_apply_t = -1; apply_eev6(b); }
   while (h->running && !b->fault) {
     double tn = INFINITY;
     int which = -1;
@@ -277,6 +372,79 @@ void hrtim_fault_input_update(board *b, bool line_low) {
     double f = f_hrtim(b) > 0 ? f_hrtim(b) : 16e6;
     h->flt3_apply_t = board_now(b) + FLT_SYNC_TICKS / f;
   }
+}
+
+/* SETx1R.SST: a set of output 1's latch at this instant, added to the period's programme. */
+static void software_set(board *b, int t) {
+  hrtim_state *h = &b->hrtim;
+  hrtim_timer *x = &h->tim[t];
+  double now = board_now(b);
+  twin_sync(b, now);
+  if (!h->running) { /* no period programme: the latch (and the outputs' dead-time unit) directly */
+    if (!x->ref[0]) { x->ref[0] = 1; ref_edge(b, t, 0, now, 1); x->last_tr[0].t = now; x->last_tr[0].level = 1; }
+    return;
+  }
+  if (x->n_plan[0] == 8) { board_fault(b, "HRTIM model: more than 3 software sets of timer %c in one period", k_tname[t]); return; }
+  int i = x->n_plan[0];
+  while (i > 0 && x->plan[0][i - 1].t > now + EPS_T) { x->plan[0][i] = x->plan[0][i - 1]; i--; }
+  x->plan[0][i].t = now;
+  x->plan[0][i].level = 1;
+  x->n_plan[0]++;
+  emit_from(b, t, 0, now);
+}
+
+/* ---- external event 6: the fault line's second input (§27.3.11) ---- */
+
+/* fSAMPLING period (s) and length N of the EExF digital filter code f; f = 0: no filter. */
+static void eev_filter(board *b, uint32_t f, uint32_t eevsd, double *ts, int *n) {
+  static const int k_div[16] = {0, 1, 1, 1, 2, 2, 4, 4, 8, 8, 16, 16, 16, 32, 32, 32};
+  static const int k_n[16] = {0, 2, 4, 8, 6, 8, 6, 8, 6, 8, 5, 6, 8, 5, 6, 8};
+  double fh = f_hrtim(b) > 0 ? f_hrtim(b) : 16e6;
+  double feevs = fh / (double)(1u << eevsd);
+  *n = k_n[f & 15u];
+  *ts = f == 0 ? 0 : f <= 3u ? 1.0 / fh : (double)k_div[f] / feevs; /* codes 1-3 sample at fHRTIM */
+}
+
+static bool eev6_active_level(const hrtim_state *h) {
+  bool pol_low = (h->eecr[1] >> 2) & 1u; /* EE6POL: 1 active low */
+  return pol_low ? h->eev6_pin_low : !h->eev6_pin_low;
+}
+
+/* The filtered, resynchronised event 6 changes: the timers resetting output 1 on it re-emit the
+ * rest of their period (only while the counters run; the latch state is kept meanwhile). */
+static void apply_eev6(board *b) {
+  hrtim_state *h = &b->hrtim;
+  double now = board_now(b);
+  if (h->eev6_on == h->eev6_raw) return;
+  twin_sync(b, now);
+  h->eev6_on = h->eev6_raw;
+  if (!h->running) return;
+  if (h->n_eev6_hist == HRTIM_EEV_HIST) { board_fault(b, "HRTIM model: external event 6 changed more than %d times in one period", HRTIM_EEV_HIST); return; }
+  h->eev6_hist[h->n_eev6_hist].t = now;
+  h->eev6_hist[h->n_eev6_hist].level = h->eev6_on;
+  h->n_eev6_hist++;
+  for (int t = 0; t < 6; t++)
+    if (h->tim[t].rst[0] & RST_EEV6) emit_from(b, t, 0, now);
+}
+
+/* The EEV6 pin (PB5, AF13) changed or its mux did: through the polarity and the digital filter. */
+void hrtim_eev_input_update(board *b, bool pin_low) {
+  hrtim_state *h = &b->hrtim;
+  h->eev6_pin_low = pin_low;
+  bool raw = eev6_active_level(h);
+  if (raw == h->eev6_raw) return;
+  h->eev6_raw = raw;
+  if (raw == h->eev6_on) { h->eev6_apply_t = -1; return; } /* back before the filter let it through */
+  double ts;
+  int n;
+  eev_filter(b, h->eecr[2] & 0xFu, (h->eecr[2] >> 30) & 3u, &ts, &n);
+  double now = board_now(b), fh = f_hrtim(b) > 0 ? f_hrtim(b) : 16e6;
+  double t_out = now;
+  if (n > 0) { /* the N-th consecutive sample of the new level, on the sampling clock's grid */
+    double first = ceil(now / ts - 1e-6) * ts;
+    t_out = first + (double)(n - 1) * ts;
+  }
+  h->eev6_apply_t = t_out + EEV_SYNC_TICKS / fh;
 }
 
 /* ---- registers ---- */
@@ -354,6 +522,7 @@ uint32_t hrtim_read(board *b, uint32_t off) {
     case 0x18: return 0;
     case 0x1C: return h->fault_state & ~h->oen; /* ODSR: 1 = disabled in the fault state */
     case 0x3C: case 0x40: case 0x44: case 0x48: return h->adcr[(off - OFS_COMMON - 0x3Cu) / 4u];
+    case 0x30: case 0x34: case 0x38: return h->eecr[(off - OFS_COMMON - 0x30u) / 4u];
     case 0x50: return h->fltinr1;
     case 0x54: return h->fltinr2;
     }
@@ -391,8 +560,12 @@ static void start_stop(board *b, uint32_t old, uint32_t v) {
         ref_edge(b, t, 0, t0, h->tim[t].ref[0]);
         h->tim[t].ref[0] ^= 1u;
         ref_edge(b, t, 0, t0, h->tim[t].ref[0]);
+        h->tim[t].last_tr[0].t = t0;
+        h->tim[t].last_tr[0].level = h->tim[t].ref[0];
       }
+      h->tim[t].n_plan[0] = h->tim[t].n_plan[1] = 0;
     }
+    h->n_eev6_hist = 0;
     period_start(b, t0);
     return;
   }
@@ -469,11 +642,18 @@ static void write_timer(board *b, int t, uint32_t r, uint32_t v) {
   case 0x3C: case 0x40: case 0x44: case 0x48: {
     int out = r >= 0x44u;
     bool is_set = r == 0x3Cu || r == 0x44u;
-    const uint32_t ok = 0x7Cu; /* PER, CMP1-4 */
+    /* PER, CMP1-4; external event 6 as a reset of output 1 (the fault line's second input); the
+     * software set of output 1 (SST, bit 0) */
+    const uint32_t ok = 0x7Cu | (!is_set && out == 0 ? RST_EEV6 : 0u) | (is_set && out == 0 ? 1u : 0u);
     if (v & ~ok) {
-      board_fault(b, "HRTIM_%s%c%dR 0x%08X: event sources 0x%08X not modelled (PER, CMP1-4 only)",
-                  is_set ? "SET" : "RST", k_tname[t], out + 1, v, v & ~ok);
+      board_fault(b, "HRTIM_%s%c%dR 0x%08X: event sources 0x%08X not modelled (PER, CMP1-4%s only)",
+                  is_set ? "SET" : "RST", k_tname[t], out + 1, v, v & ~ok,
+                  !is_set && out == 0 ? ", EXTEVNT6 (external event 6, PB5)" : "");
       return;
+    }
+    if (is_set && (v & 1u)) { /* SST: set output 1 now, whatever the preload (a reset request still wins) */
+      software_set(b, t);
+      v &= ~1u;
     }
     uint32_t *reg = is_set ? (pre ? &x->p_set[out] : &x->set[out]) : (pre ? &x->p_rst[out] : &x->rst[out]);
     *reg = v;
@@ -582,6 +762,31 @@ void hrtim_write(board *b, uint32_t off, uint32_t v) {
       if (v & ~ok) { board_fault(b, "HRTIM_ADC%uR 0x%08X: trigger sources other than the master not modelled", (off - OFS_COMMON - 0x3Cu) / 4u + 1u, v); return; }
       if (v & 0x10u) { board_fault(b, "HRTIM_ADCxR: master period trigger not modelled"); return; }
       h->adcr[(off - OFS_COMMON - 0x3Cu) / 4u] = v;
+      return;
+    }
+    case 0x30: case 0x34: case 0x38: { /* EECR1-3, §27.5 (HRTIM_EECRx) */
+      int k = (int)(off - OFS_COMMON - 0x30u) / 4;
+      if (h->running) {
+        board_fault(b, "HRTIM_EECR%d written while the counters run: the external event configuration must not "
+                    "change once a timer using it is enabled (RM0440 §27.5, HRTIM_EECRx)", k + 1);
+        return;
+      }
+      if (k == 0 && v) { board_fault(b, "HRTIM_EECR1 0x%08X: external events 1-5 are not wired on this board model", v); return; }
+      if (k == 1) {
+        for (int e = 0; e < 5; e++) { /* 6 bits per event: SRC 0-1, POL 2, SNS 3-4, bit 5 reserved */
+          uint32_t f = (v >> (6 * e)) & 0x3Fu;
+          if (e > 0 && f) { board_fault(b, "HRTIM_EECR2: external event %d is not wired on this board model", e + 6); return; }
+          if (f & 0x20u) { board_fault(b, "HRTIM_EECR2 0x%08X: reserved bit", v); return; }
+          if (f & 3u) { board_fault(b, "HRTIM_EECR2 EE6SRC %u: only source 1 (the HRTIM_EEV6 pin) is modelled", f & 3u); return; }
+          if (f & 0x18u) { board_fault(b, "HRTIM_EECR2 EE6SNS %u: edge sensitivity not modelled (level only)", (f >> 3) & 3u); return; }
+        }
+        if (v & 0xC0000000u) { board_fault(b, "HRTIM_EECR2 0x%08X: reserved bits", v); return; }
+      }
+      if (k == 2) {
+        if (v & ~(0xFu | (3u << 30))) { board_fault(b, "HRTIM_EECR3 0x%08X: filters of external events 7-10 (not wired on this board model) or reserved bits", v); return; }
+      }
+      h->eecr[k] = v;
+      hrtim_eev_input_update(b, h->eev6_pin_low); /* a polarity change is an input change */
       return;
     }
     case 0x50: {

@@ -24,8 +24,15 @@ typedef struct {
   uint32_t cr, per, rep, cmp[4], set[2], rst[2];
   uint32_t p_per, p_rep, p_cmp[4], p_set[2], p_rst[2];
   uint32_t dtr, outr, fltr, dier, isr;
-  uint8_t ref[2];                  /* crossbar output (before dead time): output 1, output 2 */
+  uint8_t ref[2];                  /* crossbar output (before dead time) at the end of the emitted period */
+  /* the period's crossbar programme: set/reset events in time order, and the reference at its start */
+  hrtim_edge plan[2][8];           /* PER, CMP1-4, and software sets (SST) */
+  int n_plan[2];
+  uint8_t ref_start[2];
+  hrtim_edge last_tr[2];           /* last reference transition before this period (t < 0: none) */
 } hrtim_timer;
+
+#define HRTIM_EEV_HIST 16
 
 typedef struct {
   uint32_t mcr, mper, mrep, mcmp[4], p_mper, p_mrep, p_mcmp[4], misr, mdier;
@@ -39,6 +46,15 @@ typedef struct {
   hrtim_wave wave[HRTIM_NOUT];
   bool flt3_line_low;              /* FLT3 input as the HRTIM sees it (after the pin mux) */
   double flt3_apply_t;             /* the synchronised input takes effect then, <0: nothing pending */
+  /* external events (EECR1-3) and external event 6 (PB5, the fault line's second input) */
+  uint32_t eecr[3];
+  bool eev6_pin_low;               /* EEV6 input as the HRTIM sees it (after the pin mux) */
+  bool eev6_raw;                   /* after the polarity: active */
+  bool eev6_on;                    /* after the digital filter and the resynchronisation */
+  double eev6_apply_t;             /* eev6_on takes eev6_raw's value then, <0: nothing pending */
+  bool eev6_on_at_t0;              /* eev6_on at the start of the present period, and its changes since */
+  int n_eev6_hist;
+  hrtim_edge eev6_hist[HRTIM_EEV_HIST];
   uint64_t periods;
 } hrtim_state;
 

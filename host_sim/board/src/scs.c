@@ -190,6 +190,10 @@ static bool dbgmcu_reg(board *b, uint32_t a, uint32_t **reg) {
   return true;
 }
 
+void board_nvic_disable(board *b, int irq) {
+  scs_write(b, 0xE000E180u + 4u * (uint32_t)(irq / 32), 4, 1u << (irq % 32));
+}
+
 uint32_t scs_read(board *b, uint32_t addr, unsigned size) {
   bool ok;
   uint32_t *dreg;

@@ -5,8 +5,12 @@
  * instant, a period start, an output enable/disable, the end of a run) over the segments between
  * output edges (twin_sync), so every switching instant, dead time included, is honoured exactly.
  *
- * Leg state per segment (switches of leg x: S1 = timer A/C/E output 1, S3 = its output 2, S2 =
- * timer B/D/F output 1, S4 = its output 2): S1+S2 = P, S2+S3 = O, S3+S4 = N, all off =
+ * Gate wiring of the interface board (docs/board.md pin map, k_wiring below): per leg, timer
+ * A/C/E output 1 drives S3 and output 2 S1, timer B/D/F output 1 drives S2 and output 2 S4 (the
+ * inner switches on output 1, so the fault line's external event can reset them). The levels are
+ * handled in switch order, bit 4 x leg + {S1, S3, S2, S4}.
+ *
+ * Leg state per segment: S1+S2 = P, S2+S3 = O, S3+S4 = N, all off =
  * PLANT_LEG_OFF (diodes). During a dead time only S2, or only S3, is on and the leg's voltage is
  * set by the sign of its current at the segment start (the plant takes one state per leg and
  * segment): only S2: a current into the motor flows through the upper clamp diode and S2 (O), a
@@ -42,6 +46,16 @@ struct twin_bind {
 };
 
 static struct twin_bind *bind(board *b) { return b->bind; }
+
+/* HRTIM output o (TA1, TA2, TB1, ... TF2) -> switch bit (4 x leg + 0 S1, 1 S3, 2 S2, 3 S4). */
+static const uint8_t k_wiring[12] = {1, 0, 2, 3, 5, 4, 6, 7, 9, 8, 10, 11};
+
+/* The 12 gate signals at time t, in switch order. */
+static uint32_t switch_levels(board *b, double t) {
+  uint32_t out = hrtim_levels(b, t), sw = 0;
+  for (int o = 0; o < 12; o++) sw |= ((out >> o) & 1u) << k_wiring[o];
+  return sw;
+}
 
 int board_attach_plant(board *b, const plant_config *cfg) {
   struct twin_bind *w = calloc(1, sizeof *w);
@@ -127,7 +141,7 @@ void twin_sync(board *b, double t) {
   while (w->t < t - EPS_T && !b->fault) {
     double tn = hrtim_next_edge(b, w->t);
     if (tn > t) tn = t;
-    uint32_t lv = hrtim_levels(b, w->t);
+    uint32_t lv = switch_levels(b, w->t);
     if (!w->levels_valid || lv != w->levels) la_edges(w, w->t, lv);
     uint8_t legs[3];
     double i_abc[3] = {0, 0, 0};
@@ -191,10 +205,15 @@ double twin_pin_voltage(board *b, char port, int pin, double t) {
   return 0.0;
 }
 
+void board_drive_fault_line(board *b, int level) {
+  board_drive_pin(b, 'B', 10, level);
+  board_drive_pin(b, 'B', 5, level);
+}
+
 uint32_t board_gate_levels(board *b) {
   double now = board_now(b);
   twin_sync(b, now);
-  return hrtim_levels(b, now);
+  return switch_levels(b, now);
 }
 
 void board_la_mark(board *b) {
@@ -203,7 +222,7 @@ void board_la_mark(board *b) {
   double now = board_now(b);
   twin_sync(b, now);
   w->la.mark_s = now;
-  w->la.on_at_mark = hrtim_levels(b, now);
+  w->la.on_at_mark = switch_levels(b, now);
   for (int o = 0; o < 12; o++) w->la.off_after_mark_s[o] = -1;
 }
 

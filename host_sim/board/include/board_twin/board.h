@@ -48,6 +48,9 @@ int board_read_u32(board *b, uint32_t addr, uint32_t *value);
 /* Test-only access to the emulated RAM (a debugger's view); 0 on success. */
 int board_write_u32(board *b, uint32_t addr, uint32_t value);
 int board_read_mem(board *b, uint32_t addr, void *out, size_t n);
+/* Test-only: clear interrupt `irq`'s NVIC enable (NVIC_ICER), as a debugger would; the firmware
+ * can enable it again. */
+void board_nvic_disable(board *b, int irq);
 /* Address and size of an ELF symbol; 0 on success. */
 int board_symbol(board *b, const char *name, uint32_t *addr, uint32_t *size);
 /* Start of the current HRTIM master period and its length; -1 while the timers are stopped. */

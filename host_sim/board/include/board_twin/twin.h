@@ -17,10 +17,14 @@ int board_attach_plant(board *b, const plant_config *cfg);
 /* The attached plant, synchronised to the board's present time; NULL without one. */
 plant_state *board_plant(board *b);
 
-/* Drive a pin from outside (level 0/1) or release it (-1). PB10 is the gate drivers' fault line. */
+/* Drive a pin from outside (level 0/1) or release it (-1). */
 void board_drive_pin(board *b, char port, int pin, int level);
+/* The gate drivers' common fault line (active low; -1 releases it to the pull-ups). The interface
+ * board ties it to two pins (docs/board.md): PB10 = HRTIM_FLT3 and PB5 = HRTIM_EEV6. */
+void board_drive_fault_line(board *b, int level);
 
-/* Logic analyser on the 12 gate signals (TA1..TF2 = per leg S1, S3, S2, S4). */
+/* Logic analyser on the 12 gate signals, in switch order: index 4 x leg + 0 S1, 1 S3, 2 S2, 3 S4
+ * (the interface board wires TA2, TA1, TB1, TB2 = leg a S1, S3, S2, S4; C/D leg b, E/F leg c). */
 typedef struct {
   uint64_t on_edges[12], off_edges[12];
   double on_time_s[12];          /* total time on */
@@ -37,11 +41,21 @@ typedef struct {
   uint32_t on_at_mark;           /* outputs on at the mark */
   double off_after_mark_s[12];   /* first on->off edge at or after the mark, -1: none yet */
 } board_la_stats;
-/* Gate levels now, bit o = output o (TA1, TA2, TB1, ... TF2). */
+/* Gate levels now, in switch order (bit 4 x leg + 0 S1, 1 S3, 2 S2, 3 S4). */
 uint32_t board_gate_levels(board *b);
 /* Remember which outputs are on now and time their next turn-off (the fault test). */
 void board_la_mark(board *b);
 void board_la_get(board *b, board_la_stats *out);
+
+/* When the ADCs sampled the three phase currents (ia PA0, ib PA1, ic PB1), whichever ADC converts
+ * each: over every HRTIM trigger that converted all three, the largest spread of their sampling
+ * instants, and for the last one each instant after the trigger. */
+typedef struct {
+  uint64_t triples;           /* triggers with all three currents converted */
+  double max_skew_s;          /* largest (latest - earliest) sampling instant within one trigger */
+  double after_trigger_s[3];  /* ia, ib, ic: sampling instant - trigger instant, last trigger */
+} board_current_sampling;
+void board_current_sampling_get(board *b, board_current_sampling *out);
 
 /* Executed instructions per exception number (16 + IRQ), exact, excluding nested exceptions. */
 typedef struct {
