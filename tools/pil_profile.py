@@ -54,6 +54,8 @@ def main() -> int:
     ap.add_argument("--from", dest="start", type=int, default=0)
     ap.add_argument("--elf", default=str(ROOT / "build/stm32g4/dtc-pil.elf"))
     ap.add_argument("--annotate", nargs="*", default=[])
+    ap.add_argument("--inlined", action="store_true",
+                    help="also attribute to the innermost (inlined) function and source line; needs an ELF built with -g")
     a = ap.parse_args()
 
     data = Path(a.rec).read_bytes()
@@ -107,6 +109,22 @@ def main() -> int:
     print("|---|---:|---:|")
     for name, c in per_sym.most_common():
         print(f"| {name} | {c / ticks:.1f} | {100.0 * c / total:.1f} % |")
+    if a.inlined:
+        addrs = sorted(pcs)
+        out = subprocess.run(["arm-none-eabi-addr2line", "-f", "-e", a.elf] + [f"{pc:x}" for pc in addrs],
+                             check=True, capture_output=True, text=True).stdout.splitlines()
+        by_fn = collections.Counter()
+        by_line = collections.Counter()
+        for k, pc in enumerate(addrs):
+            fn, loc = out[2 * k], out[2 * k + 1]
+            by_fn[fn] += pcs[pc]
+            by_line[f"{fn} {loc.split('/')[-1]}"] += pcs[pc]
+        print("\n| innermost function (inlined included) | instructions per tick |\n|---|---:|")
+        for name, c in by_fn.most_common(40):
+            print(f"| {name} | {c / ticks:.1f} |")
+        print("\n| source line | instructions per tick |\n|---|---:|")
+        for name, c in by_line.most_common(60):
+            print(f"| {name} | {c / ticks:.1f} |")
     for name in a.annotate:
         match = [s for s in syms if s[2] == name]
         if not match:
