@@ -56,6 +56,7 @@ def main() -> int:
     ap.add_argument("--annotate", nargs="*", default=[])
     ap.add_argument("--inlined", action="store_true",
                     help="also attribute to the innermost (inlined) function and source line; needs an ELF built with -g")
+    ap.add_argument("--top", type=int, default=60, help="rows of the --inlined tables (default 60)")
     a = ap.parse_args()
 
     data = Path(a.rec).read_bytes()
@@ -120,10 +121,10 @@ def main() -> int:
             by_fn[fn] += pcs[pc]
             by_line[f"{fn} {loc.split('/')[-1]}"] += pcs[pc]
         print("\n| innermost function (inlined included) | instructions per tick |\n|---|---:|")
-        for name, c in by_fn.most_common(40):
+        for name, c in by_fn.most_common(a.top):
             print(f"| {name} | {c / ticks:.1f} |")
         print("\n| source line | instructions per tick |\n|---|---:|")
-        for name, c in by_line.most_common(60):
+        for name, c in by_line.most_common(a.top):
             print(f"| {name} | {c / ticks:.1f} |")
     for name in a.annotate:
         match = [s for s in syms if s[2] == name]
