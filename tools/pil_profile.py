@@ -56,6 +56,8 @@ def main() -> int:
     ap.add_argument("--annotate", nargs="*", default=[])
     ap.add_argument("--inlined", action="store_true",
                     help="also attribute to the innermost (inlined) function and source line; needs an ELF built with -g")
+    ap.add_argument("--by-file", action="store_true",
+                    help="also attribute to the source file (.c) of the innermost frame not in a header; ELF with -g")
     ap.add_argument("--top", type=int, default=60, help="rows of the --inlined tables (default 60)")
     a = ap.parse_args()
 
@@ -125,6 +127,28 @@ def main() -> int:
             print(f"| {name} | {c / ticks:.1f} |")
         print("\n| source line | instructions per tick |\n|---|---:|")
         for name, c in by_line.most_common(a.top):
+            print(f"| {name} | {c / ticks:.1f} |")
+    if a.by_file:
+        addrs = sorted(pcs)
+        out = subprocess.run(["arm-none-eabi-addr2line", "-a", "-i", "-f", "-e", a.elf] + [f"{pc:x}" for pc in addrs],
+                             check=True, capture_output=True, text=True).stdout.splitlines()
+        by_file = collections.Counter()
+        k = -1
+        chosen = {}
+        frames = []
+        for line in out + ["0xffffffff"]:
+            if line.startswith("0x"):
+                if k >= 0:
+                    srcs = [f for f in frames if f.endswith(".c")]
+                    chosen[addrs[k]] = (srcs[0] if srcs else (frames[0] if frames else "?"))
+                k += 1
+                frames = []
+            elif ":" in line:
+                frames.append(line.split(":")[0].split("/")[-1])
+        for pc, f in chosen.items():
+            by_file[f] += pcs[pc]
+        print("\n| source file (inlined code counted where it is written) | instructions per tick |\n|---|---:|")
+        for name, c in by_file.most_common():
             print(f"| {name} | {c / ticks:.1f} |")
     for name in a.annotate:
         match = [s for s in syms if s[2] == name]
