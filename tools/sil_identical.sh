@@ -65,7 +65,9 @@ case $1 in
       fi
     done
     [ "$count" -gt 0 ] || { echo "sil_identical.sh: no .csv/.rec in $a" >&2; exit 2; }
-    if ! "$root/.venv/bin/python" "$root/tools/compare_metrics.py" "$a" "$b" >"$b/compare_metrics.txt" 2>&1; then
+    py=$root/.venv/bin/python
+    [ -x "$py" ] || py=python3
+    if ! "$py" "$root/tools/compare_metrics.py" "$a" "$b" >"$b/compare_metrics.txt" 2>&1; then
       grep -v identical "$b/compare_metrics.txt" || true
       differ=1
     fi
