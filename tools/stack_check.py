@@ -30,6 +30,7 @@ exit:  0 the worst total fits the reserve (DTC_MIN_STACK of the linker script),
        1 it does not, or the analysis failed; 77 the target build is missing.
 """
 import argparse
+import json
 import os
 import re
 import subprocess
@@ -44,8 +45,29 @@ EDGE = re.compile(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"')
 FRAME = re.compile(r"\\n(\d+) bytes \(([a-z,]+)\)")
 
 
+def current_ci_files(build):
+    """The .ci files of the objects the build compiles now (compile_commands.json),
+    or None when it cannot tell: a build directory keeps the .ci files of objects
+    it no longer builds (e.g. per-file ones after a library became a unity unit),
+    and their stale frames must not count."""
+    try:
+        with open(os.path.join(build, "compile_commands.json"), encoding="utf-8") as fh:
+            entries = json.load(fh)
+    except (OSError, ValueError):
+        return None
+    out = set()
+    for e in entries:
+        m = re.search(r"(?:^|\s)-o\s+(\S+)", e.get("command", ""))
+        if not m:
+            return None
+        obj = os.path.normpath(os.path.join(e.get("directory", build), m.group(1)))
+        out.add(os.path.splitext(obj)[0] + ".ci")
+    return out
+
+
 def load_graph(build):
     frames, kinds, edges = {}, {}, {}
+    current = current_ci_files(build)
     for dirpath, _dirs, files in os.walk(build):
         rel = os.path.relpath(dirpath, build)
         if any(s in rel for s in SKIP_DIRS):
@@ -53,6 +75,8 @@ def load_graph(build):
         for f in files:
             if not f.endswith(".ci"):
                 continue
+            if current is not None and os.path.normpath(os.path.abspath(os.path.join(dirpath, f))) not in current:
+                continue  # left over from an object the build no longer has
             with open(os.path.join(dirpath, f), encoding="utf-8") as fh:
                 for line in fh:
                     m = NODE.search(line)

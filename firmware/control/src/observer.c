@@ -38,7 +38,7 @@ typedef struct {
 static void model_matrix_at(const observer_model *m, real_t rs_ohm, real_t omega_e, model_matrix *a)
 {
     a->a11 = -(num_mul(rs_ohm, m->b) + m->a_r);
-    a->a12[0] = num_mul(m->c, m->inv_tr);
+    a->a12[0] = m->c_inv_tr;
     a->a12[1] = -num_mul(m->c, omega_e);
     a->a21 = m->lm_tr;
     a->a22[0] = -m->inv_tr;
@@ -84,6 +84,10 @@ static void rotate_for_regeneration(const observer_cfg *cfg, real_t omega_e, rea
     er[1] = num_mul(c, e[1]) - num_mul(sn, e[0]);
 }
 
+/* The ZOH series' factors 1/4, 1/3, 1/2 (advance_with); the steps T x these
+ * are derived once (observer_model.h_T). */
+static const real_t k_zoh_inv_n[3] = {R(0.25), R(0.333333333), R(0.5)};
+
 /* ------------------------------------------------------------------- API */
 
 void observer_cfg_derive(observer_cfg *cfg, const motor_model *mm, real_t period_s)
@@ -123,6 +127,9 @@ void observer_cfg_derive(observer_cfg *cfg, const motor_model *mm, real_t period
     m->gain_k21 = num_mul(cfg->k_gain, cfg->k_gain) - R(1.0);
     m->gain_inv_c_k1 = num_mul(m->inv_c, m->gain_k1);
     m->kt_b = num_mul(m->kt, m->b);
+    m->c_inv_tr = num_mul(m->c, m->inv_tr);
+    for (int n = 0; n < 3; n++)
+        m->h_T[n] = num_mul(period_s, k_zoh_inv_n[n]);
 }
 
 void observer_init(observer *s, const observer_cfg *cfg)
@@ -149,9 +156,10 @@ void observer_gain(const observer_cfg *cfg, real_t omega_e, real_t rs_ohm, real_
     g_psi[1] = -num_mul(m->gain_inv_c_k1, omega_e);
 }
 
-/* observer_model_advance with the model matrix already built */
-static void advance_with(const model_matrix *pa, real_t T, const real_t x[4], const real_t u_is[2],
-                         const real_t u_psi[2], real_t x_next[4])
+/* observer_model_advance with the model matrix already built; @p h holds
+ * T x k_zoh_inv_n (observer_model.h_T) */
+static void advance_with(const model_matrix *pa, real_t T, const real_t h[3], const real_t x[4],
+                         const real_t u_is[2], const real_t u_psi[2], real_t x_next[4])
 {
     const model_matrix a = *pa;
 
@@ -165,14 +173,12 @@ static void advance_with(const model_matrix *pa, real_t T, const real_t x[4], co
 
     /* x+ = x + T (y + T/2 A (y + T/3 A (y + T/4 A y))): the ZOH step of the
      * matrix exponential to fourth order, evaluated with four A products. */
-    static const real_t inv_n[3] = {R(0.25), R(0.333333333), R(0.5)};
     for (int i = 0; i < 4; i++)
         w[i] = y[i];
     for (int n = 0; n < 3; n++) {
-        real_t h = num_mul(T, inv_n[n]);
         model_apply(&a, w, aw);
         for (int i = 0; i < 4; i++)
-            w[i] = num_mac(h, aw[i], y[i]);
+            w[i] = num_mac(h[n], aw[i], y[i]);
     }
     for (int i = 0; i < 4; i++)
         x_next[i] = num_mac(T, w[i], x[i]);
@@ -183,7 +189,7 @@ void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega
 {
     model_matrix a;
     model_matrix_at(m, rs_ohm, omega_e, &a);
-    advance_with(&a, m->period_s, x, u_is, u_psi, x_next);
+    advance_with(&a, m->period_s, m->h_T, x, u_is, u_psi, x_next);
 }
 
 void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas[2], const real_t v[2],
@@ -232,7 +238,7 @@ void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas[2]
     real_t xn[4];
     model_matrix a; /* built once: the step and the slopes use the same speed and Rs */
     model_matrix_at(m, s->rs_ohm, s->omega_e_rad_s, &a);
-    advance_with(&a, T, x, u_is, u_psi, xn);
+    advance_with(&a, T, m->h_T, x, u_is, u_psi, xn);
     s->is_A[0] = xn[0];
     s->is_A[1] = xn[1];
     s->psi_r_Wb[0] = xn[2];

@@ -13,6 +13,14 @@ void plaus_reset(plaus_state *p) { memset(p, 0, sizeof *p); }
 /* Count ticks in a row while @p cond holds (saturating). */
 static uint16_t count(uint16_t n, bool cond) { return cond ? (uint16_t)(n < 0xFFFFu ? n + 1u : n) : 0u; }
 
+/* Half an electrical period at |omega_e| = @p w_rad_s (above the judging
+ * frequency), in ticks of @p period_s, at least PLAUS_OPEN_MIN_TICKS. */
+static uint32_t half_period_ticks(real_t w_rad_s, real_t period_s)
+{
+    uint32_t n = (uint32_t)(NUM_PI / num_mul(w_rad_s, period_s));
+    return n < PLAUS_OPEN_MIN_TICKS ? PLAUS_OPEN_MIN_TICKS : n;
+}
+
 uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stopped, real_t omega_e_rad_s,
                      real_t period_s)
 {
@@ -36,12 +44,9 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
     if (p->sum_ticks >= PLAUS_SUM_TICKS)
         f |= CTL_FAULT_CURRENT_SENSOR;
 
-    /* Half an electrical period in ticks; no phase-loss judgement at low frequency. */
+    /* No phase-loss judgement at low frequency. */
     real_t w = num_abs(omega_e_rad_s);
     bool judge_open = w > R(2.0) * NUM_PI * PLAUS_PHASE_MIN_HZ;
-    uint32_t half_period_ticks = judge_open ? (uint32_t)(NUM_PI / num_mul(w, period_s)) : 0u;
-    if (half_period_ticks < PLAUS_OPEN_MIN_TICKS)
-        half_period_ticks = PLAUS_OPEN_MIN_TICKS;
 
     bool flowing = mag_A > PLAUS_CURRENT_A;
     for (int k = 0; k < 3; k++) {
@@ -55,7 +60,9 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
         bool open = judge_open && num_abs(i[k]) < PLAUS_OPEN_A;
         p->open_ticks[k] = count(p->open_ticks[k], open);
         p->open_peak_A[k] = open ? (mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k]) : R(0.0);
-        if (p->open_ticks[k] > half_period_ticks && p->open_peak_A[k] > PLAUS_CURRENT_A)
+        /* the half period is at least PLAUS_OPEN_MIN_TICKS: worked out only past that */
+        if (p->open_ticks[k] > PLAUS_OPEN_MIN_TICKS && p->open_ticks[k] > half_period_ticks(w, period_s) &&
+            p->open_peak_A[k] > PLAUS_CURRENT_A)
             f |= CTL_FAULT_PHASE_LOSS;
     }
     return f;

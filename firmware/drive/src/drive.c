@@ -147,9 +147,12 @@ void drive_isr(void *ctx)
         (void)ctl_clear_faults(&d->ctl);
     }
 
+    /* Every member is set below (no memset of the struct in the tick); a
+     * refused read leaves a zero sample, which the snapshot then shows. */
     ctl_in in;
-    memset(&in, 0, sizeof in);
     in.sample_fresh = (hal_sample_read(&in.sample) == HAL_OK);
+    if (!in.sample_fresh)
+        in.sample = (hal_sample){.ia_A = R(0.0)};
     in.run = d->run;
     in.speed_ref_rad_s = d->speed_ref_rad_s;
     bool qs_done = quick_stop_step(d, cfg, &in);

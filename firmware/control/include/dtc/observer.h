@@ -80,6 +80,8 @@ typedef struct {
     real_t gain_k21;      /**< k_gain^2 - 1 */
     real_t gain_inv_c_k1; /**< inv_c x (k_gain - 1), H */
     real_t kt_b;          /**< kt x b: dTe/dt per volt per Wb of rotor flux, N m/(s V Wb) */
+    real_t c_inv_tr;      /**< c x inv_tr: real part of the model's a12, 1/(H s) */
+    real_t h_T[3];        /**< T/4, T/3, T/2 (as T x 0.25, 0.333333333, 0.5): the ZOH series' steps, s */
 } observer_model;
 
 typedef struct {
