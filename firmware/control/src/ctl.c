@@ -73,6 +73,7 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->te_pullout_frac = R(0.9);
     cfg->fsw_max_hz = R(850.0);            /* 0.5..1 kHz at 500 rpm, <= 1.5 kHz everywhere */
     cfg->band_scale_max = R(4.0);
+    cfg->rs_ident_tol = R(0.1); /* docs/envelope.md section 6 */
     cfg->guard.wc_rad_s = R(6.0);          /* 1 Hz */
     cfg->guard.flux_err_frac = R(0.15);
     cfg->guard.time_s = R(0.01);
@@ -104,6 +105,7 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->dtc.np_V_per_A = cfg->np_V_per_A;
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
     ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
+    rs_ident_cfg_derive(&cfg->rsid, m, cfg->period_s, cfg->rs_ident_tol);
     /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */
     real_t den = num_mul(R(2.0) * sigma, m->Ls_H);
     cfg->te_pullout_Nm_Wb2 = den > R(0.0) ? num_div(num_mul(R(1.5) * m->pole_pairs, R(1.0) - sigma), den) : R(0.0);
@@ -143,7 +145,7 @@ int ctl_cfg_check(const ctl_cfg *cfg)
           cfg->bringup_level >= BRINGUP_GATE_TEST && cfg->bringup_level <= BRINGUP_SPEED &&
           num_abs(cfg->bringup_hz) <= R(100.0) && cfg->stall_time_s >= R(0.0) && cfg->fw_voltage_frac > R(0.0) && cfg->fw_voltage_frac <= R(1.2) &&
           cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0) && cfg->fsw_max_hz >= R(0.0) &&
-          cfg->band_scale_max >= R(1.0)))
+          cfg->band_scale_max >= R(1.0) && cfg->rs_ident_tol >= R(0.0) && cfg->rs_ident_tol <= R(1.0)))
         return CTL_CFG_E_PROTECTION;
     if (speed_cfg_check(&cfg->speed, m) != SPEED_CFG_OK)
         return CTL_CFG_E_SPEED;
@@ -227,6 +229,7 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
 static void start(ctl_state *s, const ctl_cfg *cfg)
 {
     observer_init(&s->obs, &cfg->obs);
+    rs_ident_reset(&s->rsid);
     dtc3l_init(&s->dtc);
     speed_ctl_reset(&s->speed, R(0.0));
     s->run_state = CTL_MAGNETISING;
@@ -379,6 +382,7 @@ static void magnetise(ctl_state *s, const ctl_cfg *cfg)
     s->te_ref_Nm = R(0.0);
     if (s->t_magnetise_s >= cfg->dtc.premag_s) {
         s->run_state = CTL_RUNNING;
+        s->obs.rs_ohm = rs_ident_result(&s->rsid, &cfg->rsid); /* the model's unless clearly off */
         s->speed_ref_ramped_rad_s = oo->omega_m_rad_s;
         speed_ctl_reset(&s->speed, R(0.0));
         speed_ctl_set_ref(&s->speed, oo->omega_m_rad_s);
@@ -557,8 +561,10 @@ void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
 
     speed_out so;
     memset(&so, 0, sizeof so);
-    if (s->run_state == CTL_MAGNETISING)
+    if (s->run_state == CTL_MAGNETISING) {
+        rs_ident_step(&s->rsid, &cfg->rsid, v_V, is_A, s->obs.omega_e_rad_s);
         magnetise(s, cfg);
+    }
     if (s->run_state == CTL_RUNNING && cfg->bringup_level == BRINGUP_TORQUE)
         s->te_ref_Nm = num_limit(cfg->bringup_te_Nm, cfg->speed.te_max_Nm); /* level 5: no speed loop */
     else if (s->run_state == CTL_RUNNING)

@@ -15,6 +15,7 @@
 
 #include "dtc/num.h"
 #include "dtc/observer.h"
+#include "dtc/rs_ident.h"
 #include "dtc/bringup.h"
 #include "dtc/plausibility.h"
 #include "dtc/speed_ctl.h"
@@ -98,6 +99,8 @@ typedef struct {
     real_t v_drop_V;          /**< on-state drop of one device, V: subtracted from the applied voltage the
                                    observer and the loss-of-control monitor use (0 = none) */
     real_t band_scale_max;    /**< largest widening of the torque bands, x (>= 1) */
+    real_t rs_ident_tol;      /**< Rs identified while magnetising replaces the model's when they differ by
+                                   more than this fraction, 0..1 (1 = never; dtc/rs_ident.h) */
     ctl_guard_cfg guard;      /**< loss-of-control monitor (voltage-model flux check) */
 
     /* derived by ctl_cfg_derive() */
@@ -114,6 +117,7 @@ typedef struct {
     real_t inv_fsw_max_s;     /**< 1 / fsw_max_hz, s (0 when the regulation is off) */
     real_t fw_v_per_vdc;      /**< fw_voltage_frac / sqrt 3: usable phase voltage per volt of DC link */
     real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
+    rs_ident_cfg rsid;        /**< constants of the Rs identification */
 } ctl_cfg;
 
 /** Inputs of one control step. */
@@ -162,6 +166,7 @@ typedef enum {
 /** Mutable state of the control core, owned by the interrupt. */
 typedef struct {
     observer obs;
+    rs_ident rsid;            /**< Rs identification while magnetising */
     plaus_state plaus;        /**< sensor plausibility history */
     real_t bringup_theta_rad; /**< V/f angle at bring-up levels 3 and 4, rad */
     speed_ctl speed;
