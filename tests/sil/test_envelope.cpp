@@ -461,6 +461,24 @@ TEST(Regenerating, RatedLoadDrivingTheMotorAt300RpmIsHeld)
     EXPECT_NE(off.m.faults & CTL_FAULT_LOSS_OF_CONTROL, 0u);
 }
 
+// The stator 30 % warm when the drive starts: the Rs identified while
+// magnetising (dtc/rs_ident.h) replaces the model's and both controllers hold
+// 20 N m at 30 rpm with the defaults; without it (obs_rs_ident_tol = 1) the
+// RBFN drifts to 13 rpm and the IP runs away.
+TEST(LowSpeed, WarmStatorAtStartHeldWithTheDefaults)
+{
+    for (int c : {(int)SCENARIO_CTL_RBFN, (int)SCENARIO_CTL_IP}) {
+        SimRun r = run_sim("warm_stator_start.ini", c);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        EXPECT_EQ(r.m.faults, 0u) << c;
+        EXPECT_FALSE(r.m.runaway) << c;
+        EXPECT_NEAR(window_speed(r.m, "point"), 30.0, 5.0) << c;
+        SimRun off = run_sim("warm_stator_start.ini", c, {"control.obs_rs_ident_tol=1"});
+        ASSERT_EQ(off.status, SIM_OK) << off.error;
+        EXPECT_FALSE(off.m.faults == 0u && std::fabs(window_speed(off.m, "point") - 30.0) <= 5.0) << c;
+    }
+}
+
 // NOT with the defaults (the bullet asks for Rs adaptation on by default):
 // with obs_ki_rs = 0.1 set, the adaptation finds the 30 % warmer stator and
 // the RBFN holds 20 N m at 30 rpm. With the default (off) it drifts to
