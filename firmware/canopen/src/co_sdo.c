@@ -197,18 +197,23 @@ static const co_param *find_readable(co_dev *c, uint16_t index, uint8_t sub)
     return p;
 }
 
-/* The size of @p p for an upload, its value read into the transfer buffer
- * (a domain is read piecewise while it is sent). Returns an abort code. */
-static uint32_t read_for_upload(co_dev *c, const co_param *p, uint32_t *size)
+/* The size of @p p (@p index:@p sub) for an upload, its value read into the
+ * transfer buffer (a domain is read piecewise while it is sent). False when
+ * the read is refused: the abort has been sent. */
+static bool read_for_upload(co_dev *c, const co_param *p, uint16_t index, uint8_t sub, uint32_t *size)
 {
     if (p->dtype == CO_DT_DOMAIN) {
         *size = c->app->domain_size(c->app->ctx, p);
-        return CO_ABORT_NONE;
+        return true;
     }
     size_t len;
     uint32_t rc = co_od_read(c, p, c->sdo.buf, sizeof c->sdo.buf, &len);
     *size = (uint32_t)len;
-    return rc;
+    if (rc != CO_ABORT_NONE) {
+        send_abort(c, index, sub, rc);
+        return false;
+    }
+    return true;
 }
 
 static void initiate_upload(co_dev *c, const uint8_t *req, uint32_t now_ms)
@@ -221,11 +226,8 @@ static void initiate_upload(co_dev *c, const uint8_t *req, uint32_t now_ms)
     if (p == NULL)
         return;
     uint32_t size;
-    uint32_t rc = read_for_upload(c, p, &size);
-    if (rc != CO_ABORT_NONE) {
-        send_abort(c, index, sub, rc);
+    if (!read_for_upload(c, p, index, sub, &size))
         return;
-    }
     if (p->dtype != CO_DT_DOMAIN && size >= 1u && size <= 4u) {
         uint8_t data[4] = {0u, 0u, 0u, 0u};
         memcpy(data, s->buf, size);
@@ -297,11 +299,8 @@ static void initiate_block_upload(co_dev *c, const uint8_t *req, uint32_t now_ms
         return;
     }
     uint32_t size;
-    uint32_t rc = read_for_upload(c, p, &size);
-    if (rc != CO_ABORT_NONE) {
-        send_abort(c, index, sub, rc);
+    if (!read_for_upload(c, p, index, sub, &size))
         return;
-    }
     /* The protocol switch threshold (byte 5) is not used: always a block transfer. */
     begin_transfer(c, CO_SDO_BLOCK_UPLOAD, p, size, now_ms);
     s->blk_phase = CO_SDO_BLK_INITIATED;
