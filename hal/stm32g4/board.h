@@ -57,6 +57,7 @@ enum board_fault {
     BOARD_FAULT_PN_STEP = 1u << 9,    /**< an actuation asked for a direct P<->N step (O inserted) */
     BOARD_FAULT_BOOT0_PIN = 1u << 10, /**< option bytes still boot from the PB8/BOOT0 pin (CAN RX!) */
     BOARD_FAULT_ADC_SYNC = 1u << 11,  /**< ADC3 (ic) had not converted when ADC1/2 ended: sample refused */
+    BOARD_FAULT_LINE_PINS = 1u << 12, /**< PB5 (EEV6) and PB10 (FLT3), one fault line, read differently */
 };
 
 /**

@@ -906,7 +906,20 @@ int hal_actuate(const hal_actuation *act)
 
 /* ------------------------------------------------------ gates and faults */
 
-static bool fault_pin_active(void) { return (GPIO_REG(GPIOB_BASE, GPIO_IDR_OFS) & (1u << 10)) == 0u; }
+/* The fault line reaches two pins, PB10 (FLT3: outer switches) and PB5 (EEV6:
+ * inner switches). Either low is a fault: a PB5 held low by a broken link or a
+ * stuck pin holds every inner switch off, and the outer ones would come on as
+ * their complements at the next gate enable (refused here) while the core
+ * stops on CTL_FAULT_HW. A difference between the two is recorded. */
+static bool fault_pin_active(void)
+{
+    uint32_t idr = GPIO_REG(GPIOB_BASE, GPIO_IDR_OFS);
+    bool flt3_low = (idr & (1u << 10)) == 0u;
+    bool eev6_low = (idr & (1u << 5)) == 0u;
+    if (flt3_low != eev6_low)
+        g_board.faults |= BOARD_FAULT_LINE_PINS;
+    return flt3_low || eev6_low;
+}
 
 void hal_gate_enable(bool enable)
 {

@@ -52,6 +52,8 @@ T_ADC = 4.0 / 170e6           # ADC clock HCLK / 4 (ADC12_CCR, ADC345_CCR CKMODE
 SAMPLING_WINDOW = 24.5 * T_ADC  # SMP = 24.5 ADC cycles: the sample is taken at the window's end
 CTL_FAULT_HW = 1 << 6
 BOARD_FAULT_HRTIM = 1 << 5
+BOARD_FAULT_LINE_PINS = 1 << 12  # hal/stm32g4/board.h: PB5 and PB10 read differently
+PERIOD_S = 200e-6
 
 failures = []
 
@@ -169,6 +171,38 @@ def fault():
               "outer and inner turn-off instants identical with and without the interrupt")
 
 
+def fault_eev6_only():
+    """PB5 (EEV6) low while PB10 (FLT3) stays high: a broken link between the two pins of the one
+    fault line, or a stuck PB5. EEV6 holds every inner switch off (hardware) and the outer ones come
+    on as their complements (S1 + S4: no shoot-through, the leg floats on its diodes); the next tick
+    reads PB5 as a fault line, the core stops on CTL_FAULT_HW and the software turns every output
+    off; the board records the pin mismatch and refuses to enable the gates while PB5 is low."""
+    with tempfile.TemporaryDirectory() as tmp:
+        twin = metrics(tmp, "twin_eev6", [os.path.join(BIN, "dtc-board"), "run", case2_as_flashed(tmp), "--elf", ELF,
+                                          "--set", "sim.duration_s=1.0", "--set", "metrics.window=before 0.5 0.6",
+                                          "--fault-line", "0.8", "--fault-pins", "eev6"])
+        f = twin["board"]["fault"]
+        print(json.dumps(f))
+        check(f["inner_on_at_fault"] >= 1 and f["outer_on_at_fault"] >= 1, "switches were on when PB5 fell")
+        check(0 < f["inner_off_after_s"] < ALL_OFF_WITHIN,
+              f"inner switches off {f['inner_off_after_s'] * 1e6:.3f} us after PB5 (hardware, EEV6)")
+        check(0 < f["outer_off_after_s"] <= 2 * PERIOD_S + ALL_OFF_WITHIN,
+              f"outer switches off {f['outer_off_after_s'] * 1e6:.1f} us after PB5 (the core's fault reaction, "
+              f"within two control periods)")
+        check(f["telemetry_faults_after"] & CTL_FAULT_HW, f"the core reports CTL_FAULT_HW ({f['telemetry_faults_after']:#x})")
+        check(f["board_faults"] & BOARD_FAULT_LINE_PINS,
+              f"the board records the PB5/PB10 mismatch ({f['board_faults']:#x})")
+        check(not f["board_faults"] & BOARD_FAULT_HRTIM, f"FLT3 never tripped ({f['board_faults']:#x})")
+        v = twin["board"]["violations"]
+        # Until the software turns them off the outer switches are on with the inner ones off
+        # (S1 + S4: counted as bad combinations, no path across the link); never an overlap of a
+        # complementary pair (S1 + S3, S2 + S4) and never a P<->N step.
+        check(v["pair_overlap"] == 0 and v["pn_step"] == 0,
+              f"no pair overlap, no P<->N step (bad combinations until the turn-off: {v['bad_combination']})")
+        check(twin["speed_true_end_rpm"] < 480.0 and twin["faults"] & CTL_FAULT_HW,
+              f"the drive stayed stopped: {twin['speed_true_end_rpm']:.1f} rpm at the end, faults {twin['faults']:#x}")
+
+
 def main():
     if not os.path.exists(ELF):
         print(f"skipped: {ELF} not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)")
@@ -177,6 +211,8 @@ def main():
         case2(sys.argv[2])
     elif sys.argv[1] == "fault":
         fault()
+    elif sys.argv[1] == "fault_eev6":
+        fault_eev6_only()
     else:
         sys.exit("usage: test_twin.py case2 rbfn|ip | fault")
     if failures:

@@ -135,8 +135,8 @@ static int fail(char *err, size_t n, const char *fmt, const char *a) {
 
 static const char usage_text[] =
     "usage: dtc-board run SCENARIO --elf FILE [--controller ip|nominal|rbfn] [--csv OUT] [--metrics OUT]\n"
-    "                  [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S [--fault-irq-off]] [--quiet]\n"
-    "                  [--can IFACE --realtime]\n"
+    "                  [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S [--fault-irq-off]\n"
+    "                  [--fault-pins both|eev6]] [--quiet] [--can IFACE --realtime]\n"
     "  --can IFACE        the image's FDCAN1 on SocketCAN interface IFACE (only with --realtime): tune\n"
     "                     the running drive with dtctune; without it a listening node on a private bus\n"
     "                     acknowledges the frames and records the EMCYs\n"
@@ -146,7 +146,9 @@ static const char usage_text[] =
     "                     EEV6, tied on the interface board) is pulled low at scenario time T_S and\n"
     "                     held; the metrics gain a \"fault\" section\n"
     "  --fault-irq-off    with --fault-line: the HRTIM1_FLT interrupt's NVIC enable is cleared (as by a\n"
-    "                     debugger) just before the line falls, so only the hardware acts on the gates\n";
+    "                     debugger) just before the line falls, so only the hardware acts on the gates\n"
+    "  --fault-pins eev6  with --fault-line: only PB5 (EEV6) goes low, PB10 (FLT3) stays high: a broken\n"
+    "                     link between the two pins or a stuck PB5 (default both: the line)\n";
 
 int twin_run_main(int argc, char **argv) {
   const char *path = NULL, *elf = NULL, *csv = NULL, *metrics_path = NULL, *nvm = NULL, *ctl_name = NULL;
@@ -155,7 +157,7 @@ int twin_run_main(int argc, char **argv) {
   const char *sets[MAX_SETS];
   L = fw_layout_get();
   if (L->snap_size != sizeof(drive_snapshot)) { fprintf(stderr, "dtc-board: drive_snapshot layout differs\n"); return 1; }
-  int n_sets = 0, quiet = 0, fault_irq_off = 0;
+  int n_sets = 0, quiet = 0, fault_irq_off = 0, fault_eev6_only = 0;
   double fault_t = -1;
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
@@ -172,6 +174,11 @@ int twin_run_main(int argc, char **argv) {
     else if (strcmp(a, "--controller") == 0) ctl_name = v;
     else if (strcmp(a, "--can") == 0) can_iface = v;
     else if (strcmp(a, "--fault-line") == 0) fault_t = atof(v);
+    else if (strcmp(a, "--fault-pins") == 0) {
+      if (strcmp(v, "both") == 0) fault_eev6_only = 0;
+      else if (strcmp(v, "eev6") == 0) fault_eev6_only = 1;
+      else { fprintf(stderr, "dtc-board: --fault-pins: 'both' or 'eev6', got '%s'\n", v); return 2; }
+    }
     else if (strcmp(a, "--set") == 0) {
       if (n_sets >= MAX_SETS) { fprintf(stderr, "dtc-board: too many --set options\n"); return 2; }
       sets[n_sets++] = v;
@@ -331,7 +338,8 @@ int twin_run_main(int argc, char **argv) {
       board_la_mark(b);
       fault_board_t = board_time_s(b);
       if (fault_irq_off) board_nvic_disable(b, 73); /* HRTIM1_FLT: the software back-up stage cannot run */
-      board_drive_fault_line(b, 0);
+      if (fault_eev6_only) board_drive_pin(b, 'B', 5, 0);
+      else board_drive_fault_line(b, 0);
       fault_done = true;
       while (tk + 0.75 * T < board_time_s(b)) { tk += T; ts += T; k++; } /* ticks spent searching: not sampled */
       board_run(b, tk + 0.75 * T - board_time_s(b));
