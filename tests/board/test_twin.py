@@ -203,6 +203,26 @@ def fault_eev6_only():
               f"the drive stayed stopped: {twin['speed_true_end_rpm']:.1f} rpm at the end, faults {twin['faults']:#x}")
 
 
+def fault_restart():
+    """The gate re-enable after a trip, end to end: the line falls at 0.8 s, rises at 1.0 s, the
+    faults are cleared 2 ms later (as a CAN fault reset does) and the drive restarts CASE2 from
+    where the motor coasted: no switching violation at the trip or at the re-enable (the latches
+    EEV6 reset are set to O before the outputs come back, hal_gate_enable), the fault gone, the
+    speed back near 500 rpm."""
+    with tempfile.TemporaryDirectory() as tmp:
+        twin = metrics(tmp, "twin_restart", [os.path.join(BIN, "dtc-board"), "run", case2_as_flashed(tmp),
+                                             "--elf", ELF, "--set", "sim.duration_s=2.5",
+                                             "--set", "metrics.window=after 2.3 2.5",
+                                             "--fault-line", "0.8", "--fault-release", "1.0"])
+        f = twin["board"]["fault"]
+        print(json.dumps(f), json.dumps(twin["board"]["violations"]))
+        check(f["telemetry_faults_after"] & CTL_FAULT_HW, f"the trip was seen ({f['telemetry_faults_after']:#x})")
+        check(twin["board"]["violations"]["total"] == 0, "no switching violation through trip and re-enable")
+        check(twin["faults"] == 0, f"no fault left at the end ({twin['faults']:#x})")
+        check(abs(twin["window_after_speed_rpm"] - 500.0) <= 20.0,
+              f"the drive restarted: {twin['window_after_speed_rpm']:.1f} rpm over 2.3-2.5 s")
+
+
 def main():
     if not os.path.exists(ELF):
         print(f"skipped: {ELF} not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)")
@@ -213,6 +233,8 @@ def main():
         fault()
     elif sys.argv[1] == "fault_eev6":
         fault_eev6_only()
+    elif sys.argv[1] == "fault_restart":
+        fault_restart()
     else:
         sys.exit("usage: test_twin.py case2 rbfn|ip | fault")
     if failures:

@@ -136,7 +136,7 @@ static int fail(char *err, size_t n, const char *fmt, const char *a) {
 static const char usage_text[] =
     "usage: dtc-board run SCENARIO --elf FILE [--controller ip|nominal|rbfn] [--csv OUT] [--metrics OUT]\n"
     "                  [--set SECTION.KEY=VALUE]... [--nvm FILE] [--fault-line T_S [--fault-irq-off]\n"
-    "                  [--fault-pins both|eev6]] [--quiet] [--can IFACE --realtime]\n"
+    "                  [--fault-pins both|eev6] [--fault-release T_S]] [--quiet] [--can IFACE --realtime]\n"
     "  --can IFACE        the image's FDCAN1 on SocketCAN interface IFACE (only with --realtime): tune\n"
     "                     the running drive with dtctune; without it a listening node on a private bus\n"
     "                     acknowledges the frames and records the EMCYs\n"
@@ -148,7 +148,10 @@ static const char usage_text[] =
     "  --fault-irq-off    with --fault-line: the HRTIM1_FLT interrupt's NVIC enable is cleared (as by a\n"
     "                     debugger) just before the line falls, so only the hardware acts on the gates\n"
     "  --fault-pins eev6  with --fault-line: only PB5 (EEV6) goes low, PB10 (FLT3) stays high: a broken\n"
-    "                     link between the two pins or a stuck PB5 (default both: the line)\n";
+    "                     link between the two pins or a stuck PB5 (default both: the line)\n"
+    "  --fault-release T_S  with --fault-line: the line goes high again at scenario time T_S and 2 ms\n"
+    "                     later the faults are cleared as the background would on a CAN request: the\n"
+    "                     drive restarts (gate re-enable after a trip)\n";
 
 int twin_run_main(int argc, char **argv) {
   const char *path = NULL, *elf = NULL, *csv = NULL, *metrics_path = NULL, *nvm = NULL, *ctl_name = NULL;
@@ -158,7 +161,7 @@ int twin_run_main(int argc, char **argv) {
   L = fw_layout_get();
   if (L->snap_size != sizeof(drive_snapshot)) { fprintf(stderr, "dtc-board: drive_snapshot layout differs\n"); return 1; }
   int n_sets = 0, quiet = 0, fault_irq_off = 0, fault_eev6_only = 0;
-  double fault_t = -1;
+  double fault_t = -1, release_t = -1;
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
     if (strcmp(a, "--quiet") == 0) { quiet = 1; continue; }
@@ -174,6 +177,7 @@ int twin_run_main(int argc, char **argv) {
     else if (strcmp(a, "--controller") == 0) ctl_name = v;
     else if (strcmp(a, "--can") == 0) can_iface = v;
     else if (strcmp(a, "--fault-line") == 0) fault_t = atof(v);
+    else if (strcmp(a, "--fault-release") == 0) release_t = atof(v);
     else if (strcmp(a, "--fault-pins") == 0) {
       if (strcmp(v, "both") == 0) fault_eev6_only = 0;
       else if (strcmp(v, "eev6") == 0) fault_eev6_only = 1;
@@ -185,6 +189,10 @@ int twin_run_main(int argc, char **argv) {
     } else { fputs(usage_text, stderr); return 2; }
   }
   if (!path || !elf) { fputs(usage_text, stderr); return 2; }
+  if (release_t >= 0 && !(fault_t >= 0 && release_t > fault_t)) {
+    fprintf(stderr, "dtc-board: --fault-release needs --fault-line before it\n");
+    return 2;
+  }
   if (can_iface && !realtime) { fprintf(stderr, "dtc-board: --can needs --realtime (a bus has a clock)\n"); return 2; }
 
   static scenario sc;
@@ -307,6 +315,8 @@ int twin_run_main(int argc, char **argv) {
   int ev_i = 0, load_i = 0;
   double last_ref = NAN;
   bool fault_done = false;
+  int release_step = 0; /* 1: line high again, 2: faults cleared */
+  const double release_clear_s = 2e-3; /* the core sees the line high for a tick before the clear */
   double fault_board_t = -1;
   uint32_t faults_after = 0;
   drive_snapshot snap;
@@ -344,6 +354,15 @@ int twin_run_main(int argc, char **argv) {
       while (tk + 0.75 * T < board_time_s(b)) { tk += T; ts += T; k++; } /* ticks spent searching: not sampled */
       board_run(b, tk + 0.75 * T - board_time_s(b));
     } else {
+      if (fault_done && release_step == 0 && ts + T_EPS >= release_t && release_t >= 0) {
+        if (fault_eev6_only) board_drive_pin(b, 'B', 5, 1);
+        else board_drive_fault_line(b, 1);
+        release_step = 1;
+      }
+      if (release_step == 1 && ts + T_EPS >= release_t + release_clear_s) {
+        wr_u8(&f, L->clear_faults_req, 1); /* as drive_co does for a fault reset */
+        release_step = 2;
+      }
       board_run(b, 0.75 * T); /* after the tick interrupt of this period */
     }
     if (b && board_time_s(b) < tk + 0.75 * T - 1e-9) { fprintf(stderr, "dtc-board: %s\n", board_message(b)); rc = 1; break; }
