@@ -35,13 +35,17 @@ fi
 # needs python-can or matplotlib (dtctune.need_third_party).
 launcher="$venv/bin/dtctune"
 marker="# dtctune launcher of tools/setup_venv.sh"
-if ! grep -qF "$marker" "$launcher" 2>/dev/null || ! grep -qF "$repo/tools" "$launcher"; then
+if [ -L "$venv" ]; then
+  # Another checkout's venv (a worktree linking it): its launcher is that checkout's business.
+  echo "setup_venv: $venv is a link to another checkout's venv: its dtctune launcher is left as it is"
+elif ! grep -qF "$marker" "$launcher" 2>/dev/null || ! grep -qF "$repo/tools" "$launcher"; then
+  tools_literal=$("$venv/bin/python" -c 'import sys; print(repr(sys.argv[1]))' "$repo/tools")
   tmp="$launcher.tmp.$$"
   cat > "$tmp" <<LAUNCHER
 #!$venv/bin/python -S
 $marker (Python without site: see there)
 import sys
-sys.path.insert(0, "$repo/tools")
+sys.path.insert(0, $tools_literal)
 from dtctune.cli import main
 sys.exit(main())
 LAUNCHER

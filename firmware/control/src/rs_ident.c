@@ -4,9 +4,15 @@
  */
 #include "dtc/rs_ident.h"
 
-/* A rotor turning faster than this (electrical, 1 Hz) while magnetising is
- * not at rest: the standstill model does not hold, nothing is applied. */
-#define RS_IDENT_MAX_SPEED_RAD_S R(6.28)
+/* A rotor turning faster than this (electrical) while magnetising is not at
+ * rest: the standstill model does not hold, nothing is applied. The error of
+ * the standstill model grows about as 0.3 % x (omega_e / (1 rad/s))^2 (-1.3 %
+ * at 2 rad/s, -10 % at 6 rad/s against the exact machine), so 2 rad/s keeps
+ * it well inside the 10 % tolerance. */
+#define RS_IDENT_MAX_SPEED_RAD_S R(2.0)
+/* The speed estimate is judged from this time of magnetising on (the flux
+ * reference ramp takes about 0.13 s with the defaults). */
+#define RS_IDENT_SPEED_FROM_S R(0.15)
 /* Less charge than this (A s, e.g. 2 A for 0.1 s) says too little about Rs. */
 #define RS_IDENT_MIN_CHARGE_AS R(0.2)
 
@@ -29,14 +35,16 @@ void rs_ident_reset(rs_ident *s)
     for (int k = 0; k < 2; k++)
         s->v_int_Vs[k] = s->i_int_As[k] = s->is_A[k] = s->psi_r_Wb[k] = R(0.0);
     s->speed_max_rad_s = R(0.0);
+    s->t_s = R(0.0);
 }
 
 void rs_ident_step(rs_ident *s, const rs_ident_cfg *c, const real_t v_V[2], const real_t is_A[2],
                    real_t omega_e_rad_s)
 {
     real_t w = num_abs(omega_e_rad_s);
-    if (w > s->speed_max_rad_s)
-        s->speed_max_rad_s = w;
+    if (s->t_s >= RS_IDENT_SPEED_FROM_S && !(w <= s->speed_max_rad_s))
+        s->speed_max_rad_s = w; /* (a NaN estimate counts as turning) */
+    s->t_s += c->period_s;
     for (int k = 0; k < 2; k++) {
         /* is(t) piecewise linear between samples: trapezoid; v constant over the period */
         s->i_int_As[k] += num_mul(num_mul(R(0.5), c->period_s), s->is_A[k] + is_A[k]);

@@ -1,5 +1,8 @@
 """The EDS reader's string tests (no `re` on the start-up path) against the regular expressions
-they replace, on hand-picked and random strings."""
+they replace, on hand-picked and random strings. The helpers read ASCII digits and names only: the
+replaced expressions used \\d and \\w, which also took other scripts' digits ('١٢' read as 12); the
+references here are those expressions restricted to ASCII (an EDS and a command line name
+objects in ASCII)."""
 import random
 import re
 
