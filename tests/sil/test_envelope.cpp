@@ -245,9 +245,11 @@ TEST(Nameplate, ReachesAndHolds1740RpmWithRatedTorque)
         if (c == SCENARIO_CTL_RBFN) {
             // mean |error| over the last 0.5 s: the speed ripple at the voltage limit.
             // It is chaotic: a 1 % change of obs_speed_lpf_hz or obs_regen_angle_rad
-            // moves it anywhere in 1.4-2.2 rpm (docs/envelope.md section 3); the bullet's
-            // "within 2 rpm" is the loaded mean above.
-            EXPECT_LE(m.steady_error_rpm, 2.5);
+            // moves it anywhere in 1.9-3.2 rpm since the neutral point is held within
+            // 2 % of Vdc there (1.4-2.2 rpm before; docs/envelope.md sections 3 and 5);
+            // the bullet's "within 2 rpm" is the loaded mean above (2 s: the IP's speed
+            // swings +-3 rpm over about 2 s at the voltage limit).
+            EXPECT_LE(m.steady_error_rpm, 3.5);
         }
     }
 }
@@ -369,10 +371,13 @@ TEST(TorqueResponse, RatedTorqueStepAnsweredWithinFiveMilliseconds)
 
 namespace {
 
-double np_at(double rpm, double load_Nm)
+double np_at(double rpm, double load_Nm, bool real_inverter)
 {
-    SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN,
-                       {"reference.ramp=0.3 2.3 " + std::to_string(rpm), "load.step=2.5 " + std::to_string(load_Nm)});
+    std::vector<std::string> sets = {"reference.ramp=0.3 2.3 " + std::to_string(rpm),
+                                     "load.step=2.5 " + std::to_string(load_Nm)};
+    if (real_inverter) // the defaults of a scenario without [inverter] keys, the drops compensated
+        sets.insert(sets.end(), {"inverter.dead_time_s=2e-6", "inverter.v_on_V=1", "control.v_drop_V=1"});
+    SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN, sets);
     EXPECT_EQ(r.status, SIM_OK) << r.error;
     EXPECT_EQ(r.m.faults, 0u) << rpm << " rpm, " << load_Nm << " N m";
     return r.m.np_dev_max_v;
@@ -380,25 +385,21 @@ double np_at(double rpm, double load_Nm)
 
 } // namespace
 
-// The part of the NP bullet that is met: within 2 % of Vdc (6.22 V) at no
-// load from 100 to 1740 rpm, and at the paper's 500 rpm from -20 N m
-// (generating) to the rated +41 N m (docs/envelope.md section 5).
-TEST(NeutralPoint, WithinTwoPercentAtNoLoadAndAtFiveHundredRpm)
+// The NP bullet: within 2 % of Vdc (6.22 V) from 100 rpm to the nameplate
+// speed, motoring and generating up to the rated torque, on the ideal and
+// the real inverter (the nameplate and field-weakening runs check it too,
+// and tools/run-envelope.sh over the whole grid; docs/envelope.md section 5).
+// Before the intermediates were cut short: up to 15.9 V (700 rpm, 41 N m).
+TEST(NeutralPoint, WithinTwoPercentOfVdcMotoringAndGenerating)
 {
-    for (double rpm : {100.0, 500.0, 1000.0, 1740.0})
-        EXPECT_LE(np_at(rpm, 0.0), 6.22) << rpm << " rpm, no load";
-    for (double load : {-20.0, 20.0, 41.0})
-        EXPECT_LE(np_at(500.0, load), 6.22) << "500 rpm, " << load << " N m";
-}
-
-// NOT the threshold: with load above 500 rpm the deviation is still
-// 6.5-9.4 V (before this branch: 16-24 V, and a 30 V trip at 1740 rpm with
-// 41 N m). This guards the improvement until the bullet is finished.
-TEST(NeutralPoint, RatedTorqueStaysFarFromTheTrip)
-{
-    for (double rpm : {500.0, 1000.0, 1740.0})
-        for (double load : {-41.0, 41.0})
-            EXPECT_LE(np_at(rpm, load), 10.0) << rpm << " rpm, " << load << " N m";
+    for (bool real : {false, true})
+        for (double rpm : {100.0, 500.0, 700.0, 1000.0, 1300.0, 1740.0})
+            for (double load : {-41.0, -20.0, 0.0, 20.0, 41.0}) {
+                if (rpm == 100.0 && load == -41.0)
+                    continue; // not held at all yet (low-speed regeneration: docs/envelope.md section 6)
+                EXPECT_LE(np_at(rpm, load, real), 6.22)
+                    << rpm << " rpm, " << load << " N m, " << (real ? "real" : "ideal") << " inverter";
+            }
 }
 
 // -------------------------------------------------------------- low speed

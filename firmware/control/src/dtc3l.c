@@ -19,6 +19,17 @@
 
 /* Below this flux the radial direction is undefined (start of magnetising), Wb. */
 #define PSI_TINY_WB R(1e-3)
+/* How far (in np_band) an intermediate state may take the neutral point before
+ * it is cut short: 2.25 x 1.5 V = 3.4 V, so that one more period of the
+ * largest uncontrolled step (0.09 V per A at 2 x 2.2 mF, about 2.8 V at the
+ * rated peak current) still ends within 2 % of Vdc (6.2 V). */
+#define NP_INTERMEDIATE_ROOM_BANDS R(2.25)
+/* A small state the choice among redundant states kept (fewest commutations
+ * inside the band) is swapped for the vector's other state when it would
+ * take the link beyond 3 x np_band (4.5 V): a rated current moves the link by
+ * up to 3.5 V in one period at the LOW level. Not at the band itself: that
+ * costs commutations, and 500 rpm with 41 N m then switches at 1.4 kHz. */
+#define NP_SMALL_ROOM_BANDS R(3.0)
 
 void dtc3l_init(dtc3l *s)
 {
@@ -290,7 +301,21 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         p->split = true;
     } else {
         p->st1 = sth;
+        if (num_abs(in->np_dev_V) > cfg->np_band_V)
+            p->sv0 = svh; /* a whole period of the small vector: cut_intermediate_short checks its state */
     }
+}
+
+/* The state of small vector @p svn reachable from @p from when it pulls the
+ * neutral point back; @p zero otherwise (when its balancing state is a
+ * P<->N step away, the other one would push the link further off). */
+static uint8_t balancing_or(uint8_t zero, uint8_t svn, uint8_t from, const dtc3l_cfg *cfg, const dtc3l_in *in,
+                            const tick_geometry *g)
+{
+    uint8_t c = dtc3l_choose_state(svn, from, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+    if (!(num_mul(dtc3l_np_current(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
+        return zero;
+    return c;
 }
 
 /* Neutral point at the HIGH level: large vectors draw no NP current and
@@ -309,11 +334,80 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
     bool full = p->st1 == p->st0;
     uint8_t sv_b = dtc3l_state_sv(p->st1);
     if (dtc3l_state_sv(p->st0) == 0u)
-        p->st0 = dtc3l_choose_state(svn, in->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+        p->st0 = balancing_or(p->st0, svn, in->prev_state, cfg, in, g);
     if (full)
         p->st1 = p->st0;
-    else /* the second state follows the (possibly new) first one */
-        p->st1 = dtc3l_choose_state(sv_b == 0u ? svn : sv_b, p->st0, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+    else if (sv_b == 0u) /* the second state follows the (possibly new) first one */
+        p->st1 = balancing_or(dtc3l_choose_state(0u, p->st0, in->np_dev_V, cfg->np_band_V, g->i_abc_A), svn, p->st0,
+                              cfg, in, g);
+    else
+        p->st1 = dtc3l_choose_state(sv_b, p->st0, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+}
+
+/* The P<->N rule forces an intermediate state when the wanted state is a
+ * P<->N step away: between two adjacent large vectors the medium one (PNN ->
+ * PON -> PPN), which draws its O-leg's phase current, up to the rated peak,
+ * from the neutral point; after a small state of one type the other type of a
+ * small vector (then the state that balances is out of reach and the one that
+ * does not would be held a whole period). A whole period of such a state
+ * moves the link by up to 2.8 V, unchecked; at the voltage limit these
+ * intermediates alone took the neutral point to 9-12 V. Here the period is
+ * split instead: the intermediate first, only as long as the NP prediction
+ * allows (within NP_INTERMEDIATE_ROOM_BANDS x np_band, at least duty_min), then
+ * the wanted state (for a small vector its balancing state). Kept whole when
+ * the link has room: at the voltage limit the medium intermediate is also
+ * what keeps the flux round (docs/envelope.md section 5). */
+static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g, tick_plan *p)
+{
+    if (p->split || p->st0 != p->st1)
+        return;
+    dtc3l_class cls = dtc3l_sv_class(p->sv0);
+    uint8_t st[3];
+    (void)dtc3l_sv_states(p->sv0, st);
+    uint8_t target = st[0];
+    bool small = cls == DTC3L_CLASS_SMALL;
+    if (small) {
+        /* of the vector's two states, the one that leaves the link nearer to balance */
+        real_t n0 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current(st[0], g->i_abc_A), in->np_dev_V));
+        real_t n1 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current(st[1], g->i_abc_A), in->np_dev_V));
+        target = n1 < n0 ? st[1] : st[0];
+        real_t n_target = n1 < n0 ? n1 : n0, n_chosen = n1 < n0 ? n0 : n1;
+        /* the chosen one is kept unless the link is outside its band and the
+         * chosen state pushes it further, or it would take the link beyond the
+         * room of an intermediate */
+        bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V &&
+                         num_mul(dtc3l_np_current(p->st0, g->i_abc_A), in->np_dev_V) > R(0.0);
+        bool too_far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V) && n_chosen > n_target;
+        if (p->st0 == target || !(wrong_way || too_far))
+            return;
+        if (!dtc3l_pn_step(in->prev_state, target)) {
+            p->st0 = p->st1 = target; /* one commutation more, within reach */
+            return;
+        }
+    } else if (cls != DTC3L_CLASS_LARGE && cls != DTC3L_CLASS_MEDIUM) {
+        return;
+    }
+    if (p->st0 == target)
+        return;
+    uint8_t mid = small ? dtc3l_pn_safe(in->prev_state, target) : p->st0;
+    if (dtc3l_pn_step(mid, target) || dtc3l_pn_step(in->prev_state, mid))
+        return;
+    real_t dv = num_mul(cfg->np_V_per_A, dtc3l_np_current(mid, g->i_abc_A)); /* V per whole period */
+    bool outward = num_mul(dv, in->np_dev_V) > R(0.0);
+    real_t d = R(1.0);
+    if (small && !outward) {
+        d = cfg->duty_min; /* the wrong-way state is replaced: as short as the timer allows */
+    } else if (outward || num_abs(in->np_dev_V) > cfg->np_band_V) {
+        real_t room = num_mul(NP_INTERMEDIATE_ROOM_BANDS, cfg->np_band_V) - num_abs(in->np_dev_V);
+        d = num_abs(dv) > R(1e-6) ? num_div(room, num_abs(dv)) : R(1.0);
+        d = num_sat(d, cfg->duty_min, R(1.0));
+    }
+    if (d > R(1.0) - cfg->duty_min)
+        return;
+    p->st0 = mid;
+    p->st1 = target;
+    p->duty0 = d;
+    p->split = true;
 }
 
 static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out *out)
@@ -343,5 +437,6 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
         place_band_edge_crossing(s, cfg, dt_s, in, &g, &p);
     add_flux_hold_pulse(s, cfg, dt_s, in, &g, &p);
     balance_np_in_holds(s, cfg, in, &g, &p);
+    cut_intermediate_short(cfg, in, &g, &p);
     emit(s, &g, &p, out);
 }

@@ -46,7 +46,11 @@
  * the P<->N-safe intermediate (OON) is used instead if it balances too.
  * At the HIGH level (large and medium vectors, which cannot balance) an
  * unbalanced link is pulled back during the holds, by the balancing state of
- * the small vector nearest to +-flux instead of a zero state.
+ * the small vector nearest to +-flux instead of a zero state (a zero state
+ * when that one is out of reach). A state forced by the P<->N rule (the
+ * medium vector between two adjacent large ones, a small state of the wrong
+ * type) is held only as long as the NP prediction allows, then the wanted
+ * state follows in the same period (dtc3l.c, cut_intermediate_short).
  *
  * Ripple reduction (below ripple_speed_max_rad_s): the torque comparator's
  * band edge crossing is placed inside the period instead of at its end. The
