@@ -410,9 +410,16 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
     /* A command pinned at the limit while the speed stays away from its reference means the
      * loop cannot hold the speed it is asked for (overload, pull-out, or an estimate that no
      * longer moves with the shaft). At the limit but on speed is full power, not a stall. */
-    bool at_limit = num_abs(s->te_ref_Nm) >= num_mul(R(0.98), s->te_limit_Nm) &&
-                    num_abs(si.omega_ref_rad_s - si.omega_est_rad_s) > STALL_SPEED_ERR_RAD_S;
-    s->t_at_limit_s = at_limit ? s->t_at_limit_s + T : R(0.0);
+    /* The timer restarts only when the command leaves the limit (at the limit and on speed
+     * it holds: full power), and off-speed is judged on the filtered estimate: a runaway
+     * whose noisy estimate hovers at the 29 rpm threshold would otherwise restart it for
+     * ever (100 rpm with the rated load generating: no trip while the machine ran away). */
+    bool at_limit = num_abs(s->te_ref_Nm) >= num_mul(R(0.98), s->te_limit_Nm);
+    bool off_speed = num_abs(si.omega_ref_rad_s - s->obs.omega_m_filt_rad_s) > STALL_SPEED_ERR_RAD_S;
+    if (!at_limit)
+        s->t_at_limit_s = R(0.0);
+    else if (off_speed)
+        s->t_at_limit_s += T;
 }
 
 /* Torque and flux control on the state predicted for t_{k+1}; returns the
