@@ -56,7 +56,7 @@ VDC_V = 311.0
 POLE_PAIRS = 2
 NP_LIMIT_V = 0.02 * VDC_V  # 2 % of Vdc, the neutral-point figure (not a trip)
 
-DEFAULT_SPEEDS = [0, 30, 300, 870, 1740, 2200, 2610, -30, -300, -870, -1740, -2200, -2610]
+DEFAULT_SPEEDS = [0, 30, 100, 300, 870, 1740, 2200, 2610, -30, -100, -300, -870, -1740, -2200, -2610]
 DEFAULT_FRACTIONS = [0.0, 0.25, 0.5, 0.75, 1.0]
 # Speed tolerance of "holds": the low-speed figure (30 rpm / 41 N m "within 5 rpm",
 # docs/envelope.md section 6), applied everywhere; 2 % of base speed (34.8 rpm) would pass

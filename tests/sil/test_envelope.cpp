@@ -448,7 +448,9 @@ TEST(LowSpeed, IpAtThirtyRpmWithRatedTorqueTripsInsteadOfRunningAway)
 // stator frequency. The drive must trip, not push at its torque limit while
 // the motor runs away: the stall check (torque command at the limit, off
 // speed, for stall_time_s) did not, because its timer restarted whenever the
-// noisy estimate came within 29 rpm of the reference (docs/envelope.md
+// noisy estimate came within 29 rpm of the reference. Now braking at the
+// limit without the estimate falling trips STALL 0.15 s after the command
+// reaches the limit (the shaft is at 860-900 rpm by then; docs/envelope.md
 // section 6). After the trip the free shaft is the active load's: no
 // inverter can stop that (a brake is the machine's).
 TEST(Regenerating, RatedLoadDrivingTheMotorAt100RpmTripsInsteadOfRunningAway)

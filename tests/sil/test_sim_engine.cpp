@@ -329,8 +329,10 @@ TEST(SimEngine, EveryCatalogueFaultCanBeInjectedFromAScenario)
         { "[faults]\nvdc = 0.6 420\n", CTL_FAULT_DC_OVERVOLT },
         { "[faults]\nvdc = 0.6 150\n", CTL_FAULT_DC_UNDERVOLT },
         { "[faults]\noffset = 0.6 vc1 40\n", CTL_FAULT_NP_IMBALANCE },
-        // The speed reference is limited below the trip level: an overhauling load exceeds it.
-        { "[control]\noverspeed_rad_s = 40\nte_max_Nm = 3\n[load]\nstep = 0.45 -10\n", CTL_FAULT_OVERSPEED },
+        // The speed reference is limited below the trip level: an overhauling load exceeds it
+        // (the stall check off: a braking command pinned at the limit trips it first).
+        { "[control]\noverspeed_rad_s = 40\nte_max_Nm = 3\nstall_time_s = 0\n[load]\nstep = 0.45 -10\n",
+          CTL_FAULT_OVERSPEED },
         { "[faults]\nstale = 0.6\n", CTL_FAULT_STALE_SAMPLE },
         { "[faults]\nhw = 0.6 on\n", CTL_FAULT_HW },
         { "[faults]\ninvalid = 0.6 b\n", CTL_FAULT_SAMPLE_INVALID },

@@ -28,7 +28,7 @@ def test_grid_and_torque_limit():
     assert sweep.rated_torque(2610) == pytest.approx(27.28, abs=0.01)   # 7457 W / 273.3 rad/s
     assert sweep.rated_torque(-2200) == pytest.approx(32.37, abs=0.01)
     pts = sweep.make_points(sweep.DEFAULT_SPEEDS, sweep.DEFAULT_FRACTIONS, [])
-    assert len(pts) == 117 and len({p["name"] for p in pts}) == 117
+    assert len(pts) == 135 and len({p["name"] for p in pts}) == 135
     assert {p["rpm"] for p in pts} == {float(s) for s in sweep.DEFAULT_SPEEDS}
     assert max(abs(p["rpm"]) for p in pts) == 1.5 * sweep.BASE_RPM
     # Signs of [load] step (a torque opposing positive speed): motoring opposes the rotation.

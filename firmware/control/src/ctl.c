@@ -219,7 +219,7 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
         f |= CTL_FAULT_OVERSPEED;
     if (active && s->guard_trip)
         f |= CTL_FAULT_LOSS_OF_CONTROL;
-    if (active && cfg->stall_time_s > R(0.0) && s->t_at_limit_s >= cfg->stall_time_s)
+    if (active && cfg->stall_time_s > R(0.0) && (s->t_at_limit_s >= cfg->stall_time_s || s->brake_stall))
         f |= CTL_FAULT_STALL;
     real_t omega_e = num_mul(cfg->motor.pole_pairs, s->obs.omega_m_filt_rad_s);
     f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s);
@@ -236,6 +236,8 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->t_magnetise_s = R(0.0);
     s->bringup_theta_rad = R(0.0);
     s->t_at_limit_s = R(0.0);
+    s->t_brake_limit_s = R(0.0);
+    s->brake_stall = false;
     s->psi_ref_ramped_Wb = R(0.0);
     s->speed_ref_ramped_rad_s = R(0.0);
     s->te_ref_Nm = R(0.0);
@@ -393,6 +395,35 @@ static void magnetise(ctl_state *s, const ctl_cfg *cfg)
 /* Speed error beyond which a torque command at the limit counts towards a stall: 3 rad/s = 29 rpm. */
 #define STALL_SPEED_ERR_RAD_S R(3.0)
 
+/* Braking at the torque limit, off speed, and the (estimated) speed does not
+ * fall: the load drives the machine harder than the drive can brake, or the
+ * estimate no longer follows a shaft the load is running away with (a rated
+ * generating load at 100 rpm: the estimate stays near 130 rpm while the
+ * shaft passes 1000 rpm within 0.3 s). A deceleration at the limit, however
+ * long, loses at least BRAKE_STALL_DROP_RAD_S in every BRAKE_STALL_TIME_S
+ * window and never trips this. */
+#define BRAKE_STALL_TIME_S R(0.1)
+#define BRAKE_STALL_DROP_RAD_S R(1.0)
+static void brake_stall_step(ctl_state *s, bool at_limit, bool off_speed, real_t T)
+{
+    real_t w = num_abs(s->obs.omega_m_filt_rad_s);
+    bool braking = num_mul(s->te_ref_Nm, s->obs.omega_m_filt_rad_s) < R(0.0);
+    if (!(at_limit && braking)) {
+        s->t_brake_limit_s = R(0.0);
+        return;
+    }
+    if (!off_speed)
+        return; /* on speed at the limit: full braking power, the window waits */
+    if (s->t_brake_limit_s == R(0.0))
+        s->w_brake_start_rad_s = w;
+    s->t_brake_limit_s += T;
+    if (s->t_brake_limit_s < BRAKE_STALL_TIME_S)
+        return;
+    if (w > s->w_brake_start_rad_s - BRAKE_STALL_DROP_RAD_S)
+        s->brake_stall = true;
+    s->t_brake_limit_s = R(0.0); /* next window */
+}
+
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
     real_t T = cfg->period_s;
@@ -420,6 +451,7 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
         s->t_at_limit_s = R(0.0);
     else if (off_speed)
         s->t_at_limit_s += T;
+    brake_stall_step(s, at_limit, off_speed, T);
 }
 
 /* Torque and flux control on the state predicted for t_{k+1}; returns the

@@ -193,6 +193,9 @@ typedef struct {
     ctl_guard guard;          /**< loss-of-control monitor */
     bool guard_trip;          /**< the monitor's verdict of the last step */
     real_t t_at_limit_s;      /**< time the speed loop's torque command has been at the torque limit, s */
+    real_t t_brake_limit_s;   /**< time in the present window braking at the torque limit off speed, s */
+    real_t w_brake_start_rad_s; /**< |filtered speed estimate| at the start of that window, rad/s */
+    bool brake_stall;         /**< braking at the limit did not slow the machine: STALL */
 } ctl_state;
 
 /** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */
