@@ -127,10 +127,13 @@ int hal_actuate(const hal_actuation *act)
     /* The target's work (hal_stm32g4.c hal_actuate): plan each leg's switching
      * events for the period and write them to the timers. */
     uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
+    npc_instants instants;
+    npc_instants_of(&g_pil.tm, t0, &instants); /* once for the three legs */
     g_pil_update_disable = 1u;
     for (unsigned leg = 0u; leg < 3u; leg++) {
         npc_leg_plan plan;
-        npc_plan_leg(&g_pil.tm, g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg], t0, &plan);
+        npc_plan_leg_at(&g_pil.tm, &instants, g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg],
+                        &plan);
         g_pil.pn_fixups += plan.fixups;
         for (unsigned k = 0u; k < 2u; k++) {
             unsigned tim = 2u * leg + k;
