@@ -540,7 +540,11 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
     fill_telemetry(s, NULL, out);
 }
 
-void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out)
+/* restrict (the definition only; the header's prototype is compatible): the
+ * caller's state, configuration, inputs and outputs are distinct objects, so a
+ * store through one need not reload the others (issue 11: about 6 instructions
+ * per tick, no float operation moved). */
+void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *restrict in, ctl_out *restrict out)
 {
     if (protect(s, cfg, in)) {
         output_off(s, out); /* gates off in this very tick */
