@@ -43,20 +43,6 @@ const npc_leg_rule npc_leg_rules[27] = {RULES_A(0u), RULES_A(1u), RULES_A(2u)};
 
 bool npc_pair_level(unsigned pair, uint8_t leg) { return LVL(pair, leg); }
 
-void npc_instants_of(const npc_timing *tm, uint32_t t0, npc_instants *out)
-{
-    /* Switching instant out of [0, keepout); second pulse >= min_pulse.
-     * Dropping v0 (t = 0) only if prev -> v1 is not a P<->N step. */
-    uint32_t t = t0 > tm->per ? tm->per : t0;
-    uint32_t keep = t, drop = t;
-    if (t < tm->keepout) {
-        keep = tm->keepout;
-        drop = t < tm->keepout / 2u ? 0u : tm->keepout;
-    }
-    out->keep = keep + tm->min_pulse > tm->per ? tm->per : keep;
-    out->drop = drop + tm->min_pulse > tm->per ? tm->per : drop;
-}
-
 void npc_plan_leg(const npc_timing *tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0, npc_leg_plan *out)
 {
     npc_instants in;

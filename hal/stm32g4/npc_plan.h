@@ -81,9 +81,22 @@ typedef struct {
 /**
  * The switching instants of a period from the requested instant @p t0
  * (counts, 0..per; larger is taken as per): out of the keep-out [0, keepout),
- * the second pulse at least min_pulse, else per. Context: ANY (pure function).
+ * the second pulse at least min_pulse, else per. Context: ANY (pure; inline for
+ * the actuation in the control interrupt).
  */
-void npc_instants_of(const npc_timing *tm, uint32_t t0, npc_instants *out);
+static inline void npc_instants_of(const npc_timing *tm, uint32_t t0, npc_instants *out)
+{
+    /* Switching instant out of [0, keepout); second pulse >= min_pulse.
+     * Dropping v0 (t = 0) only if prev -> v1 is not a P<->N step. */
+    uint32_t t = t0 > tm->per ? tm->per : t0;
+    uint32_t keep = t, drop = t;
+    if (t < tm->keepout) {
+        keep = tm->keepout;
+        drop = t < tm->keepout / 2u ? 0u : tm->keepout;
+    }
+    out->keep = keep + tm->min_pulse > tm->per ? tm->per : keep;
+    out->drop = drop + tm->min_pulse > tm->per ? tm->per : drop;
+}
 
 /**
  * Plan one leg with the period's instants @p in (npc_instants_of). @p prev is
