@@ -25,7 +25,6 @@ typedef struct {
     hal_sample sample;     /* latched by the tick interrupt */
     bool sample_pending;   /* cleared by the one allowed read */
     uint32_t seq;
-    hal_actuation act;
     bool gates_on;
     bool fault_input;
     bool tick_missed;
@@ -126,7 +125,6 @@ int hal_actuate(const hal_actuation *act)
                 return HAL_EINVAL;
     if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */
         return HAL_EINVAL;
-    g_pil.act = *act;
     if (g_pil.tm.per == 0u)
         return HAL_OK; /* tick not started: nothing to program */
     /* The target's work (hal_stm32g4.c hal_actuate): plan each leg's switching
