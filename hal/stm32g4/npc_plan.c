@@ -25,14 +25,10 @@
     (uint8_t)((L_START(k, c, p, a, b) ? NPC_EV_START : 0u) | (CHG(k, c, p, a, b) && L_END(k, p, a, b) ? NPC_EV_T : 0u))
 #define RST(k, c, p, a, b) \
     (uint8_t)((L_START(k, c, p, a, b) ? 0u : NPC_EV_START) | (CHG(k, c, p, a, b) && !L_END(k, p, a, b) ? NPC_EV_T : 0u))
-#define EV(F, p, a, b)                                                                          \
-    {                                                                                           \
-        {F(0u, NPC_AT_ZERO, p, a, b), F(1u, NPC_AT_ZERO, p, a, b)},                             \
-            {F(0u, NPC_AT_T, p, a, b), F(1u, NPC_AT_T, p, a, b)},                               \
-        {                                                                                       \
-            F(0u, NPC_AT_PER, p, a, b), F(1u, NPC_AT_PER, p, a, b)                              \
-        }                                                                                       \
-    }
+#define EV(F, p, a, b)                                          \
+    {{F(0u, NPC_AT_ZERO, p, a, b), F(1u, NPC_AT_ZERO, p, a, b)}, \
+     {F(0u, NPC_AT_T, p, a, b), F(1u, NPC_AT_T, p, a, b)},       \
+     {F(0u, NPC_AT_PER, p, a, b), F(1u, NPC_AT_PER, p, a, b)}}
 #define RULE(p, a, b)                                                                                  \
     {(uint8_t)V0(p, a), (uint8_t)V1(p, a, b), (uint8_t)((PN(p, a) ? 1u : 0u) + (PN(V0(p, a), b) ? 1u : 0u)), \
      (uint8_t)(PN(p, V1(p, a, b)) ? 0u : 1u), EV(SET, p, a, b), EV(RST, p, a, b)}
