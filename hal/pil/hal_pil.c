@@ -25,7 +25,6 @@ typedef struct {
     hal_sample sample;     /* latched by the tick interrupt */
     bool sample_pending;   /* cleared by the one allowed read */
     uint32_t seq;
-    hal_actuation act;
     bool gates_on;
     bool fault_input;
     bool tick_missed;
@@ -33,10 +32,15 @@ typedef struct {
     npc_timing tm;            /* timer counts of the period, keep-out and minimum pulse */
     uint8_t last_leg[3];      /* leg states at the end of the programmed period */
     uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
+    bool pn_step_seen;        /* as the target's BOARD_FAULT_PN_STEP */
 } pil_board;
 
 /* Stand-ins for the six timers' SET/RST/CMP1 registers and the update-disable
- * bit: hal_actuate programs them as the target programs the HRTIM. */
+ * bits: hal_actuate programs them as the target programs the HRTIM (with the
+ * same read-modify-write of the update-disable bits and the fault event ORed
+ * into every reset register), so the bench counts the target's work. */
+#define PIL_UDIS_ALL 0x7Fu           /* HRTIM_CR1 MUDIS, TAUDIS..TFUDIS */
+#define PIL_RST_FAULT_EVENT (1u << 26) /* HRTIM RSTx1R EXTEVNT6: the fault line resets the inner switch */
 static volatile uint32_t g_pil_timer[6][3];
 static volatile uint32_t g_pil_update_disable;
 
@@ -121,27 +125,32 @@ int hal_actuate(const hal_actuation *act)
                 return HAL_EINVAL;
     if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */
         return HAL_EINVAL;
-    g_pil.act = *act;
     if (g_pil.tm.per == 0u)
         return HAL_OK; /* tick not started: nothing to program */
     /* The target's work (hal_stm32g4.c hal_actuate): plan each leg's switching
      * events for the period and write them to the timers. */
     uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
-    g_pil_update_disable = 1u;
+    npc_instants instants;
+    npc_instants_of(&g_pil.tm, t0, &instants); /* once for the three legs */
+    g_pil_update_disable |= PIL_UDIS_ALL;
     for (unsigned leg = 0u; leg < 3u; leg++) {
         npc_leg_plan plan;
-        npc_plan_leg(&g_pil.tm, g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg], t0, &plan);
-        g_pil.pn_fixups += plan.fixups;
+        npc_plan_leg_at(&g_pil.tm, &instants, g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg],
+                        &plan);
+        if (plan.fixups != 0u) {
+            g_pil.pn_fixups += plan.fixups;
+            g_pil.pn_step_seen = true;
+        }
         for (unsigned k = 0u; k < 2u; k++) {
             unsigned tim = 2u * leg + k;
             g_pil_timer[tim][0] = plan.set[k];
-            g_pil_timer[tim][1] = plan.rst[k];
+            g_pil_timer[tim][1] = plan.rst[k] | PIL_RST_FAULT_EVENT;
             if (plan.t != 0u && plan.t != g_pil.tm.per)
                 g_pil_timer[tim][2] = plan.t;
         }
         g_pil.last_leg[leg] = plan.end;
     }
-    g_pil_update_disable = 0u;
+    g_pil_update_disable &= ~PIL_UDIS_ALL;
     return HAL_OK;
 }
 

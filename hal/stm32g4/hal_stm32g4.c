@@ -879,6 +879,8 @@ int hal_actuate(const hal_actuation *act)
 
     const npc_timing tm = {g_board.per_counts, g_board.keepout_counts, g_board.min_pulse_counts};
     uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
+    npc_instants instants;
+    npc_instants_of(&tm, t0, &instants); /* once for the three legs */
 
     /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
      * while the six programmes are written, so a period never starts with
@@ -886,7 +888,8 @@ int hal_actuate(const hal_actuation *act)
     HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
     for (uint32_t leg = 0u; leg < 3u; leg++) {
         npc_leg_plan plan;
-        npc_plan_leg(&tm, g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg], t0, &plan);
+        npc_plan_leg_at(&tm, &instants, g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg],
+                        &plan);
         if (plan.fixups != 0u) {
             g_board.pn_fixups += plan.fixups;
             g_board.faults |= BOARD_FAULT_PN_STEP;

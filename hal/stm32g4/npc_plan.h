@@ -5,7 +5,8 @@
  *
  * Kept free of registers so the host tests (tests/hal_stm32g4) can check it
  * exhaustively: no S1+S4 / no direct P<->N step, keep-out of the sampling
- * window, minimum pulse. Private to hal/stm32g4 and its tests.
+ * window, minimum pulse. Private to hal/stm32g4 and its tests (and the PIL
+ * board, which runs the same planner).
  *
  * Per leg two HRTIM timers drive complementary pairs: pair 0 = S3 (output 1)
  * / S1 (output 2), pair 1 = S2 (output 1) / S4 (output 2): output 1 is the
@@ -14,6 +15,11 @@
  * two compare events: NPC_EV_START (CMP2, a few counts
  * after the period roll-over) gives the level of the first vector, NPC_EV_T
  * (CMP1 = t) the change to the second one.
+ *
+ * Cost (issue 11): the leg states' part of the plan (P<->N guard, event bits)
+ * depends on the 27 triples (prev, v0, v1) only and is a constant table
+ * (npc_leg_rules); the switching instant's part on the requested instant only
+ * and is worked out once per period for all three legs (npc_instants_of).
  */
 #ifndef HAL_STM32G4_NPC_PLAN_H
 #define HAL_STM32G4_NPC_PLAN_H
@@ -46,6 +52,74 @@ typedef struct {
     uint8_t end;        /**< leg state at the end of the period */
     uint8_t fixups;     /**< number of P<->N steps replaced by O (0..2) */
 } npc_leg_plan;
+
+/** Where a leg's switching instant falls; indexes npc_leg_rule's event bits. */
+enum npc_instant_class {
+    NPC_AT_ZERO = 0, /**< t = 0: the second vector only */
+    NPC_AT_T = 1,    /**< 0 < t < per: both vectors, a change at t */
+    NPC_AT_PER = 2   /**< t = per: the first vector only */
+};
+
+/** The leg-state part of a plan for one (prev, v0, v1): constants. */
+typedef struct {
+    uint8_t v0, v1;       /**< the states applied after the P<->N guard (prev -> v0 -> v1 via O) */
+    uint8_t fixups;       /**< P<->N steps replaced by O (0..2) */
+    uint8_t may_drop;     /**< 1: prev -> v1 is no P<->N step, so a too early instant may drop v0 */
+    uint8_t set[3][2];    /**< SETx1R event bits per enum npc_instant_class and pair */
+    uint8_t rst[3][2];    /**< RSTx1R event bits per enum npc_instant_class and pair */
+} npc_leg_rule;
+
+/** Rules for every (prev, v0, v1), index 9 prev + 3 v0 + v1 (each 0..NPC_P). */
+extern const npc_leg_rule npc_leg_rules[27];
+
+/** The switching instant of a period, counts, for the two kinds of leg that have two vectors. */
+typedef struct {
+    uint32_t keep; /**< a leg that must keep v0 (prev -> v1 is a P<->N step) */
+    uint32_t drop; /**< a leg that may drop v0 when the instant is in the first half of the keep-out */
+} npc_instants;
+
+/**
+ * The switching instants of a period from the requested instant @p t0
+ * (counts, 0..per; larger is taken as per): out of the keep-out [0, keepout),
+ * the second pulse at least min_pulse, else per. Context: ANY (pure; inline for
+ * the actuation in the control interrupt).
+ */
+static inline void npc_instants_of(const npc_timing *tm, uint32_t t0, npc_instants *out)
+{
+    /* Switching instant out of [0, keepout); second pulse >= min_pulse.
+     * Dropping v0 (t = 0) only if prev -> v1 is not a P<->N step. */
+    uint32_t t = t0 > tm->per ? tm->per : t0;
+    uint32_t keep = t, drop = t;
+    if (t < tm->keepout) {
+        keep = tm->keepout;
+        drop = t < tm->keepout / 2u ? 0u : tm->keepout;
+    }
+    out->keep = keep + tm->min_pulse > tm->per ? tm->per : keep;
+    out->drop = drop + tm->min_pulse > tm->per ? tm->per : drop;
+}
+
+/**
+ * Plan one leg with the period's instants @p in (npc_instants_of). @p prev is
+ * the leg state at the end of the previous period, @p v0 / @p v1 the requested
+ * states (each <= NPC_P, unchecked). Context: ANY (pure; inline for the
+ * actuation in the control interrupt).
+ */
+static inline void npc_plan_leg_at(const npc_timing *tm, const npc_instants *in, uint8_t prev, uint8_t v0,
+                                   uint8_t v1, npc_leg_plan *out)
+{
+    const npc_leg_rule *r = &npc_leg_rules[9u * prev + 3u * v0 + v1];
+    uint32_t t = r->v0 == r->v1 ? tm->per : (r->may_drop != 0u ? in->drop : in->keep);
+    unsigned c = t == 0u ? (unsigned)NPC_AT_ZERO : (t == tm->per ? (unsigned)NPC_AT_PER : (unsigned)NPC_AT_T);
+    out->set[0] = r->set[c][0];
+    out->set[1] = r->set[c][1];
+    out->rst[0] = r->rst[c][0];
+    out->rst[1] = r->rst[c][1];
+    out->t = t;
+    out->v0 = r->v0;
+    out->v1 = r->v1;
+    out->end = c == (unsigned)NPC_AT_PER ? r->v0 : r->v1;
+    out->fixups = r->fixups;
+}
 
 /**
  * Plan one leg. @p prev is the leg state at the end of the previous period,

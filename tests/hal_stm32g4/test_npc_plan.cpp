@@ -55,6 +55,61 @@ std::vector<int> simulate(uint8_t prev, const npc_leg_plan &p)
     return seq;
 }
 
+// The planning rules written out step by step (the planner's first version,
+// before its table): an independent reference for the table-driven planner.
+void reference_plan(const npc_timing &tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0, npc_leg_plan &out)
+{
+    out.fixups = 0u;
+    if (is_pn(prev, v0)) {
+        v0 = NPC_O;
+        out.fixups++;
+    }
+    if (is_pn(v0, v1)) {
+        v1 = NPC_O;
+        out.fixups++;
+    }
+    uint32_t t = t0 > tm.per ? tm.per : t0;
+    if (t < tm.keepout)
+        t = (t < tm.keepout / 2u && !is_pn(prev, v1)) ? 0u : tm.keepout;
+    if (t + tm.min_pulse > tm.per)
+        t = tm.per;
+    if (v0 == v1)
+        t = tm.per;
+    for (unsigned k = 0u; k < 2u; k++) {
+        // output 1: S3 (pair 0) on in O and N, S2 (pair 1) on in P and O
+        auto level = [k](uint8_t leg) { return k == 0u ? leg != NPC_P : leg != NPC_N; };
+        bool l_start = level(t == 0u ? v1 : v0);
+        bool l_end = level(v1);
+        uint32_t set = 0u, rst = 0u;
+        (l_start ? set : rst) |= NPC_EV_START;
+        if (t != 0u && t != tm.per && l_end != l_start)
+            (l_end ? set : rst) |= NPC_EV_T;
+        out.set[k] = set;
+        out.rst[k] = rst;
+    }
+    out.t = t;
+    out.v0 = v0;
+    out.v1 = v1;
+    out.end = t == tm.per ? v0 : v1;
+}
+
+void expect_same_as_reference(const npc_timing &tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0)
+{
+    npc_leg_plan p, r;
+    npc_plan_leg(&tm, prev, v0, v1, t0, &p);
+    reference_plan(tm, prev, v0, v1, t0, r);
+    SCOPED_TRACE(::testing::Message() << "prev " << int(prev) << " v0 " << int(v0) << " v1 " << int(v1) << " t0 " << t0);
+    for (unsigned k = 0; k < 2; k++) {
+        ASSERT_EQ(p.set[k], r.set[k]) << "pair " << k;
+        ASSERT_EQ(p.rst[k], r.rst[k]) << "pair " << k;
+    }
+    ASSERT_EQ(p.t, r.t);
+    ASSERT_EQ(p.v0, r.v0);
+    ASSERT_EQ(p.v1, r.v1);
+    ASSERT_EQ(p.end, r.end);
+    ASSERT_EQ(p.fixups, r.fixups);
+}
+
 void check_one(uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0)
 {
     npc_leg_plan p;
@@ -100,6 +155,22 @@ TEST(NpcPlan, EveryStateTripleAndInstant)
                 for (uint32_t t0 : {1u, 594u, 595u, 596u, 1189u, 1190u, 1191u, 33659u, 33660u, 33661u, 33999u})
                     check_one(prev, v0, v1, t0);
             }
+}
+
+TEST(NpcPlan, TableEqualsTheRulesForEveryTripleAndInstant)
+{
+    // The board's timing and a small one where the keep-out and minimum pulse cover most of the period.
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}};
+    for (const npc_timing &tm : tms)
+        for (uint8_t prev = 0; prev <= NPC_P; prev++)
+            for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+                for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                    for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0 += (tm.per > 1000u ? 7u : 1u))
+                        expect_same_as_reference(tm, prev, v0, v1, t0);
+                    for (uint32_t t0 : {tm.keepout / 2u - 1u, tm.keepout / 2u, tm.keepout - 1u, tm.keepout,
+                                        tm.per - tm.min_pulse, tm.per - tm.min_pulse + 1u, tm.per, 0xFFFFFFFFu})
+                        expect_same_as_reference(tm, prev, v0, v1, t0);
+                }
 }
 
 TEST(NpcPlan, LongRandomSequencesStayContinuous)

@@ -192,8 +192,9 @@ void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega
     advance_with(&a, m->period_s, m->h_T, x, u_is, u_psi, x_next);
 }
 
-void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas[2], const real_t v[2],
-                   observer_out *out)
+/* restrict as ctl_step: state, configuration, inputs and outputs are distinct objects. */
+void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const real_t is_meas[restrict 2],
+                   const real_t v[restrict 2], observer_out *restrict out)
 {
     const observer_model *m = &cfg->m;
     real_t T = m->period_s;

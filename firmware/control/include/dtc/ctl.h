@@ -233,6 +233,7 @@ uint32_t ctl_clear_faults(ctl_state *s);
  * @param cfg configuration, read only
  * @param in  this tick's inputs
  * @param out actuation for the next period and telemetry
+ * The four are distinct objects (the definition declares them restrict).
  */
 void ctl_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl_out *out);
 

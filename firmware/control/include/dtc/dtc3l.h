@@ -215,8 +215,10 @@ static inline uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3])
 static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
 {
     const hal_vector *l = &dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
-    const real_t v_leg_of[3] = {-vc2_V, R(0.0), vc1_V}; /* by leg code N, O, P */
-    real_t va = v_leg_of[l->leg[0]], vb = v_leg_of[l->leg[1]], vc = v_leg_of[l->leg[2]];
+    real_t vn = -vc2_V; /* leg voltage by leg code N, O, P: -vc2, 0, vc1 */
+    real_t va = l->leg[0] == HAL_LEG_P ? vc1_V : (l->leg[0] == HAL_LEG_N ? vn : R(0.0));
+    real_t vb = l->leg[1] == HAL_LEG_P ? vc1_V : (l->leg[1] == HAL_LEG_N ? vn : R(0.0));
+    real_t vc = l->leg[2] == HAL_LEG_P ? vc1_V : (l->leg[2] == HAL_LEG_N ? vn : R(0.0));
     /* Clarke of the leg voltages: the common mode drops out, as in an isolated star. */
     v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
     v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);

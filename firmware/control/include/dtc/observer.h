@@ -157,6 +157,7 @@ void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega
  * @param is_meas_A   stator current sampled at t_k, alpha-beta, A
  * @param v_applied_V mean stator voltage applied from t_k to t_{k+1}, alpha-beta, V
  * @param[out] out    estimates at t_k and the prediction for t_{k+1}
+ * All five are distinct objects (the definition declares them restrict).
  */
 void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas_A[2],
                    const real_t v_applied_V[2], observer_out *out);
