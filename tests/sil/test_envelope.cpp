@@ -451,7 +451,7 @@ TEST(LowSpeed, IpAtThirtyRpmWithRatedTorqueTripsInsteadOfRunningAway)
 // noisy estimate came within 29 rpm of the reference. Now braking at the
 // limit without the estimate falling trips STALL 0.15 s after the command
 // reaches the limit (the shaft is at 860-900 rpm by then; docs/envelope.md
-// section 6). After the trip the free shaft is the active load's: no
+// section 2). After the trip the free shaft is the active load's: no
 // inverter can stop that (a brake is the machine's).
 TEST(Regenerating, RatedLoadDrivingTheMotorAt100RpmTripsInsteadOfRunningAway)
 {
@@ -460,12 +460,41 @@ TEST(Regenerating, RatedLoadDrivingTheMotorAt100RpmTripsInsteadOfRunningAway)
         std::vector<std::string> sets = {"reference.ramp=0.3 2.3 100", "load.step=2.5 -41", "sim.duration_s=8"};
         if (real)
             sets.insert(sets.end(), {"inverter.dead_time_s=2e-6", "inverter.v_on_V=1", "control.v_drop_V=1"});
-        SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN, sets);
+        double t_limit = -1.0, t_trip = -1.0;
+        SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN, sets, [&](double t, struct drive *d) {
+            if (t_limit < 0.0 && std::abs(d->ctl.te_ref_Nm) >= 0.98f * d->ctl.te_limit_Nm)
+                t_limit = t;
+            if (t_trip < 0.0 && (d->ctl.faults & (CTL_FAULT_STALL | CTL_FAULT_LOSS_OF_CONTROL)) != 0u)
+                t_trip = t;
+        });
         ASSERT_EQ(r.status, SIM_OK) << r.error;
         if (!r.m.runaway)
             continue; // holding it is fine too
+        std::printf("[envelope] 100 rpm, 41 N m generating: limit at %.4f s, trip at %.4f s, faults 0x%x\n", t_limit,
+                    t_trip, r.m.faults);
         EXPECT_NE(r.m.faults & (CTL_FAULT_STALL | CTL_FAULT_LOSS_OF_CONTROL), 0u) << "faults 0x" << std::hex
                                                                                   << r.m.faults;
+        // the stall timer alone took 1.2-1.3 s (the shaft at 8,600-9,600 rpm by then)
+        EXPECT_GE(t_limit, 0.0);
+        EXPECT_LE(t_trip - t_limit, 0.3);
+    }
+}
+
+// The other side of the stall checks: a heavy load (J x 50) reversed from
+// 600 to -600 rpm with a 20 N m torque limit brakes and then accelerates at
+// the limit for about 7 s. That is the drive doing its job, not a stall: the
+// speed error shrinks in every window. The old stall timer (at the limit, off
+// speed, 1 s in a row) tripped STALL after 1 s of it.
+TEST(Stall, ReversalOfAHeavyLoadAtTheTorqueLimitDoesNotTrip)
+{
+    for (int c : {SCENARIO_CTL_RBFN, SCENARIO_CTL_IP}) {
+        SCOPED_TRACE(c);
+        SimRun r = run_sim("operating_point.ini", c,
+                           {"reference.ramp=0.3 15 600", "reference.step=16 -600", "sim.duration_s=24",
+                            "events.J_scale=0 50", "control.te_max_Nm=20", "control.ramp_rad_s2=0", "load.step=0 0"});
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        EXPECT_EQ(r.m.faults, 0u);
+        EXPECT_LT(r.m.speed_final_rpm, -500.0);
     }
 }
 

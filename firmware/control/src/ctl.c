@@ -236,6 +236,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->t_magnetise_s = R(0.0);
     s->bringup_theta_rad = R(0.0);
     s->t_at_limit_s = R(0.0);
+    s->t_stall_win_s = R(0.0);
     s->t_brake_limit_s = R(0.0);
     s->brake_stall = false;
     s->psi_ref_ramped_Wb = R(0.0);
@@ -400,21 +401,25 @@ static void magnetise(ctl_state *s, const ctl_cfg *cfg)
 /* Speed control: ramp the reference, torque command from the speed controller. */
 /* Speed error beyond which a torque command at the limit counts towards a stall: 3 rad/s = 29 rpm. */
 #define STALL_SPEED_ERR_RAD_S R(3.0)
+#define STALL_WINDOW_S R(0.1)
 
-/* Braking at the torque limit, off speed, and the (estimated) speed does not
- * fall: the load drives the machine harder than the drive can brake, or the
- * estimate no longer follows a shaft the load is running away with (a rated
- * generating load at 100 rpm: the estimate stays near 130 rpm while the
- * shaft passes 1000 rpm within 0.3 s). A deceleration at the limit, however
- * long, loses at least BRAKE_STALL_DROP_RAD_S in every BRAKE_STALL_TIME_S
- * window and never trips this. */
+/* Braking at the torque limit, off speed, at low speed, and the (estimated)
+ * speed does not fall at all over BRAKE_STALL_TIME_S: the load drives the
+ * machine harder than the drive can brake, or the estimate no longer follows
+ * a shaft the load is running away with (a rated generating load at 100 rpm:
+ * the estimate stays near 130 rpm while the shaft passes 1000 rpm within
+ * 0.3 s). Only below BRAKE_STALL_SPEED_RAD_S (477 rpm), where the
+ * loss-of-control monitor is blind at low stator frequency; above it the
+ * stall timer and that monitor judge. A deceleration at the limit lowers the
+ * filtered estimate in every window, however large the inertia (at 1 rad/s^2
+ * by 0.1 rad/s), so it does not trip this. */
 #define BRAKE_STALL_TIME_S R(0.1)
-#define BRAKE_STALL_DROP_RAD_S R(1.0)
-static void brake_stall_step(ctl_state *s, bool at_limit, bool off_speed, real_t T)
+#define BRAKE_STALL_SPEED_RAD_S R(50.0)
+static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bool off_speed, real_t T)
 {
     real_t w = num_abs(s->obs.omega_m_filt_rad_s);
     bool braking = num_mul(s->te_ref_Nm, s->obs.omega_m_filt_rad_s) < R(0.0);
-    if (!(at_limit && braking)) {
+    if (!(cfg->stall_time_s > R(0.0) && at_limit && braking && w < BRAKE_STALL_SPEED_RAD_S)) {
         s->t_brake_limit_s = R(0.0);
         return;
     }
@@ -425,7 +430,7 @@ static void brake_stall_step(ctl_state *s, bool at_limit, bool off_speed, real_t
     s->t_brake_limit_s += T;
     if (s->t_brake_limit_s < BRAKE_STALL_TIME_S)
         return;
-    if (w > s->w_brake_start_rad_s - BRAKE_STALL_DROP_RAD_S)
+    if (!(w < s->w_brake_start_rad_s))
         s->brake_stall = true;
     s->t_brake_limit_s = R(0.0); /* next window */
 }
@@ -444,20 +449,31 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
     si.te_limit_Nm = s->te_limit_Nm;
     speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
     s->te_ref_Nm = so->te_ref_Nm;
-    /* A command pinned at the limit while the speed stays away from its reference means the
-     * loop cannot hold the speed it is asked for (overload, pull-out, or an estimate that no
-     * longer moves with the shaft). At the limit but on speed is full power, not a stall. */
-    /* The timer restarts only when the command leaves the limit (at the limit and on speed
-     * it holds: full power), and off-speed is judged on the filtered estimate: a runaway
-     * whose noisy estimate hovers at the 29 rpm threshold would otherwise restart it for
-     * ever (100 rpm with the rated load generating: no trip while the machine ran away). */
+    /* A command pinned at the limit while the speed stays away from its reference, and does
+     * not come nearer, means the loop cannot hold the speed it is asked for (overload,
+     * pull-out, or an estimate that no longer moves with the shaft). Counted in windows of
+     * STALL_WINDOW_S: a window whose error shrank (an acceleration or deceleration at the
+     * limit, however slow) does not count, nor does time at the limit on speed (full
+     * power); leaving the limit restarts the count. Off speed is judged on the filtered
+     * estimate (a noisy estimate hovering at the threshold restarted the old timer for
+     * ever: 100 rpm with the rated load generating ran away with no trip). */
     bool at_limit = num_abs(s->te_ref_Nm) >= num_mul(R(0.98), s->te_limit_Nm);
-    bool off_speed = num_abs(si.omega_ref_rad_s - s->obs.omega_m_filt_rad_s) > STALL_SPEED_ERR_RAD_S;
-    if (!at_limit)
+    real_t err = num_abs(si.omega_ref_rad_s - s->obs.omega_m_filt_rad_s);
+    bool off_speed = err > STALL_SPEED_ERR_RAD_S;
+    if (!at_limit) {
         s->t_at_limit_s = R(0.0);
-    else if (off_speed)
-        s->t_at_limit_s += T;
-    brake_stall_step(s, at_limit, off_speed, T);
+        s->t_stall_win_s = R(0.0);
+    } else if (off_speed) {
+        if (s->t_stall_win_s == R(0.0))
+            s->err_win_start_rad_s = err;
+        s->t_stall_win_s += T;
+        if (s->t_stall_win_s >= STALL_WINDOW_S) {
+            if (!(err < s->err_win_start_rad_s))
+                s->t_at_limit_s += s->t_stall_win_s;
+            s->t_stall_win_s = R(0.0);
+        }
+    }
+    brake_stall_step(s, cfg, at_limit, off_speed, T);
 }
 
 /* Torque and flux control on the state predicted for t_{k+1}; returns the

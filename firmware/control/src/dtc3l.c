@@ -20,9 +20,11 @@
 /* Below this flux the radial direction is undefined (start of magnetising), Wb. */
 #define PSI_TINY_WB R(1e-3)
 /* How far (in np_band) an intermediate state may take the neutral point before
- * it is cut short: 2.25 x 1.5 V = 3.4 V, so that one more period of the
- * largest uncontrolled step (0.09 V per A at 2 x 2.2 mF, about 2.8 V at the
- * rated peak current) still ends within 2 % of Vdc (6.2 V). */
+ * it is cut short: 2.25 x 1.5 V = 3.4 V. One period of an O-leg current i
+ * moves vc1 - vc2 by (T / C) i = 0.09 V per A (C = 2.2 mF per capacitor), up to
+ * 3.4 V at the rated peak current; the factor was set on the capability sweep
+ * (tools/run-envelope.sh): 2.0 costs torque at the voltage limit, 2.5 and more
+ * let the link pass 6.2 V at 1740 rpm generating. */
 #define NP_INTERMEDIATE_ROOM_BANDS R(2.25)
 /* A small state the choice among redundant states kept (fewest commutations
  * inside the band) is swapped for the vector's other state when it would
@@ -117,7 +119,7 @@ typedef struct {
 typedef struct {
     int8_t cur;
     int8_t after;
-    uint8_t sv0;              /* space vector the table gave for cur */
+    uint8_t sv0;              /* space vector the table gave for cur (or a whole-period flux-hold pulse's) */
     uint8_t st0, st1;
     real_t duty0;
     bool split;
@@ -307,14 +309,15 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
 }
 
 /* The state of small vector @p svn reachable from @p from when it pulls the
- * neutral point back; @p zero otherwise (when its balancing state is a
- * P<->N step away, the other one would push the link further off). */
-static uint8_t balancing_or(uint8_t zero, uint8_t svn, uint8_t from, const dtc3l_cfg *cfg, const dtc3l_in *in,
+ * neutral point back; @p fallback (the state planned before) otherwise: when
+ * the balancing state is a P<->N step away, the other one would push the link
+ * further off. */
+static uint8_t balancing_or(uint8_t fallback, uint8_t svn, uint8_t from, const dtc3l_cfg *cfg, const dtc3l_in *in,
                             const tick_geometry *g)
 {
     uint8_t c = dtc3l_choose_state(svn, from, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
     if (!(num_mul(dtc3l_np_current(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
-        return zero;
+        return fallback;
     return c;
 }
 
@@ -350,7 +353,8 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
  * from the neutral point; after a small state of one type the other type of a
  * small vector (then the state that balances is out of reach and the one that
  * does not would be held a whole period). A whole period of such a state
- * moves the link by up to 2.8 V, unchecked; at the voltage limit these
+ * moves the link by up to 3.4 V at the rated peak current, unchecked; at the
+ * voltage limit these
  * intermediates alone took the neutral point to 9-12 V. Here the period is
  * split instead: the intermediate first, only as long as the NP prediction
  * allows (within NP_INTERMEDIATE_ROOM_BANDS x np_band, at least duty_min), then
@@ -359,7 +363,8 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
  * what keeps the flux round (docs/envelope.md section 5). */
 static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g, tick_plan *p)
 {
-    if (p->split || p->st0 != p->st1)
+    /* without a shortest segment the intermediate could be given no time at all */
+    if (p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
         return;
     dtc3l_class cls = dtc3l_sv_class(p->sv0);
     uint8_t st[3];
@@ -371,7 +376,8 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, con
         real_t n0 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current(st[0], g->i_abc_A), in->np_dev_V));
         real_t n1 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current(st[1], g->i_abc_A), in->np_dev_V));
         target = n1 < n0 ? st[1] : st[0];
-        real_t n_target = n1 < n0 ? n1 : n0, n_chosen = n1 < n0 ? n0 : n1;
+        real_t n_target = n1 < n0 ? n1 : n0;
+        real_t n_chosen = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current(p->st0, g->i_abc_A), in->np_dev_V));
         /* the chosen one is kept unless the link is outside its band and the
          * chosen state pushes it further, or it would take the link beyond the
          * room of an intermediate */
@@ -396,7 +402,7 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, con
     bool outward = num_mul(dv, in->np_dev_V) > R(0.0);
     real_t d = R(1.0);
     if (small && !outward) {
-        d = cfg->duty_min; /* the wrong-way state is replaced: as short as the timer allows */
+        d = cfg->duty_min; /* the intermediate does not push the link out: as short as the timer allows */
     } else if (outward || num_abs(in->np_dev_V) > cfg->np_band_V) {
         real_t room = num_mul(NP_INTERMEDIATE_ROOM_BANDS, cfg->np_band_V) - num_abs(in->np_dev_V);
         d = num_abs(dv) > R(1e-6) ? num_div(room, num_abs(dv)) : R(1.0);

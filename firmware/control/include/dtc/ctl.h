@@ -42,7 +42,7 @@ enum ctl_fault {
     CTL_FAULT_CURRENT_SENSOR = 1u << 10, /**< current sum of the three sensors implausible, or a reading stuck */
     CTL_FAULT_PHASE_LOSS = 1u << 11,     /**< one motor phase carries no current while the others do */
     CTL_FAULT_DC_DIVIDER = 1u << 12,     /**< capacitor voltages unequal while stopped: divider or sensor error */
-    CTL_FAULT_STALL = 1u << 13,          /**< the speed loop's torque command held at the torque limit for stall_time_s */
+    CTL_FAULT_STALL = 1u << 13,          /**< the speed loop cannot hold the speed at its torque limit (docs/faults.md) */
 };
 
 /** Fault bits that ctl_step latches (OVERRUN from ctl_in.overrun). */
@@ -192,7 +192,9 @@ typedef struct {
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
     ctl_guard guard;          /**< loss-of-control monitor */
     bool guard_trip;          /**< the monitor's verdict of the last step */
-    real_t t_at_limit_s;      /**< time the speed loop's torque command has been at the torque limit, s */
+    real_t t_at_limit_s;      /**< time at the torque limit, off speed, in windows whose speed error did not shrink (STALL), s */
+    real_t t_stall_win_s;     /**< time in the present stall window, s */
+    real_t err_win_start_rad_s; /**< |speed error| (filtered estimate) at the start of that window, rad/s */
     real_t t_brake_limit_s;   /**< time in the present window braking at the torque limit off speed, s */
     real_t w_brake_start_rad_s; /**< |filtered speed estimate| at the start of that window, rad/s */
     bool brake_stall;         /**< braking at the limit did not slow the machine: STALL */
