@@ -354,11 +354,11 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
  * small vector (then the state that balances is out of reach and the one that
  * does not would be held a whole period). A whole period of such a state
  * moves the link by up to 3.4 V at the rated peak current, unchecked; at the
- * voltage limit these
- * intermediates alone took the neutral point to 9-12 V. Here the period is
- * split instead: the intermediate first, only as long as the NP prediction
- * allows (within NP_INTERMEDIATE_ROOM_BANDS x np_band, at least duty_min), then
- * the wanted state (for a small vector its balancing state). Kept whole when
+ * voltage limit these intermediates alone took the neutral point to 9-12 V.
+ * Here the period is split instead: the intermediate first, only as long as
+ * the NP prediction allows (within NP_INTERMEDIATE_ROOM_BANDS x np_band, at
+ * least duty_min), then the wanted state (for a small vector its balancing
+ * state). Kept whole when
  * the link has room: at the voltage limit the medium intermediate is also
  * what keeps the flux round (docs/envelope.md section 5). */
 static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g, tick_plan *p)
