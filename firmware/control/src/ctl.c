@@ -60,7 +60,7 @@ void ctl_cfg_default(ctl_cfg *cfg)
     o->kp_speed = R(50.0);
     o->ki_speed = R(2000.0);
     o->ki_rs = R(0.0);
-    o->regen_angle_rad = R(1.0);      /* regenerating-mode stabilisation (observer.h) */
+    o->regen_angle_rad = R(1.4);      /* regenerating-mode stabilisation (observer.c: its shape) */
     o->regen_speed_rad_s = R(100.0);  /* 477 rpm: fades out below the paper's 500 rpm point */
     o->speed_lpf_hz = R(50.0);
 
@@ -342,6 +342,7 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
     add_dead_time_error(s, cfg, x, v);
     is[0] = num_mul(R(0.333333333), R(2.0) * x->ia_A - x->ib_A - x->ic_A);
     is[1] = num_mul(NUM_INV_SQRT3, x->ib_A - x->ic_A);
+    s->obs.te_cmd_Nm = s->te_ref_Nm; /* the command behind the voltage of this period */
     observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
 }
 

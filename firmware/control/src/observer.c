@@ -59,22 +59,47 @@ static void model_apply(const model_matrix *a, const real_t x[4], real_t out[4])
     out[1] = i1;
 }
 
-/* e' = e exp(-j phi), phi = sgn(omega) angle (1 - |omega| / speed) below
- * speed (observer.h). cos and sin by their Taylor series to the 4th and 5th
- * power: |phi| <= 1.5 rad keeps the error below 0.1 % of the rotation, and
- * only + and x keep the host and target results bit-identical. */
-#define REGEN_MIN_NM R(2.0) /* below this the sign of the torque is noise */
-static void rotate_for_regeneration(const observer_cfg *cfg, real_t omega_e, real_t te_Nm, const real_t e[2],
-                                    real_t er[2])
+/* e' = e exp(-j phi), phi = sgn(omega) angle shape(|omega| / speed) below
+ * speed (observer.h), only while the drive brakes against the rotation: the
+ * estimated torque AND the torque command oppose the estimated speed. The
+ * command makes the test robust while the observer converges (a flying start
+ * motors: the estimate's torque sign is noise then, the command's is not).
+ * shape: REGEN_SHAPE_AT_ZERO at standstill, rising (REGEN_RISE) to 1 at 0.2,
+ * 1 up to REGEN_PLATEAU_HI, then down to 0 at speed. Chosen on the capability
+ * sweep (docs/envelope.md section 6): the plateau holds rated regenerating
+ * torque at 1.5-4 Hz of stator frequency (100-200 rpm; the old linear fade
+ * from 1 rad gave 0.6-0.8 rad there and the shaft ran away), the lower angle
+ * near standstill keeps the 30 rpm points from the bias a large rotation
+ * gives where the stator frequency is near zero. cos and sin by their Taylor
+ * series to the 4th and 5th power: |phi| <= 1.5 rad keeps the error below
+ * 0.1 % of the rotation, and only + and x keep the host and target results
+ * bit-identical. */
+#define REGEN_MIN_NM R(2.0)        /* below this the sign of a torque is noise */
+#define REGEN_SHAPE_AT_ZERO R(0.5) /* shape at standstill */
+#define REGEN_RISE R(2.5)          /* shape per unit of |omega|/speed below the plateau: 1 at 0.2 */
+#define REGEN_PLATEAU_HI R(0.45)   /* end of the plateau, fraction of speed */
+#define REGEN_FALL R(1.81818182)   /* 1 / (1 - REGEN_PLATEAU_HI): 0 at speed */
+static void rotate_for_regeneration(const observer_cfg *cfg, real_t omega_e, real_t te_Nm, real_t te_cmd_Nm,
+                                    const real_t e[2], real_t er[2])
 {
     real_t w = num_abs(omega_e);
-    bool regenerating = omega_e >= R(0.0) ? te_Nm < -REGEN_MIN_NM : te_Nm > REGEN_MIN_NM;
+    bool regenerating = omega_e >= R(0.0) ? (te_Nm < -REGEN_MIN_NM && te_cmd_Nm < -REGEN_MIN_NM)
+                                          : (te_Nm > REGEN_MIN_NM && te_cmd_Nm > REGEN_MIN_NM);
     if (!(cfg->regen_angle_rad > R(0.0)) || w >= cfg->regen_speed_rad_s || !regenerating) {
         er[0] = e[0];
         er[1] = e[1];
         return;
     }
-    real_t phi = num_mul(cfg->regen_angle_rad, R(1.0) - num_mul(w, cfg->m.inv_regen_speed));
+    real_t x = num_mul(w, cfg->m.inv_regen_speed);
+    real_t shape;
+    if (x > REGEN_PLATEAU_HI)
+        shape = num_mul(R(1.0) - x, REGEN_FALL);
+    else {
+        shape = num_mac(REGEN_RISE, x, REGEN_SHAPE_AT_ZERO);
+        if (shape > R(1.0))
+            shape = R(1.0);
+    }
+    real_t phi = num_mul(cfg->regen_angle_rad, shape);
     if (omega_e < R(0.0))
         phi = -phi;
     real_t p2 = num_mul(phi, phi);
@@ -140,6 +165,7 @@ void observer_init(observer *s, const observer_cfg *cfg)
     s->omega_int_rad_s = R(0.0);
     s->omega_m_filt_rad_s = R(0.0);
     s->rs_ohm = cfg->m.rs_nom_ohm;
+    s->te_cmd_Nm = R(0.0);
 }
 
 void observer_gain(const observer_cfg *cfg, real_t omega_e, real_t rs_ohm, real_t g_is[2], real_t g_psi[2])
@@ -204,7 +230,7 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
 
     /* speed adaptation: PI on e x psi_r_hat (a Lyapunov-derived law) */
     real_t er[2];
-    rotate_for_regeneration(cfg, s->omega_e_rad_s, num_mul(m->kt, ccross(s->psi_r_Wb, is_meas)), e, er);
+    rotate_for_regeneration(cfg, s->omega_e_rad_s, num_mul(m->kt, ccross(s->psi_r_Wb, is_meas)), s->te_cmd_Nm, e, er);
     real_t eps = num_mul(er[0], s->psi_r_Wb[1]) - num_mul(er[1], s->psi_r_Wb[0]);
     s->omega_int_rad_s = num_limit(num_mac(m->ki_speed_T, eps, s->omega_int_rad_s), m->omega_max_rad_s);
     s->omega_e_rad_s = num_limit(num_mac(cfg->kp_speed, eps, s->omega_int_rad_s), m->omega_max_rad_s);

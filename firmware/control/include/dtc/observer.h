@@ -16,7 +16,9 @@
  *
  *   omega_hat  = kp eps + ki integral(eps),  eps = Im(conj(e') psi_r_hat) (= e_alpha psi_r_beta_hat -
  *                e_beta psi_r_alpha_hat for e' = e), e' = e exp(-j phi),
- *                phi = sgn(omega_hat) regen_angle (1 - |omega_hat| / regen_speed) below regen_speed, else 0
+ *                phi = sgn(omega_hat) regen_angle shape(|omega_hat| / regen_speed) below regen_speed
+ *                while the estimated torque and the torque command both brake the rotation,
+ *                else 0; shape 0.5 at standstill, 1 from 0.2 to 0.45, 0 at 1 (observer.c)
  *   dRs_hat/dt = -ki_rs (e . is_hat)
  *
  * Why the error is rotated at low speed: with the plain law (phi = 0) the
@@ -89,8 +91,8 @@ typedef struct {
     real_t kp_speed;          /**< speed adaptation proportional gain, (rad/s) / (A Wb) (electrical) */
     real_t ki_speed;          /**< speed adaptation integral gain, (rad/s^2) / (A Wb) (electrical) */
     real_t ki_rs;             /**< stator-resistance adaptation gain, ohm/(s A^2) (0 = off) */
-    real_t regen_angle_rad;   /**< rotation of the current error in the speed law at zero speed, rad,
-                                   0..1.5 (0 = off); see observer_step */
+    real_t regen_angle_rad;   /**< largest rotation of the current error in the speed law, rad,
+                                   0..1.5 (0 = off); see rotate_for_regeneration in observer.c */
     real_t regen_speed_rad_s; /**< |omega_e| (electrical) where that rotation has faded to 0, rad/s, > 0 */
     real_t speed_lpf_hz;      /**< low-pass filter of the estimated speed for the speed loop, Hz (0 = none) */
     observer_model m;         /**< derived by observer_cfg_derive(); do not edit */
@@ -104,6 +106,8 @@ typedef struct {
     real_t omega_int_rad_s;   /**< integral part of the speed adaptation, rad/s */
     real_t omega_m_filt_rad_s;/**< low-pass filtered mechanical speed, rad/s */
     real_t rs_ohm;            /**< adapted stator resistance, ohm */
+    real_t te_cmd_Nm;         /**< torque the drive commands in this period, N m; set by the caller
+                                   before observer_step (0: none; gates the regenerating-mode rotation) */
 } observer;
 
 /** What a step returns: estimates at t_k and the prediction for t_{k+1}. */
