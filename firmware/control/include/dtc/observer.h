@@ -18,7 +18,7 @@
  *                e_beta psi_r_alpha_hat for e' = e), e' = e exp(-j phi),
  *                phi = sgn(omega_hat) regen_angle shape(|omega_hat| / regen_speed) below regen_speed
  *                while the estimated torque and the torque command both brake the rotation,
- *                else 0; shape 0.5 at standstill, 1 from 0.2 to 0.45, 0 at 1 (observer.c)
+ *                else 0; shape 0.4 at standstill, 1 from 0.2 to 0.45, 0 at 1 (observer.c)
  *   dRs_hat/dt = -ki_rs (e . is_hat)
  *
  * Why the error is rotated at low speed: with the plain law (phi = 0) the
