@@ -291,9 +291,23 @@ static bool protect(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
     return s->faults != 0u;
 }
 
-/* Observe: the voltage applied from t_k to t_{k+1} is last_act with this
- * tick's vc1, vc2; the observer advances to t_{k+1} with it. Returns that
- * voltage and the sampled current (alpha-beta). */
+/* Neutral point at t_{k+1}: d(vc1 - vc2)/dt = i_np / C under last_act, V. */
+static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
+{
+    uint8_t st0 = s->last_state[0];
+    uint8_t st1 = s->last_state[1];
+    real_t d0 = s->last_act.duty0;
+    real_t i_abc[3] = {x->ia_A, x->ib_A, x->ic_A};
+    real_t inp1 = dtc3l_np_current(st1, i_abc);
+    real_t inp0 = st0 == st1 ? inp1 : dtc3l_np_current(st0, i_abc); /* one vector: the same current */
+    real_t inp = num_mac(d0, inp0 - inp1, inp1);
+    return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
+}
+
+/* Observe: the voltage applied from t_k to t_{k+1} is last_act with the
+ * capacitors' mean voltages over the period (from this tick's vc1, vc2 and
+ * the predicted neutral point at t_{k+1}); the observer advances to t_{k+1}
+ * with it. Returns that voltage and the sampled current (alpha-beta). */
 /* The leg voltage is lower than the state says by the on-state drop of the two
  * conducting devices, against the phase current: v_drop_V per device, with a
  * sign softened over +-DROP_BAND_A so a current at zero does not toggle it. */
@@ -323,17 +337,27 @@ static void add_dead_time_error(const ctl_state *s, const ctl_cfg *cfg, const ha
     v[1] += num_mul(NUM_INV_SQRT3, dv[1] - dv[2]);
 }
 
-static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t v[2], real_t is[2])
+static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V, real_t v[2],
+                    real_t is[2])
 {
     real_t v0[2], v1[2];
     uint8_t st0 = s->last_state[0];
     uint8_t st1 = s->last_state[1];
-    dtc3l_state_voltage(st1, x->vc1_V, x->vc2_V, v1);
+    /* The capacitors' mean voltages over the period, not their values at its
+     * start: the neutral-point current moves vc1 - vc2 by up to 3 V in one
+     * period at rated current (the sum stays), and near zero stator frequency
+     * the stator voltage is only Rs |is|, about 8 V: the start values left a
+     * speed bias of 3-7 rpm at 30 rpm generating (docs/envelope.md section 6).
+     * Linear over the period, so the mean is the midpoint: each capacitor
+     * moves by half the predicted change, the mean by half of that. */
+    real_t q = num_mul(R(0.25), np_dev_pred_V - (x->vc1_V - x->vc2_V));
+    real_t vc1 = x->vc1_V + q, vc2 = x->vc2_V - q;
+    dtc3l_state_voltage(st1, vc1, vc2, v1);
     if (st0 == st1) { /* one vector for the whole period: the same voltage, not worked out twice */
         v0[0] = v1[0];
         v0[1] = v1[1];
     } else {
-        dtc3l_state_voltage(st0, x->vc1_V, x->vc2_V, v0);
+        dtc3l_state_voltage(st0, vc1, vc2, v0);
     }
     real_t d0 = s->last_act.duty0;
     v[0] = num_mac(d0, v0[0] - v1[0], v1[0]);
@@ -344,19 +368,6 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
     is[1] = num_mul(NUM_INV_SQRT3, x->ib_A - x->ic_A);
     s->obs.te_cmd_Nm = s->te_ref_Nm; /* the command behind the voltage of this period */
     observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
-}
-
-/* Neutral point at t_{k+1}: d(vc1 - vc2)/dt = i_np / C under last_act, V. */
-static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
-{
-    uint8_t st0 = s->last_state[0];
-    uint8_t st1 = s->last_state[1];
-    real_t d0 = s->last_act.duty0;
-    real_t i_abc[3] = {x->ia_A, x->ib_A, x->ic_A};
-    real_t inp1 = dtc3l_np_current(st1, i_abc);
-    real_t inp0 = st0 == st1 ? inp1 : dtc3l_np_current(st0, i_abc); /* one vector: the same current */
-    real_t inp = num_mac(d0, inp0 - inp1, inp1);
-    return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
 }
 
 /* Flux reference: rated, or what the measured DC link allows at the present
@@ -571,7 +582,7 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
         act.duty0 = R(1.0);
     } else {
         real_t v_V[2], is_A[2];
-        observe(s, cfg, &in->sample, v_V, is_A);
+        observe(s, cfg, &in->sample, predict_np_dev(s, cfg, &in->sample), v_V, is_A);
         real_t w_e = num_mul(R(2.0) * NUM_PI, cfg->bringup_hz);
         s->bringup_theta_rad += num_mul(w_e, cfg->period_s);
         if (s->bringup_theta_rad > NUM_PI)
@@ -619,10 +630,10 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     }
 
     real_t v_V[2], is_A[2];
-    observe(s, cfg, &in->sample, v_V, is_A);
+    real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
+    observe(s, cfg, &in->sample, np_dev_pred_V, v_V, is_A);
     s->guard_trip = ctl_guard_step(&s->guard, &cfg->guard, cfg->period_s, v_V, is_A, s->obs.rs_ohm,
                                    s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
-    real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
     ramp_flux_reference(s, cfg, &in->sample);
 
     speed_out so;
