@@ -222,7 +222,10 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
     if (active && cfg->stall_time_s > R(0.0) && (s->t_at_limit_s >= cfg->stall_time_s || s->brake_stall))
         f |= CTL_FAULT_STALL;
     real_t omega_e = num_mul(cfg->motor.pole_pairs, s->obs.omega_m_filt_rad_s);
-    f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s);
+    /* the slow tasks' slot advances here, once per tick that judges a sample (ctl.h) */
+    s->slow_slot = (uint8_t)((s->slow_slot + 1u) & (CTL_SLOW_SLOTS - 1u));
+    f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s,
+                     s->slow_slot == CTL_SLOT_PLAUS);
     return f;
 }
 
@@ -619,8 +622,10 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
 
     real_t v_V[2], is_A[2];
     observe(s, cfg, &in->sample, v_V, is_A);
-    s->guard_trip = ctl_guard_step(&s->guard, &cfg->guard, cfg->period_s, v_V, is_A, s->obs.rs_ohm,
-                                   s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+    if (s->slow_slot == CTL_SLOT_GUARD) /* its window closes: the check of the ticks before this one */
+        s->guard_trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
+                                        s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+    ctl_guard_accumulate(&s->guard, v_V, is_A);
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
     ramp_flux_reference(s, cfg, &in->sample);
 
