@@ -235,6 +235,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     rs_ident_reset(&s->rsid);
     dtc3l_init(&s->dtc);
     speed_ctl_reset(&s->speed, R(0.0));
+    memset(&s->speed_held, 0, sizeof s->speed_held); /* no output of the last run held into this one */
     s->run_state = CTL_MAGNETISING;
     s->t_magnetise_s = R(0.0);
     s->bringup_theta_rad = R(0.0);
@@ -438,9 +439,21 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
     s->t_brake_limit_s = R(0.0); /* next window */
 }
 
+/* The RBFN speed loop runs every CTL_RBFN_TICKS-th tick (ctl.h: in the slots
+ * the monitors leave free); between its steps the torque command and the
+ * speed controller's outputs hold. The IP and nominal controllers, a few
+ * operations each, run every tick. */
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
     real_t T = cfg->period_s;
+    bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
+    if (rbfn) {
+        if ((s->slow_slot & (CTL_RBFN_TICKS - 1u)) != CTL_SLOT_RBFN) {
+            *so = s->speed_held;
+            return;
+        }
+        T = num_mul((real_t)CTL_RBFN_TICKS, T); /* the speed loop's step */
+    }
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
     target = num_limit(target, cfg->speed_max_rad_s);
     real_t prev = s->speed_ref_ramped_rad_s;
@@ -448,9 +461,13 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
     speed_in si;
     si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
     si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_period_per_s);
+    if (rbfn)
+        si.domega_ref_rad_s2 = num_mul(R(1.0) / (real_t)CTL_RBFN_TICKS, si.domega_ref_rad_s2);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
     si.te_limit_Nm = s->te_limit_Nm;
     speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+    if (rbfn)
+        s->speed_held = *so;
     s->te_ref_Nm = so->te_ref_Nm;
     /* A command pinned at the limit while the speed stays away from its reference, and does
      * not come nearer, means the loop cannot hold the speed it is asked for (overload,

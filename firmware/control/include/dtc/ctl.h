@@ -165,6 +165,11 @@ typedef struct {
 #define CTL_SLOW_SLOTS 4u
 #define CTL_SLOT_GUARD 0u
 #define CTL_SLOT_PLAUS 2u
+/** The RBFN speed loop steps every CTL_RBFN_TICKS ticks (a power of 2), in the
+ *  ticks whose slot is CTL_SLOT_RBFN modulo it: 1 and 3, never with a monitor
+ *  (the IP and nominal controllers step every tick). */
+#define CTL_RBFN_TICKS 2u
+#define CTL_SLOT_RBFN 1u
 #ifndef __cplusplus
 _Static_assert(CTL_GUARD_WINDOW_MAX == CTL_SLOW_SLOTS && PLAUS_CHECK_TICKS == CTL_SLOW_SLOTS,
                "the slow tasks' own rates are the schedule's");
@@ -213,6 +218,7 @@ typedef struct {
     real_t t_brake_limit_s;   /**< time in the present window braking at the torque limit off speed, s */
     real_t w_brake_start_rad_s; /**< |filtered speed estimate| at the start of that window, rad/s */
     bool brake_stall;         /**< braking at the limit did not slow the machine: STALL */
+    speed_out speed_held;     /**< the speed loop's outputs of its last step (held between the RBFN's steps) */
     uint8_t slow_slot;        /**< this tick's slot of the slow tasks, 0..CTL_SLOW_SLOTS - 1 (CTL_SLOT_*) */
 } ctl_state;
 
