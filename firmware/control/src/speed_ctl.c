@@ -11,6 +11,13 @@
  * 0 only for finite x). */
 static int is_finite(real_t x) { return (x - x) == R(0.0); }
 
+/* All of four finite, in one compare: each x - x is exactly 0 when x is
+ * finite, and a NaN or an infinity makes the sum NaN. */
+static int all_finite4(real_t a, real_t b, real_t c, real_t d)
+{
+    return ((a - a) + (b - b) + (c - c) + (d - d)) == R(0.0);
+}
+
 void speed_cfg_default(speed_cfg *cfg, const motor_model *m)
 {
     /* Tuning and the measurements behind it: docs/speed_control.md. */
@@ -198,10 +205,10 @@ static void switch_mode(speed_ctl *s, const speed_cfg *cfg, const motor_model *m
 void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
                     const speed_in *in, speed_out *out)
 {
-    memset(out, 0, sizeof *out);
-    if (!is_finite(in->omega_ref_rad_s) || !is_finite(in->domega_ref_rad_s2) ||
-        !is_finite(in->omega_est_rad_s) || !(dt_s > R(0.0)) || !(m->J_kgm2 > R(0.0))) {
+    if (!all_finite4(in->omega_ref_rad_s, in->domega_ref_rad_s2, in->omega_est_rad_s, R(0.0)) ||
+        !(dt_s > R(0.0)) || !(m->J_kgm2 > R(0.0))) {
         /* Refuse garbage: zero torque, state kept for when inputs recover. */
+        memset(out, 0, sizeof *out);
         s->te_last_Nm = R(0.0);
         return;
     }
@@ -223,12 +230,11 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
     case SPEED_MODE_RBFN:
         speed_rbfn_step(&s->rbfn, &cfg->rbfn, m, te_max, dt_s, &min, out);
         break;
-    default:
-        out->te_ref_Nm = R(0.0);
+    default: /* every controller above writes all of out */
+        memset(out, 0, sizeof *out);
         break;
     }
-    if (!is_finite(out->te_ref_Nm) || !is_finite(out->eps_hat) || !is_finite(s->ref_x_rad_s) ||
-        !is_finite(s->ref_v_rad_s2)) {
+    if (!all_finite4(out->te_ref_Nm, out->eps_hat, s->ref_x_rad_s, s->ref_v_rad_s2)) {
         /* Only a broken configuration (a NaN gain) gets here: give no torque
          * and restart from rest rather than carry NaN in the states. */
         memset(out, 0, sizeof *out);
