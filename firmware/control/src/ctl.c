@@ -439,20 +439,22 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
     s->t_brake_limit_s = R(0.0); /* next window */
 }
 
-/* The RBFN speed loop runs every CTL_RBFN_TICKS-th tick (ctl.h: in the slots
- * the monitors leave free); between its steps the torque command and the
- * speed controller's outputs hold. The IP and nominal controllers, a few
- * operations each, run every tick. */
+/* The RBFN speed loop runs every CTL_RBFN_TICKS-th tick: its command in the
+ * slots the monitors leave free, that command's learning in the next tick
+ * (ctl.h); between its steps the torque command and the speed controller's
+ * outputs hold. The IP and nominal controllers, a few operations each, run
+ * every tick. */
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
     real_t T = cfg->period_s;
     bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
     if (rbfn) {
+        T = num_mul((real_t)CTL_RBFN_TICKS, T); /* the speed loop's step */
         if ((s->slow_slot & (CTL_RBFN_TICKS - 1u)) != CTL_SLOT_RBFN) {
+            speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
             *so = s->speed_held;
             return;
         }
-        T = num_mul((real_t)CTL_RBFN_TICKS, T); /* the speed loop's step */
     }
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
     target = num_limit(target, cfg->speed_max_rad_s);
@@ -465,7 +467,10 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
         si.domega_ref_rad_s2 = num_mul(R(1.0) / (real_t)CTL_RBFN_TICKS, si.domega_ref_rad_s2);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
     si.te_limit_Nm = s->te_limit_Nm;
-    speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+    if (rbfn)
+        speed_ctl_command(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+    else
+        speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
     if (rbfn)
         s->speed_held = *so;
     s->te_ref_Nm = so->te_ref_Nm;

@@ -5,6 +5,7 @@
  */
 #include "dtc/speed_ctl.h"
 
+#include <stdbool.h>
 #include <string.h>
 
 /* Screen NaN and infinities without libm classification macros (x - x is
@@ -202,8 +203,9 @@ static void switch_mode(speed_ctl *s, const speed_cfg *cfg, const motor_model *m
     s->active = cfg->mode;
 }
 
-void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
-                    const speed_in *in, speed_out *out)
+/* speed_ctl_step, with the RBFN's learning left for speed_ctl_learn when @p defer. */
+static void speed_ctl_run(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
+                          const speed_in *in, speed_out *out, bool defer)
 {
     if (!all_finite4(in->omega_ref_rad_s, in->domega_ref_rad_s2, in->omega_est_rad_s, R(0.0)) ||
         !(dt_s > R(0.0)) || !(m->J_kgm2 > R(0.0))) {
@@ -228,7 +230,10 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
         speed_nominal_step(&cfg->nominal, m, te_max, &min, out);
         break;
     case SPEED_MODE_RBFN:
-        speed_rbfn_step(&s->rbfn, &cfg->rbfn, m, te_max, dt_s, &min, out);
+        if (defer)
+            speed_rbfn_command(&s->rbfn, &cfg->rbfn, m, te_max, &min, out);
+        else
+            speed_rbfn_step(&s->rbfn, &cfg->rbfn, m, te_max, dt_s, &min, out);
         break;
     default: /* every controller above writes all of out */
         memset(out, 0, sizeof *out);
@@ -242,4 +247,22 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
         speed_ctl_set_ref(s, in->omega_est_rad_s);
     }
     s->te_last_Nm = out->te_ref_Nm;
+}
+
+void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
+                    const speed_in *in, speed_out *out)
+{
+    speed_ctl_run(s, cfg, m, dt_s, in, out, false);
+}
+
+void speed_ctl_command(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
+                       const speed_in *in, speed_out *out)
+{
+    speed_ctl_run(s, cfg, m, dt_s, in, out, true);
+}
+
+void speed_ctl_learn(speed_ctl *s, const speed_cfg *cfg, real_t dt_s, speed_out *out)
+{
+    if (s->rbfn.learn != RBFN_LEARN_NONE)
+        speed_rbfn_learn(&s->rbfn, &cfg->rbfn, dt_s, out);
 }

@@ -165,9 +165,10 @@ typedef struct {
 #define CTL_SLOW_SLOTS 4u
 #define CTL_SLOT_GUARD 0u
 #define CTL_SLOT_PLAUS 2u
-/** The RBFN speed loop steps every CTL_RBFN_TICKS ticks (a power of 2), in the
- *  ticks whose slot is CTL_SLOT_RBFN modulo it: 1 and 3, never with a monitor
- *  (the IP and nominal controllers step every tick). */
+/** The RBFN speed loop steps every CTL_RBFN_TICKS ticks (a power of 2): its
+ *  command in the ticks whose slot is CTL_SLOT_RBFN modulo it (1 and 3, never
+ *  with a monitor), that command's weight and bound updates in the next tick
+ *  (with a monitor). The IP and nominal controllers step every tick. */
 #define CTL_RBFN_TICKS 2u
 #define CTL_SLOT_RBFN 1u
 #ifndef __cplusplus
