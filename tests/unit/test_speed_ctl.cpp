@@ -531,3 +531,24 @@ TEST(SpeedCtlSplit, CommandThenLearnEqualsTheWholeStep)
     EXPECT_GT(limited, 100); // the anti-windup path was taken
     EXPECT_GT(whole.out.w_norm, 0.0f);
 }
+
+// A command whose learning never ran because the mode switched away (ctl.c
+// learns in RBFN mode only) is not learned after switching back: the weights
+// stay as they were until the bumpless switch sets them.
+TEST(SpeedCtlSplit, APendingLearningIsDroppedAcrossAModeSwitch)
+{
+    Loop l(SPEED_MODE_RBFN);
+    l.restart_at(50.0);
+    speed_in in{};
+    in.omega_ref_rad_s = 60.0f;
+    in.omega_est_rad_s = 50.0f;
+    speed_ctl_command(&l.s, &l.cfg, &l.m, (float)kT, &in, &l.out);
+    ASSERT_NE(l.s.rbfn.learn, (uint32_t)RBFN_LEARN_NONE);
+    l.cfg.mode = SPEED_MODE_IP;
+    speed_ctl_command(&l.s, &l.cfg, &l.m, (float)kT, &in, &l.out); // the IP: no learning call
+    l.cfg.mode = SPEED_MODE_RBFN;
+    float w[RBFN_NODES_MAX];
+    std::memcpy(w, l.s.rbfn.w, sizeof w);
+    speed_ctl_learn(&l.s, &l.cfg, (float)kT, &l.out); // ctl.c's next tick, before the RBFN's command
+    EXPECT_EQ(std::memcmp(w, l.s.rbfn.w, sizeof w), 0);
+}

@@ -189,6 +189,7 @@ real_t speed_ref_ramp(real_t prev_rad_s, real_t target_rad_s, real_t max_step_ra
  * last one applied: no torque step when the mode changes while running. */
 static void switch_mode(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, const speed_in *in)
 {
+    s->rbfn.learn = RBFN_LEARN_NONE; /* an RBFN command's learning still pending is dropped */
     switch (cfg->mode) {
     case SPEED_MODE_IP:
         speed_ip_bumpless(&s->ip, &cfg->ip, s->te_last_Nm, in->omega_est_rad_s);

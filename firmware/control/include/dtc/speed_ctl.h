@@ -207,7 +207,8 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
  * weight and bound updates, which speed_ctl_learn then does (with step
  * @p dt_s; it writes out->w_norm and out->zeta_bar when it did them; nothing
  * for the IP and nominal controllers, which do all in the command). Call
- * speed_ctl_learn after each speed_ctl_command and before the next; the
+ * speed_ctl_learn after each speed_ctl_command and before the next (a learning
+ * still pending when the mode changes is dropped); the
  * controller's commands are then those of speed_ctl_step. Context: ISR.
  */
 void speed_ctl_command(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
