@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 extern "C" {
 #include "dtc/ctl.h"
@@ -91,6 +92,7 @@ TEST(CtlGuard, ObserverFluxAtAWrongFrequencyTripsWithinFiftyMilliseconds)
         ASSERT_TRUE(r.tripped) << k;
         EXPECT_GE(r.t_trip, 1.0) << k;
         EXPECT_LE(r.t_trip - 1.0, 0.05) << k;
+        RecordProperty("trip_delay_ms_obs_at_" + std::to_string(k) + "_w", std::to_string((r.t_trip - 1.0) * 1e3));
     }
 }
 

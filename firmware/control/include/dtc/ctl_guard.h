@@ -31,8 +31,9 @@
  * sums. The volt-seconds are exact (the voltage is constant over a period);
  * the leak over the window, (1 - wc T)^n, is taken to first order (n wc T =
  * 0.5 %: an error of 1e-5 of the flux per window). The trip then waits for
- * guard_time_s counted in whole windows, and for the next check: at most
- * guard_time_s + 2 windows (11.6 ms at the defaults) after the error rose.
+ * guard_time_s counted in whole windows from the first check that sees the
+ * error: at the defaults the 13th such check, at most 10.2 ms after the error
+ * rose (9.8 ms judged every tick).
  */
 #ifndef DTC_CTL_GUARD_H
 #define DTC_CTL_GUARD_H
