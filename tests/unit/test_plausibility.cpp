@@ -2,7 +2,8 @@
 // hand-derived timings: a healthy balanced set never trips; an open phase
 // (ia = 0, ib = -ic) trips PHASE_LOSS after half an electrical period; one
 // offset sensor trips CURRENT_SENSOR after PLAUS_SUM_TICKS; the dividers are
-// judged while stopped only.
+// judged while stopped only. The current checks run every PLAUS_CHECK_TICKS-th
+// tick, as ctl.c schedules them (first at tick 0 here).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -40,7 +41,7 @@ int ticks_to_fault(double f_hz, bool open_a, double offset_a, uint32_t *bits, in
     const float w_e = float(2.0 * M_PI * f_hz);
     for (int k = 0; k < max_ticks; k++) {
         hal_sample x = three_phase(k * kT, f_hz, 20.0, open_a, offset_a);
-        uint32_t f = plaus_check(&p, &x, true, false, w_e, float(kT));
+        uint32_t f = plaus_check(&p, &x, true, false, w_e, float(kT), k % PLAUS_CHECK_TICKS == 0);
         if (f != 0u) {
             *bits = f;
             return k;
@@ -67,7 +68,10 @@ TEST(Plausibility, OpenPhaseTripsAfterHalfAnElectricalPeriod)
         ASSERT_GE(k, 0) << f;
         EXPECT_EQ(bits, uint32_t(CTL_FAULT_PHASE_LOSS)) << f;
         double half_period_ticks = std::max(0.5 / f / kT, double(PLAUS_OPEN_MIN_TICKS));
-        EXPECT_NEAR(k, half_period_ticks, 2.0) << f << " Hz";
+        // the first check past it (checks at 0, 4, 8, ... count 4 ticks each)
+        EXPECT_GT(k, half_period_ticks - PLAUS_CHECK_TICKS) << f << " Hz";
+        EXPECT_LE(k, half_period_ticks + PLAUS_CHECK_TICKS) << f << " Hz";
+        EXPECT_EQ(k % PLAUS_CHECK_TICKS, 0) << f << " Hz";
     }
     uint32_t bits = 0;
     EXPECT_EQ(ticks_to_fault(1.0, true, 0.0, &bits, 50000), -1) << "not judged below 2 Hz";
@@ -77,7 +81,8 @@ TEST(Plausibility, OneOffsetSensorTripsTheSumCheck)
 {
     uint32_t bits = 0;
     int k = ticks_to_fault(10.0, false, 10.0, &bits, 1000); // 10 A > 5 A + 5 % of 20 A
-    EXPECT_EQ(k, int(PLAUS_SUM_TICKS) - 1);
+    // checks at ticks 0, 4, 8 count 4, 8, 12 >= PLAUS_SUM_TICKS = 10: the third trips
+    EXPECT_EQ(k, 2 * int(PLAUS_CHECK_TICKS));
     EXPECT_EQ(bits, uint32_t(CTL_FAULT_CURRENT_SENSOR));
     EXPECT_EQ(ticks_to_fault(10.0, false, 5.5, &bits, 20000), -1) << "5.5 A is within 5 A + 1 A";
 }
@@ -89,8 +94,10 @@ TEST(Plausibility, DividersAreJudgedWhileStoppedOnly)
     hal_sample x{};
     x.vc1_V = 320.0f; // 3 % of 622 V is 18.66 V: 320 - 302 = 18 V is inside
     x.vc2_V = 302.0f;
-    EXPECT_EQ(plaus_check(&p, &x, false, true, 0.0f, float(kT)), 0u);
+    EXPECT_EQ(plaus_check(&p, &x, false, true, 0.0f, float(kT), false), 0u);
     x.vc1_V = 322.0f; // 20 V apart: outside
-    EXPECT_EQ(plaus_check(&p, &x, false, true, 0.0f, float(kT)), uint32_t(CTL_FAULT_DC_DIVIDER));
-    EXPECT_EQ(plaus_check(&p, &x, true, false, 0.0f, float(kT)), 0u) << "not while running";
+    // every tick while stopped, not only the current checks' ticks
+    EXPECT_EQ(plaus_check(&p, &x, false, true, 0.0f, float(kT), false), uint32_t(CTL_FAULT_DC_DIVIDER));
+    EXPECT_EQ(plaus_check(&p, &x, false, true, 0.0f, float(kT), true), uint32_t(CTL_FAULT_DC_DIVIDER));
+    EXPECT_EQ(plaus_check(&p, &x, true, false, 0.0f, float(kT), true), 0u) << "not while running";
 }

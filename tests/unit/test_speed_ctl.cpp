@@ -495,3 +495,60 @@ TEST(SpeedCtl, SurvivesAHostileConfigWithoutCrashing)
         EXPECT_NEAR(N.p.w, 50.0, mode == SPEED_MODE_NOMINAL ? 1.5 : 0.01) << "mode " << mode;
     }
 }
+
+// The RBFN step in two halves (command, then the learning one tick later, as
+// ctl.c spreads it) gives the same commands as the whole step, bit for bit,
+// through a load step, the torque limit (anti-windup: projection only) and
+// a mode switch; the learning's w_norm and zeta_bar come with the learning.
+TEST(SpeedCtlSplit, CommandThenLearnEqualsTheWholeStep)
+{
+    Loop whole(SPEED_MODE_RBFN), split(SPEED_MODE_RBFN);
+    whole.restart_at(50.0);
+    split.restart_at(50.0);
+    int limited = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const double r = k < 2000 ? 50.0 : 60.0;
+        whole.p.TL = split.p.TL = k > 8000 ? 70.0 : 10.0; // beyond te_max: the command limits
+        if (k == 15000) { // to IP and back: the switch drops a pending learning
+            whole.cfg.mode = split.cfg.mode = SPEED_MODE_IP;
+        } else if (k == 15100) {
+            whole.cfg.mode = split.cfg.mode = SPEED_MODE_RBFN;
+        }
+        whole.step(r);
+        speed_in in{};
+        in.omega_ref_rad_s = (float)r;
+        in.omega_est_rad_s = (float)split.p.w;
+        speed_ctl_command(&split.s, &split.cfg, &split.m, (float)kT, &in, &split.out);
+        ASSERT_EQ(split.out.te_ref_Nm, whole.out.te_ref_Nm) << "tick " << k;
+        ASSERT_EQ(split.out.eps_hat, whole.out.eps_hat) << "tick " << k;
+        speed_ctl_learn(&split.s, &split.cfg, (float)kT, &split.out);
+        ASSERT_EQ(split.out.w_norm, whole.out.w_norm) << "tick " << k;
+        ASSERT_EQ(split.out.zeta_bar, whole.out.zeta_bar) << "tick " << k;
+        ASSERT_EQ(std::memcmp(split.s.rbfn.w, whole.s.rbfn.w, sizeof split.s.rbfn.w), 0) << "tick " << k;
+        split.p.advance(split.out.te_ref_Nm);
+        limited += std::abs(whole.out.te_ref_Nm) >= whole.cfg.te_max_Nm;
+    }
+    EXPECT_GT(limited, 100); // the anti-windup path was taken
+    EXPECT_GT(whole.out.w_norm, 0.0f);
+}
+
+// A command whose learning never ran because the mode switched away (ctl.c
+// learns in RBFN mode only) is not learned after switching back: the weights
+// stay as they were until the bumpless switch sets them.
+TEST(SpeedCtlSplit, APendingLearningIsDroppedAcrossAModeSwitch)
+{
+    Loop l(SPEED_MODE_RBFN);
+    l.restart_at(50.0);
+    speed_in in{};
+    in.omega_ref_rad_s = 60.0f;
+    in.omega_est_rad_s = 50.0f;
+    speed_ctl_command(&l.s, &l.cfg, &l.m, (float)kT, &in, &l.out);
+    ASSERT_NE(l.s.rbfn.learn, (uint32_t)RBFN_LEARN_NONE);
+    l.cfg.mode = SPEED_MODE_IP;
+    speed_ctl_command(&l.s, &l.cfg, &l.m, (float)kT, &in, &l.out); // the IP: no learning call
+    l.cfg.mode = SPEED_MODE_RBFN;
+    float w[RBFN_NODES_MAX];
+    std::memcpy(w, l.s.rbfn.w, sizeof w);
+    speed_ctl_learn(&l.s, &l.cfg, (float)kT, &l.out); // ctl.c's next tick, before the RBFN's command
+    EXPECT_EQ(std::memcmp(w, l.s.rbfn.w, sizeof w), 0);
+}

@@ -222,7 +222,10 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
     if (active && cfg->stall_time_s > R(0.0) && (s->t_at_limit_s >= cfg->stall_time_s || s->brake_stall))
         f |= CTL_FAULT_STALL;
     real_t omega_e = num_mul(cfg->motor.pole_pairs, s->obs.omega_m_filt_rad_s);
-    f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s);
+    /* the slow tasks' slot advances here, once per tick that judges a sample (ctl.h) */
+    s->slow_slot = (uint8_t)((s->slow_slot + 1u) & (CTL_SLOW_SLOTS - 1u));
+    f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s,
+                     s->slow_slot == CTL_SLOT_PLAUS);
     return f;
 }
 
@@ -232,6 +235,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     rs_ident_reset(&s->rsid);
     dtc3l_init(&s->dtc);
     speed_ctl_reset(&s->speed, R(0.0));
+    memset(&s->speed_held, 0, sizeof s->speed_held); /* no output of the last run held into this one */
     s->run_state = CTL_MAGNETISING;
     s->t_magnetise_s = R(0.0);
     s->bringup_theta_rad = R(0.0);
@@ -447,9 +451,23 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
     s->t_brake_limit_s = R(0.0); /* next window */
 }
 
+/* The RBFN speed loop runs every CTL_RBFN_TICKS-th tick: its command in the
+ * slots the monitors leave free, that command's learning in the next tick
+ * (ctl.h); between its steps the torque command and the speed controller's
+ * outputs hold. The IP and nominal controllers, a few operations each, run
+ * every tick. */
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
     real_t T = cfg->period_s;
+    bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
+    if (rbfn) {
+        T = num_mul((real_t)CTL_RBFN_TICKS, T); /* the speed loop's step */
+        if ((s->slow_slot & (CTL_RBFN_TICKS - 1u)) != CTL_SLOT_RBFN) {
+            speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
+            *so = s->speed_held;
+            return;
+        }
+    }
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
     target = num_limit(target, cfg->speed_max_rad_s);
     real_t prev = s->speed_ref_ramped_rad_s;
@@ -457,9 +475,16 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
     speed_in si;
     si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
     si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_period_per_s);
+    if (rbfn)
+        si.domega_ref_rad_s2 = num_mul(R(1.0) / (real_t)CTL_RBFN_TICKS, si.domega_ref_rad_s2);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
     si.te_limit_Nm = s->te_limit_Nm;
-    speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+    if (rbfn)
+        speed_ctl_command(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+    else
+        speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+    if (rbfn)
+        s->speed_held = *so;
     s->te_ref_Nm = so->te_ref_Nm;
     /* A command pinned at the limit while the speed stays away from its reference, and does
      * not come nearer, means the loop cannot hold the speed it is asked for (overload,
@@ -632,8 +657,10 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     real_t v_V[2], is_A[2];
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
     observe(s, cfg, &in->sample, np_dev_pred_V, v_V, is_A);
-    s->guard_trip = ctl_guard_step(&s->guard, &cfg->guard, cfg->period_s, v_V, is_A, s->obs.rs_ohm,
-                                   s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+    if (s->slow_slot == CTL_SLOT_GUARD) /* its window closes: the check of the ticks before this one */
+        s->guard_trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
+                                        s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+    ctl_guard_accumulate(&s->guard, v_V, is_A);
     ramp_flux_reference(s, cfg, &in->sample);
 
     speed_out so;

@@ -8,8 +8,9 @@ void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s)
 {
     real_t a = num_mul(cfg->wc_rad_s, period_s);
     cfg->wc_T = num_sat(a, R(0.0), R(1.0));
-    /* 1 - exp(-2 pi 50 Hz T): the stator-frequency low-pass */
-    cfg->w_lpf_T = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), period_s)), R(0.0), R(1.0));
+    /* 1 - exp(-2 pi 50 Hz n T): the stator-frequency low-pass over a window of n ticks */
+    for (uint32_t n = 0u; n <= CTL_GUARD_WINDOW_MAX; n++)
+        cfg->w_lpf_n[n] = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), num_mul((real_t)n, period_s))), R(0.0), R(1.0));
 }
 
 void ctl_guard_reset(ctl_guard *g)
@@ -20,34 +21,55 @@ void ctl_guard_reset(ctl_guard *g)
     g->t_above_s = R(0.0);
     g->omega_s_rad_s = R(0.0);
     g->tol_Wb = R(0.0);
+    g->sum_v_V[0] = g->sum_v_V[1] = R(0.0);
+    g->sum_is_A[0] = g->sum_is_A[1] = R(0.0);
+    g->n_ticks = 0u;
 }
 
-bool ctl_guard_step(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, const real_t v_V[2],
-                    const real_t is_A[2], real_t rs_ohm, const real_t psi_obs_Wb[2], real_t psi_ref_Wb,
-                    bool judge)
+void ctl_guard_accumulate(ctl_guard *g, const real_t v_V[2], const real_t is_A[2])
 {
-    real_t a = cfg->wc_T;
-    real_t d[2];
+    g->sum_v_V[0] += v_V[0];
+    g->sum_v_V[1] += v_V[1];
+    g->sum_is_A[0] += is_A[0];
+    g->sum_is_A[1] += is_A[1];
+    g->n_ticks++;
+}
+
+bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, const real_t is_A[2], real_t rs_ohm,
+                     const real_t psi_obs_Wb[2], real_t psi_ref_Wb, bool judge)
+{
+    /* the window: the ticks since the last check (CTL_GUARD_WINDOW_MAX in the caller's schedule,
+     * fewer in the first window after a reset) */
+    uint32_t n = g->n_ticks;
+    real_t nf = (real_t)n;
+    real_t a = num_mul(nf, cfg->wc_T); /* the leak over the window (1 - wc T)^n to first order */
     real_t prev[2] = {g->psi_vm_Wb[0], g->psi_vm_Wb[1]};
+    real_t d[2];
     for (int i = 0; i < 2; i++) {
-        /* the same high-pass on the observer's flux: psi - lowpass(psi) */
+        /* psi_vm' = v - Rs is - wc psi_vm (s / (s + wc) of the machine's flux), on to t_k:
+         * the volt-seconds of the window are exact (v is constant over each period) */
+        real_t emf_sum = g->sum_v_V[i] - num_mul(rs_ohm, g->sum_is_A[i]);
+        g->psi_vm_Wb[i] = num_mac(period_s, emf_sum, g->psi_vm_Wb[i] - num_mul(a, g->psi_vm_Wb[i]));
+        g->sum_v_V[i] = R(0.0);
+        g->sum_is_A[i] = R(0.0);
+        /* the same high-pass on the observer's flux: psi - lowpass(psi), sampled at the checks */
         g->psi_obs_lp_Wb[i] = num_mac(a, psi_obs_Wb[i] - g->psi_obs_lp_Wb[i], g->psi_obs_lp_Wb[i]);
-        /* both at t_k: psi_vm holds the integral up to t_k */
+        /* both at t_k */
         d[i] = g->psi_vm_Wb[i] - (psi_obs_Wb[i] - g->psi_obs_lp_Wb[i]);
-        /* psi_vm' = v - Rs is - wc psi_vm (s / (s + wc) of the machine's flux), on to t_{k+1} */
-        real_t emf = v_V[i] - num_mul(rs_ohm, is_A[i]);
-        g->psi_vm_Wb[i] = num_mac(period_s, emf, g->psi_vm_Wb[i] - num_mul(a, g->psi_vm_Wb[i]));
     }
+    g->n_ticks = 0u;
     real_t e2 = num_mul(d[0], d[0]) + num_mul(d[1], d[1]);
     /* num_sqrt maps NaN to 0: keep a NaN (a broken voltage or current) as NaN */
     g->err_Wb = e2 >= R(0.0) ? num_sqrt(e2) : e2;
 
-    /* stator frequency of the machine's flux: rotation of psi_vm per period,
-     * low-passed (the PWM ripple of one period is ~10 % of the flux) */
+    /* stator frequency of the machine's flux: rotation of psi_vm over the
+     * window, low-passed (the PWM ripple of one period is ~10 % of the flux) */
+    real_t window_s = num_mul(nf, period_s);
     real_t n2 = num_mul(prev[0], prev[0]) + num_mul(prev[1], prev[1]);
     real_t cr = num_mul(prev[0], g->psi_vm_Wb[1]) - num_mul(prev[1], g->psi_vm_Wb[0]);
-    real_t w = n2 > R(1e-4) ? num_div(cr, num_mul(n2, period_s)) : R(0.0);
-    g->omega_s_rad_s = num_mac(cfg->w_lpf_T, w - g->omega_s_rad_s, g->omega_s_rad_s);
+    real_t w = n2 > R(1e-4) && n > 0u ? num_div(cr, num_mul(n2, window_s)) : R(0.0);
+    real_t w_lpf = cfg->w_lpf_n[n < CTL_GUARD_WINDOW_MAX ? n : CTL_GUARD_WINDOW_MAX];
+    g->omega_s_rad_s = num_mac(w_lpf, w - g->omega_s_rad_s, g->omega_s_rad_s);
     /* an Rs error dR gives a flux error up to dR |is| / |omega_s| through
      * the integrator (at most dR |is| / wc): allowed for rs_tol_frac of Rs */
     real_t wabs = num_abs(g->omega_s_rad_s);
@@ -66,9 +88,9 @@ bool ctl_guard_step(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, con
         g->t_above_s = R(0.0);
         return false;
     }
-    /* written so that a NaN error counts as above */
+    /* written so that a NaN error counts as above; the whole window counts */
     if (!(g->err_Wb <= g->tol_Wb))
-        g->t_above_s += period_s;
+        g->t_above_s += window_s;
     else
         g->t_above_s = R(0.0);
     return g->t_above_s >= cfg->time_s;

@@ -35,6 +35,35 @@ typedef struct {
     real_t a22[2];   /* -1/Tr + j omega */
 } model_matrix;
 
+/* The terms that depend on Rs alone: the model's a11 and the real parts of
+ * the Kubota gains (observer_gain). */
+typedef struct {
+    real_t a11;
+    real_t g_is0;
+    real_t g_psi0;
+} rs_terms;
+
+static void rs_terms_at(const observer_model *m, real_t rs_ohm, rs_terms *t)
+{
+    real_t ar11 = -(num_mul(rs_ohm, m->b) + m->a_r);
+    real_t ar22 = -m->inv_tr;
+    /* Kubota: trace and determinant of A + G C are k and k^2 times those of A. */
+    t->a11 = ar11;
+    t->g_is0 = num_mul(m->gain_k1, ar11 + ar22);
+    t->g_psi0 = num_mul(m->gain_k21, num_mul(m->inv_c, ar11) + m->lm_tr) - num_mul(m->gain_inv_c_k1, ar11 + ar22);
+}
+
+/* The model matrix at speed omega_e with the Rs term a11 (rs_terms). */
+static void model_matrix_with(const observer_model *m, real_t a11, real_t omega_e, model_matrix *a)
+{
+    a->a11 = a11;
+    a->a12[0] = m->c_inv_tr;
+    a->a12[1] = -num_mul(m->c, omega_e);
+    a->a21 = m->lm_tr;
+    a->a22[0] = -m->inv_tr;
+    a->a22[1] = omega_e;
+}
+
 static void model_matrix_at(const observer_model *m, real_t rs_ohm, real_t omega_e, model_matrix *a)
 {
     a->a11 = -(num_mul(rs_ohm, m->b) + m->a_r);
@@ -156,6 +185,11 @@ void observer_cfg_derive(observer_cfg *cfg, const motor_model *mm, real_t period
     m->c_inv_tr = num_mul(m->c, m->inv_tr);
     for (int n = 0; n < 3; n++)
         m->h_T[n] = num_mul(period_s, k_zoh_inv_n[n]);
+    rs_terms t;
+    rs_terms_at(m, m->rs_nom_ohm, &t); /* the same operations as the step's, so the same bits */
+    m->nom_a11 = t.a11;
+    m->nom_g_is0 = t.g_is0;
+    m->nom_g_psi0 = t.g_psi0;
 }
 
 void observer_init(observer *s, const observer_cfg *cfg)
@@ -172,14 +206,11 @@ void observer_init(observer *s, const observer_cfg *cfg)
 void observer_gain(const observer_cfg *cfg, real_t omega_e, real_t rs_ohm, real_t g_is[2], real_t g_psi[2])
 {
     const observer_model *m = &cfg->m;
-    real_t k1 = m->gain_k1;
-    real_t k21 = m->gain_k21;
-    real_t ar11 = -(num_mul(rs_ohm, m->b) + m->a_r);
-    real_t ar22 = -m->inv_tr;
-    /* Kubota: trace and determinant of A + G C are k and k^2 times those of A. */
-    g_is[0] = num_mul(k1, ar11 + ar22);
-    g_is[1] = num_mul(k1, omega_e);
-    g_psi[0] = num_mul(k21, num_mul(m->inv_c, ar11) + m->lm_tr) - num_mul(m->gain_inv_c_k1, ar11 + ar22);
+    rs_terms t;
+    rs_terms_at(m, rs_ohm, &t);
+    g_is[0] = t.g_is0;
+    g_is[1] = num_mul(m->gain_k1, omega_e);
+    g_psi[0] = t.g_psi0;
     g_psi[1] = -num_mul(m->gain_inv_c_k1, omega_e);
 }
 
@@ -252,8 +283,19 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
     out->err_A[1] = e[1];
 
     /* advance to t_{k+1}: u_is = b v - g_is e, u_psi = -g_psi e */
-    real_t g_is[2], g_psi[2], ge[2];
-    observer_gain(cfg, s->omega_e_rad_s, s->rs_ohm, g_is, g_psi);
+    /* the Rs terms: derived once for the nominal Rs (the usual case: no Rs
+     * adaptation, identification kept the model's), else worked out here */
+    rs_terms rt;
+    if (s->rs_ohm == m->rs_nom_ohm) {
+        rt.a11 = m->nom_a11;
+        rt.g_is0 = m->nom_g_is0;
+        rt.g_psi0 = m->nom_g_psi0;
+    } else {
+        rs_terms_at(m, s->rs_ohm, &rt);
+    }
+    real_t g_is[2] = {rt.g_is0, num_mul(m->gain_k1, s->omega_e_rad_s)};
+    real_t g_psi[2] = {rt.g_psi0, -num_mul(m->gain_inv_c_k1, s->omega_e_rad_s)};
+    real_t ge[2];
     real_t u_is[2], u_psi[2];
     cmul(g_is, e, ge);
     u_is[0] = num_mul(m->b, v[0]) - ge[0];
@@ -265,7 +307,7 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
     real_t x[4] = {s->is_A[0], s->is_A[1], s->psi_r_Wb[0], s->psi_r_Wb[1]};
     real_t xn[4];
     model_matrix a; /* built once: the step and the slopes use the same speed and Rs */
-    model_matrix_at(m, s->rs_ohm, s->omega_e_rad_s, &a);
+    model_matrix_with(m, rt.a11, s->omega_e_rad_s, &a);
     advance_with(&a, T, m->h_T, x, u_is, u_psi, xn);
     s->is_A[0] = xn[0];
     s->is_A[1] = xn[1];

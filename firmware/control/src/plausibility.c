@@ -19,8 +19,11 @@ void plaus_reset(plaus_state *p)
     }
 }
 
-/* Count ticks in a row while @p cond holds (saturating). */
-static uint16_t count(uint16_t n, bool cond) { return cond ? (uint16_t)(n < 0xFFFFu ? n + 1u : n) : 0u; }
+/* Count ticks in a row while @p cond holds, PLAUS_CHECK_TICKS per check (saturating). */
+static uint16_t count(uint16_t n, bool cond)
+{
+    return cond ? (uint16_t)(n < 0xFFFFu - PLAUS_CHECK_TICKS ? n + PLAUS_CHECK_TICKS : 0xFFFFu) : 0u;
+}
 
 /* Half an electrical period at |omega_e| = @p w_rad_s (above the judging
  * frequency), in ticks of @p period_s, at least PLAUS_OPEN_MIN_TICKS. */
@@ -31,10 +34,9 @@ static uint32_t half_period_ticks(real_t w_rad_s, real_t period_s)
 }
 
 uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stopped, real_t omega_e_rad_s,
-                     real_t period_s)
+                     real_t period_s, bool check)
 {
     uint32_t f = 0u;
-    const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
 
     if (stopped) {
         real_t vdc = x->vc1_V + x->vc2_V;
@@ -45,6 +47,9 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
         plaus_reset(p);
         return f;
     }
+    if (!check)
+        return f; /* the current checks run every PLAUS_CHECK_TICKS-th tick (the caller's schedule) */
+    const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
 
     real_t sq = num_mul(i[0], i[0]) + num_mul(i[1], i[1]) + num_mul(i[2], i[2]);
     real_t mag_A = num_sqrt(num_mul(R(0.6666667), sq)); /* space-vector magnitude */

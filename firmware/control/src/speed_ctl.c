@@ -5,11 +5,19 @@
  */
 #include "dtc/speed_ctl.h"
 
+#include <stdbool.h>
 #include <string.h>
 
 /* Screen NaN and infinities without libm classification macros (x - x is
  * 0 only for finite x). */
 static int is_finite(real_t x) { return (x - x) == R(0.0); }
+
+/* All of four finite, in one compare: each x - x is exactly 0 when x is
+ * finite, and a NaN or an infinity makes the sum NaN. */
+static int all_finite4(real_t a, real_t b, real_t c, real_t d)
+{
+    return ((a - a) + (b - b) + (c - c) + (d - d)) == R(0.0);
+}
 
 void speed_cfg_default(speed_cfg *cfg, const motor_model *m)
 {
@@ -181,6 +189,7 @@ real_t speed_ref_ramp(real_t prev_rad_s, real_t target_rad_s, real_t max_step_ra
  * last one applied: no torque step when the mode changes while running. */
 static void switch_mode(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, const speed_in *in)
 {
+    s->rbfn.learn = RBFN_LEARN_NONE; /* an RBFN command's learning still pending is dropped */
     switch (cfg->mode) {
     case SPEED_MODE_IP:
         speed_ip_bumpless(&s->ip, &cfg->ip, s->te_last_Nm, in->omega_est_rad_s);
@@ -195,13 +204,14 @@ static void switch_mode(speed_ctl *s, const speed_cfg *cfg, const motor_model *m
     s->active = cfg->mode;
 }
 
-void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
-                    const speed_in *in, speed_out *out)
+/* speed_ctl_step, with the RBFN's learning left for speed_ctl_learn when @p defer. */
+static void speed_ctl_run(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
+                          const speed_in *in, speed_out *out, bool defer)
 {
-    memset(out, 0, sizeof *out);
-    if (!is_finite(in->omega_ref_rad_s) || !is_finite(in->domega_ref_rad_s2) ||
-        !is_finite(in->omega_est_rad_s) || !(dt_s > R(0.0)) || !(m->J_kgm2 > R(0.0))) {
+    if (!all_finite4(in->omega_ref_rad_s, in->domega_ref_rad_s2, in->omega_est_rad_s, R(0.0)) ||
+        !(dt_s > R(0.0)) || !(m->J_kgm2 > R(0.0))) {
         /* Refuse garbage: zero torque, state kept for when inputs recover. */
+        memset(out, 0, sizeof *out);
         s->te_last_Nm = R(0.0);
         return;
     }
@@ -221,14 +231,16 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
         speed_nominal_step(&cfg->nominal, m, te_max, &min, out);
         break;
     case SPEED_MODE_RBFN:
-        speed_rbfn_step(&s->rbfn, &cfg->rbfn, m, te_max, dt_s, &min, out);
+        if (defer)
+            speed_rbfn_command(&s->rbfn, &cfg->rbfn, m, te_max, &min, out);
+        else
+            speed_rbfn_step(&s->rbfn, &cfg->rbfn, m, te_max, dt_s, &min, out);
         break;
-    default:
-        out->te_ref_Nm = R(0.0);
+    default: /* every controller above writes all of out */
+        memset(out, 0, sizeof *out);
         break;
     }
-    if (!is_finite(out->te_ref_Nm) || !is_finite(out->eps_hat) || !is_finite(s->ref_x_rad_s) ||
-        !is_finite(s->ref_v_rad_s2)) {
+    if (!all_finite4(out->te_ref_Nm, out->eps_hat, s->ref_x_rad_s, s->ref_v_rad_s2)) {
         /* Only a broken configuration (a NaN gain) gets here: give no torque
          * and restart from rest rather than carry NaN in the states. */
         memset(out, 0, sizeof *out);
@@ -236,4 +248,22 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
         speed_ctl_set_ref(s, in->omega_est_rad_s);
     }
     s->te_last_Nm = out->te_ref_Nm;
+}
+
+void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
+                    const speed_in *in, speed_out *out)
+{
+    speed_ctl_run(s, cfg, m, dt_s, in, out, false);
+}
+
+void speed_ctl_command(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
+                       const speed_in *in, speed_out *out)
+{
+    speed_ctl_run(s, cfg, m, dt_s, in, out, true);
+}
+
+void speed_ctl_learn(speed_ctl *s, const speed_cfg *cfg, real_t dt_s, speed_out *out)
+{
+    if (s->rbfn.learn != RBFN_LEARN_NONE)
+        speed_rbfn_learn(&s->rbfn, &cfg->rbfn, dt_s, out);
 }

@@ -11,6 +11,9 @@
  *               + T [gamma_zeta max(|e| - dead_zone, 0) - leak zeta_bar])
  * Both updates are skipped while the command is limited and the error would
  * push it further into the limit (they would only wind up).
+ * The step is two halves (speed_rbfn_command, speed_rbfn_learn), so that a
+ * caller can put them in different ticks (ctl.c); the learning uses the basis
+ * and error of the command and must run before the next command.
  * e = X_d - X (rad/s), eps and eps_hat in rad/s^2, B_n = 1/J, A_n = -B/J.
  * Design and tuning: docs/speed_control.md.
  */
@@ -37,19 +40,18 @@ static real_t robust_switch(real_t e, real_t phi)
     return num_sign(e);
 }
 
-void speed_rbfn_step(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, real_t te_max_Nm,
-                     real_t dt_s, const speed_in *in, speed_out *out)
+void speed_rbfn_command(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, real_t te_max_Nm,
+                        const speed_in *in, speed_out *out)
 {
     uint32_t n = node_count(cfg);
     real_t x = in->omega_est_rad_s;
     real_t e = in->omega_ref_rad_s - x;
-    real_t z[RBFN_NODES_MAX];
 
     if (cfg->grid.n == n) /* derived for this configuration: one exp() instead of n */
-        rbfn_basis_grid(&cfg->grid, cfg->centre, n, e, z);
+        rbfn_basis_grid(&cfg->grid, cfg->centre, n, e, s->z);
     else
-        rbfn_basis(cfg->centre, cfg->width, n, e, z);
-    real_t eps_hat = rbfn_output(s->w, z, n);
+        rbfn_basis(cfg->centre, cfg->width, n, e, s->z);
+    real_t eps_hat = rbfn_output(s->w, s->z, n);
     real_t robust = num_mul(s->zeta_bar, robust_switch(e, cfg->boundary_rad_s));
 
     /* B_n^-1 [...] = J [...]; -A_n X / B_n = B X. */
@@ -60,22 +62,41 @@ void speed_rbfn_step(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, r
     /* Adapt unless limited in the direction the error pushes (anti-windup):
      * at +limit with e > 0 both laws would raise U further. */
     int wind_up = (u > te_max_Nm && e > R(0.0)) || (u < -te_max_Nm && e < R(0.0));
-    real_t w_norm;
-    if (!wind_up) {
-        w_norm = rbfn_update_projected(s->w, z, n, e, num_mul(cfg->gamma_w, dt_s), cfg->m_w);
-        real_t excess = num_abs(e) - cfg->zeta_dead_zone_rad_s;
-        real_t grow = excess > R(0.0) ? num_mul(cfg->gamma_zeta, excess) : R(0.0);
-        real_t zb = s->zeta_bar + num_mul(grow - num_mul(cfg->zeta_leak, s->zeta_bar), dt_s);
-        s->zeta_bar = num_sat(zb, R(0.0), cfg->zeta_max > R(0.0) ? cfg->zeta_max : R(0.0));
-    } else {
-        w_norm = rbfn_project(s->w, n, cfg->m_w); /* keeps the invariant if M_w was lowered */
-    }
+    s->e_learn = e;
+    s->learn = wind_up ? RBFN_LEARN_PROJECT : RBFN_LEARN_STEP;
     s->eps_hat = eps_hat;
 
     out->te_ref_Nm = te;
     out->eps_hat = eps_hat;
-    out->w_norm = w_norm;
+    out->w_norm = s->w_norm;
     out->zeta_bar = s->zeta_bar;
+}
+
+void speed_rbfn_learn(rbfn_state *s, const rbfn_cfg *cfg, real_t dt_s, speed_out *out)
+{
+    uint32_t n = node_count(cfg);
+    real_t e = s->e_learn;
+    if (s->learn == RBFN_LEARN_STEP) {
+        s->w_norm = rbfn_update_projected(s->w, s->z, n, e, num_mul(cfg->gamma_w, dt_s), cfg->m_w);
+        real_t excess = num_abs(e) - cfg->zeta_dead_zone_rad_s;
+        real_t grow = excess > R(0.0) ? num_mul(cfg->gamma_zeta, excess) : R(0.0);
+        real_t zb = s->zeta_bar + num_mul(grow - num_mul(cfg->zeta_leak, s->zeta_bar), dt_s);
+        s->zeta_bar = num_sat(zb, R(0.0), cfg->zeta_max > R(0.0) ? cfg->zeta_max : R(0.0));
+    } else if (s->learn == RBFN_LEARN_PROJECT) {
+        s->w_norm = rbfn_project(s->w, n, cfg->m_w); /* keeps the invariant if M_w was lowered */
+    } else {
+        return; /* nothing commanded since the last learning */
+    }
+    s->learn = RBFN_LEARN_NONE;
+    out->w_norm = s->w_norm;
+    out->zeta_bar = s->zeta_bar;
+}
+
+void speed_rbfn_step(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, real_t te_max_Nm,
+                     real_t dt_s, const speed_in *in, speed_out *out)
+{
+    speed_rbfn_command(s, cfg, m, te_max_Nm, in, out);
+    speed_rbfn_learn(s, cfg, dt_s, out);
 }
 
 void speed_rbfn_bumpless(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m,
@@ -90,7 +111,8 @@ void speed_rbfn_bumpless(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *
                num_div(te_now_Nm - num_mul(m->B_Nms, x), m->J_kgm2 > R(0.0) ? m->J_kgm2 : R(1.0));
     for (uint32_t q = 0u; q < RBFN_NODES_MAX; q++)
         s->w[q] = q < n ? w : R(0.0);
-    (void)rbfn_project(s->w, n, cfg->m_w);
+    s->w_norm = rbfn_project(s->w, n, cfg->m_w);
     s->zeta_bar = R(0.0);
     s->eps_hat = s->w[0]; /* equal weights: eps_hat = w for any input */
+    s->learn = RBFN_LEARN_NONE; /* a step commanded before the switch learns nothing now */
 }

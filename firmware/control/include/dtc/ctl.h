@@ -155,6 +155,27 @@ typedef struct {
     ctl_telemetry tel;
 } ctl_out;
 
+/**
+ * The slow tasks take turns (issue 11): tick k has slot k mod CTL_SLOW_SLOTS,
+ * and each slow task does its heavy part in its own slot only, so no tick
+ * carries two of them. The loss-of-control monitor checks in CTL_SLOT_GUARD
+ * (ctl_guard.h; it sums its inputs every tick), the current plausibility
+ * checks run in CTL_SLOT_PLAUS (plausibility.h).
+ */
+#define CTL_SLOW_SLOTS 4u
+#define CTL_SLOT_GUARD 0u
+#define CTL_SLOT_PLAUS 2u
+/** The RBFN speed loop steps every CTL_RBFN_TICKS ticks (a power of 2): its
+ *  command in the ticks whose slot is CTL_SLOT_RBFN modulo it (1 and 3, never
+ *  with a monitor), that command's weight and bound updates in the next tick
+ *  (with a monitor). The IP and nominal controllers step every tick. */
+#define CTL_RBFN_TICKS 2u
+#define CTL_SLOT_RBFN 1u
+#ifndef __cplusplus
+_Static_assert(CTL_GUARD_WINDOW_MAX == CTL_SLOW_SLOTS && PLAUS_CHECK_TICKS == CTL_SLOW_SLOTS,
+               "the slow tasks' own rates are the schedule's");
+#endif
+
 /** Run state of the control core. */
 typedef enum {
     CTL_STOPPED = 0,          /**< gates off */
@@ -198,6 +219,8 @@ typedef struct {
     real_t t_brake_limit_s;   /**< time in the present window braking at the torque limit off speed, s */
     real_t w_brake_start_rad_s; /**< |filtered speed estimate| at the start of that window, rad/s */
     bool brake_stall;         /**< braking at the limit did not slow the machine: STALL */
+    speed_out speed_held;     /**< the speed loop's outputs of its last step (held between the RBFN's steps) */
+    uint8_t slow_slot;        /**< this tick's slot of the slow tasks, 0..CTL_SLOW_SLOTS - 1 (CTL_SLOT_*) */
 } ctl_state;
 
 /** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */

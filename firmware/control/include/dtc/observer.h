@@ -83,6 +83,9 @@ typedef struct {
     real_t gain_inv_c_k1; /**< inv_c x (k_gain - 1), H */
     real_t kt_b;          /**< kt x b: dTe/dt per volt per Wb of rotor flux, N m/(s V Wb) */
     real_t c_inv_tr;      /**< c x inv_tr: real part of the model's a12, 1/(H s) */
+    real_t nom_a11;       /**< the model's a11 = -(Rs b + a_r) at rs_nom_ohm, 1/s */
+    real_t nom_g_is0;     /**< Re g_is at rs_nom_ohm (observer_gain), 1/s */
+    real_t nom_g_psi0;    /**< Re g_psi at rs_nom_ohm (observer_gain), ohm */
     real_t h_T[3];        /**< T/4, T/3, T/2 (as T x 0.25, 0.333333333, 0.5): the ZOH series' steps, s */
 } observer_model;
 

@@ -18,6 +18,13 @@
  *    share the link equally, so |vc1 - vc2| beyond PLAUS_DIVIDER_REL of the
  *    link is a divider or sensor error. A common error of both dividers keeps
  *    them balanced and is visible only against the supply (over/under-voltage).
+ *
+ * Rate (issue 11): the current checks judge every PLAUS_CHECK_TICKS-th tick
+ * (ctl.c's schedule of the slow tasks) and count in ticks, PLAUS_CHECK_TICKS
+ * per check: the sum trips on the third implausible check in a row (12 ticks,
+ * within 11 ticks of the first implausible sample), a stuck reading is
+ * compared with the one PLAUS_CHECK_TICKS ticks before; the divider check
+ * runs every tick while stopped (a start must not slip through between checks).
  * Context: ISR (called from ctl_step).
  */
 #ifndef DTC_PLAUSIBILITY_H
@@ -33,6 +40,7 @@
 extern "C" {
 #endif
 
+#define PLAUS_CHECK_TICKS 4u        /**< the current checks run every this many ticks */
 #define PLAUS_SUM_ABS_A R(5.0)      /**< current-sum tolerance: 5 A ... */
 #define PLAUS_SUM_REL R(0.05)       /**< ... + 5 % of the current magnitude */
 #define PLAUS_SUM_TICKS 10u         /**< ... for this many ticks in a row (2 ms at 200 us) */
@@ -49,7 +57,7 @@ typedef struct {
     uint16_t stuck_ticks[3];  /**< ticks in a row with a repeated reading, per phase */
     uint16_t open_ticks[3];   /**< ticks in a row with a phase near 0 A */
     float open_peak_A[3];     /**< largest current magnitude seen meanwhile, A */
-    float last_A[3];          /**< the previous readings, A */
+    float last_A[3];          /**< the readings of the previous check, A */
 } plaus_state;
 
 /** Forget the history (at every start). Context: ISR or BG. */
@@ -61,11 +69,12 @@ void plaus_reset(plaus_state *p);
  * @param stopped the drive is stopped (the divider check applies)
  * @param omega_e_rad_s electrical frequency of the stator quantities, rad/s
  * @param period_s the control period, s
+ * @param check this is a tick of the current checks (every PLAUS_CHECK_TICKS-th)
  * @return CTL_FAULT_CURRENT_SENSOR, CTL_FAULT_PHASE_LOSS, CTL_FAULT_DC_DIVIDER bits
  *         (dtc/ctl.h), 0 when plausible. Context: ISR.
  */
 uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stopped, real_t omega_e_rad_s,
-                     real_t period_s);
+                     real_t period_s, bool check);
 
 #ifdef __cplusplus
 }

@@ -15,6 +15,7 @@
 #ifndef DTC_SPEED_CTL_H
 #define DTC_SPEED_CTL_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "dtc/motor_model.h"
@@ -100,11 +101,22 @@ typedef struct {
     real_t integ_Nm;            /**< integral part of the torque command, N m */
 } ip_state;
 
+/** What the RBFN's learning half has to do (speed_rbfn_learn). */
+enum rbfn_learn {
+    RBFN_LEARN_NONE = 0,        /**< nothing commanded since the last learning */
+    RBFN_LEARN_STEP = 1,        /**< the weight and bound updates of the last command */
+    RBFN_LEARN_PROJECT = 2,     /**< limited in the winding-up direction: only keep |W| <= M_w */
+};
+
 /** RBFN controller state. */
 typedef struct {
     real_t w[RBFN_NODES_MAX];   /**< output weights W */
     real_t zeta_bar;            /**< adaptive bound of the robust term, rad/s^2 */
     real_t eps_hat;             /**< last network output, rad/s^2 */
+    real_t z[RBFN_NODES_MAX];   /**< basis Z of the last command (for its learning) */
+    real_t e_learn;             /**< speed error e_x of the last command, rad/s */
+    real_t w_norm;              /**< |W| after the last learning */
+    uint32_t learn;             /**< enum rbfn_learn: the last command's learning, still to do */
 } rbfn_state;
 
 /** The speed controller: all three states, so switching mode is bumpless. */
@@ -190,6 +202,20 @@ void speed_ctl_step(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, re
                     const speed_in *in, speed_out *out);
 
 /**
+ * speed_ctl_step in two halves, for a caller that spreads the RBFN's work
+ * over two ticks: speed_ctl_command is speed_ctl_step without the RBFN's
+ * weight and bound updates, which speed_ctl_learn then does (with step
+ * @p dt_s; it writes out->w_norm and out->zeta_bar when it did them; nothing
+ * for the IP and nominal controllers, which do all in the command). Call
+ * speed_ctl_learn after each speed_ctl_command and before the next (a learning
+ * still pending when the mode changes is dropped); the
+ * controller's commands are then those of speed_ctl_step. Context: ISR.
+ */
+void speed_ctl_command(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
+                       const speed_in *in, speed_out *out);
+void speed_ctl_learn(speed_ctl *s, const speed_cfg *cfg, real_t dt_s, speed_out *out);
+
+/**
  * Slew-rate limiter of the speed reference: moves @p prev_rad_s towards
  * @p target_rad_s by at most @p max_step_rad_s (>= 0; 0 or less means no limit,
  * the target is returned). Call once per period with max_step = ramp * dt;
@@ -220,6 +246,20 @@ void speed_nominal_step(const nominal_cfg *cfg, const motor_model *m, real_t te_
  */
 void speed_rbfn_step(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, real_t te_max_Nm,
                      real_t dt_s, const speed_in *in, speed_out *out);
+
+/**
+ * The RBFN step in two halves, for a caller that spreads them over two ticks:
+ * speed_rbfn_command computes the basis, the output and the limited command
+ * (out: te_ref_Nm, eps_hat; w_norm and zeta_bar of the last learning) and
+ * keeps the basis and error; speed_rbfn_learn then does that command's weight
+ * and bound updates (or only the projection, anti-windup) with step @p dt_s
+ * and, if it did one, writes out->w_norm and out->zeta_bar. It must run after
+ * each command and before the next; speed_rbfn_step is the two in a row.
+ * Context: ISR.
+ */
+void speed_rbfn_command(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, real_t te_max_Nm,
+                        const speed_in *in, speed_out *out);
+void speed_rbfn_learn(rbfn_state *s, const rbfn_cfg *cfg, real_t dt_s, speed_out *out);
 
 /**
  * Initialise the RBFN so that its next command at input @p in equals
