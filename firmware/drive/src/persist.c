@@ -175,7 +175,9 @@ uint8_t persist_load(struct drive *d)
 /* Write a set (all persistent parameters, or none) to the slot not holding the newest set. */
 static int save(struct drive *d, bool with_values)
 {
-    uint8_t payload[CO_PERSIST_BYTES];
+    /* header and payload in one buffer: one write, one erase of each page */
+    uint8_t buf[PERSIST_HEADER_SIZE + CO_PERSIST_BYTES];
+    uint8_t *h = buf, *payload = buf + PERSIST_HEADER_SIZE;
     uint32_t len = 0u;
     uint16_t count = 0u;
     if (with_values) {
@@ -184,7 +186,7 @@ static int save(struct drive *d, bool with_values)
             if ((p->flags & CO_F_PERSIST) == 0u)
                 continue;
             size_t n = co_dtype_size(p->dtype);
-            if (len + RECORD_HEADER + n > sizeof payload ||
+            if (len + RECORD_HEADER + n > CO_PERSIST_BYTES ||
                 co_od_read(&d->co, p, payload + len + RECORD_HEADER, n, &n) != CO_ABORT_NONE)
                 return HAL_EIO;
             put16(payload + len, p->index);
@@ -201,7 +203,6 @@ static int save(struct drive *d, bool with_values)
     uint32_t target = best == 0 ? 1u : 0u;
     uint32_t seq = best < 0 ? 1u : si[best].seq + 1u;
 
-    uint8_t h[PERSIST_HEADER_SIZE];
     put32(h, PERSIST_MAGIC);
     put16(h + 4, PERSIST_FORMAT);
     put16(h + 6, count);
@@ -209,12 +210,13 @@ static int save(struct drive *d, bool with_values)
     put32(h + 12, len);
     put32(h + 16, persist_crc32(persist_crc32(0u, h, 16u), payload, len));
 
-    /* Payload first, header last: until the header is complete the slot
-     * does not validate, and the other slot still holds the previous set. */
-    uint32_t base = target * slot_size();
-    int rc = len > 0u ? hal_nvm_write(base + PERSIST_HEADER_SIZE, payload, len) : HAL_OK;
-    if (rc == HAL_OK)
-        rc = hal_nvm_write(base, h, sizeof h);
+    /* One write of header and payload: each page of the slot is erased once
+     * (payload first and header last, as two writes, erased the slot's page
+     * twice per save). Until every byte is written the slot does not validate
+     * (the header's CRC covers the payload: a cut after the header leaves an
+     * erased or torn payload that fails it), and the other slot still holds
+     * the previous set. */
+    int rc = hal_nvm_write(target * slot_size(), buf, PERSIST_HEADER_SIZE + len);
     if (rc != HAL_OK)
         return rc;
     d->persist.status = PERSIST_LOADED;

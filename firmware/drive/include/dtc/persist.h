@@ -11,9 +11,10 @@
  *     12 u32 payload length          16 u32 CRC-32 of bytes 0..15 and the payload
  *   record: u16 index, u8 subindex, u8 length n, n value bytes (CAN raw, as on the bus)
  *
- * A save writes the slot that does NOT hold the newest valid set, payload
- * first and header last, so a power loss at any byte leaves the previous set
- * valid; at boot the valid slot with the newest sequence number (serial
+ * A save writes the slot that does NOT hold the newest valid set, header and
+ * payload in one write (one erase of each page); the header's CRC covers the
+ * payload, so a power loss at any byte leaves that slot invalid and the
+ * previous set valid; at boot the valid slot with the newest sequence number (serial
  * arithmetic) wins. Records are applied through the object dictionary's
  * checked path, so a record for an unknown parameter or with a value the
  * present firmware refuses is skipped, never applied. Context: BG only.
