@@ -186,6 +186,49 @@ uint32_t ctl_clear_faults(ctl_state *s)
     return s->faults;
 }
 
+/* The magnitude bits of @p x: for finite values they order like |x|; a NaN
+ * or an infinity is above every finite value's. */
+static inline uint32_t abs_bits(real_t x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return u & 0x7FFFFFFFu;
+}
+
+/* The common case in one pass: every sample value finite and no limit of
+ * sample_faults() crossed. False sends the tick to sample_faults(), which
+ * says which. The phase currents compare as integers (one compare for the
+ * largest of the three; a NaN or infinite current fails it); a NaN or an
+ * infinity in vc1 or vc2 makes vdc or their difference fail its compare. */
+static inline bool sample_within_limits(const ctl_cfg *cfg, const hal_sample *x, real_t vdc, bool uv_judged)
+{
+    uint32_t ia = abs_bits(x->ia_A), ib = abs_bits(x->ib_A), ic = abs_bits(x->ic_A);
+    uint32_t imax = ia > ib ? ia : ib;
+    imax = imax > ic ? imax : ic;
+    real_t vdc_min = uv_judged ? cfg->vdc_min_V : -cfg->vdc_max_V;
+    return imax <= abs_bits(cfg->i_trip_A) && vdc <= cfg->vdc_max_V && vdc >= vdc_min &&
+           num_abs(x->vc1_V - x->vc2_V) <= cfg->np_trip_V;
+}
+
+/* Which limits the sample crosses (the rare case; enum ctl_fault bits). */
+static uint32_t sample_faults(const ctl_cfg *cfg, const hal_sample *x, real_t vdc, bool uv_judged)
+{
+    /* one test for all five: a NaN or an infinity in any of them makes the sum NaN */
+    if (!finite_r((x->ia_A - x->ia_A) + (x->ib_A - x->ib_A) + (x->ic_A - x->ic_A) + (x->vc1_V - x->vc1_V) +
+                  (x->vc2_V - x->vc2_V)))
+        return CTL_FAULT_SAMPLE_INVALID;
+    uint32_t f = 0u;
+    if (num_abs(x->ia_A) > cfg->i_trip_A || num_abs(x->ib_A) > cfg->i_trip_A || num_abs(x->ic_A) > cfg->i_trip_A)
+        f |= CTL_FAULT_OVERCURRENT;
+    if (vdc > cfg->vdc_max_V)
+        f |= CTL_FAULT_DC_OVERVOLT;
+    if (uv_judged && vdc < cfg->vdc_min_V)
+        f |= CTL_FAULT_DC_UNDERVOLT;
+    if (num_abs(x->vc1_V - x->vc2_V) > cfg->np_trip_V)
+        f |= CTL_FAULT_NP_IMBALANCE;
+    return f;
+}
+
 /* Conditions of this tick (enum ctl_fault bits). */
 static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 {
@@ -199,21 +242,15 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
         f |= CTL_FAULT_OVERRUN;
     if (!in->sample_fresh)
         return f | CTL_FAULT_STALE_SAMPLE; /* the values are not this tick's: judge nothing on them */
-    /* one test for all five: a NaN or an infinity in any of them makes the sum NaN */
-    if (!finite_r((x->ia_A - x->ia_A) + (x->ib_A - x->ib_A) + (x->ic_A - x->ic_A) + (x->vc1_V - x->vc1_V) +
-                  (x->vc2_V - x->vc2_V)))
-        return f | CTL_FAULT_SAMPLE_INVALID;
-
-    if (num_abs(x->ia_A) > cfg->i_trip_A || num_abs(x->ib_A) > cfg->i_trip_A || num_abs(x->ic_A) > cfg->i_trip_A)
-        f |= CTL_FAULT_OVERCURRENT;
-    real_t vdc = x->vc1_V + x->vc2_V;
-    if (vdc > cfg->vdc_max_V)
-        f |= CTL_FAULT_DC_OVERVOLT;
     /* bring-up levels 1 and 2 need no DC link */
-    if (active && cfg->bringup_level > BRINGUP_ADC && vdc < cfg->vdc_min_V)
-        f |= CTL_FAULT_DC_UNDERVOLT;
-    if (num_abs(x->vc1_V - x->vc2_V) > cfg->np_trip_V)
-        f |= CTL_FAULT_NP_IMBALANCE;
+    bool uv_judged = active && cfg->bringup_level > BRINGUP_ADC;
+    real_t vdc = x->vc1_V + x->vc2_V;
+    if (!sample_within_limits(cfg, x, vdc, uv_judged)) {
+        uint32_t sf = sample_faults(cfg, x, vdc, uv_judged);
+        if (sf & CTL_FAULT_SAMPLE_INVALID)
+            return f | sf; /* judge nothing else on a value that is not a number */
+        f |= sf;
+    }
     /* Written as "not within" so that a diverged (NaN) estimate trips too. */
     if (active && !(num_abs(s->obs.omega_m_filt_rad_s) <= cfg->overspeed_rad_s))
         f |= CTL_FAULT_OVERSPEED;
