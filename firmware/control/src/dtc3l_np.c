@@ -77,28 +77,31 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         return zero_after[prev_state];
     uint8_t best = 0xFFu;
     unsigned best_score = ~0u;
+    real_t best_push = R(0.0); /* i_np (vc1 - vc2) of the best so far (small vectors) */
 
     for (uint8_t i = 0u; i < n; i++) {
         uint8_t c = st[i];
         if (dtc3l_pn_step(prev_state, c))
             continue;
         unsigned score = SCORE_PER_CHANGE * dtc3l_leg_changes(prev_state, c);
+        real_t push = R(0.0);
         if (small) {
-            real_t inp = dtc3l_np_current(c, i_abc);
-            bool toward = num_mul(inp, np_dev_V) <= R(0.0);
+            push = num_mul(dtc3l_np_current(c, i_abc), np_dev_V);
+            bool toward = push <= R(0.0);
             if (!toward)
                 score += np_forced ? SCORE_NP_FORCED : SCORE_NP_TIE;
         }
         if (score < best_score) {
             best_score = score;
             best = c;
+            best_push = push;
         }
     }
     /* The balancing state is a P<->N step away (e.g. PPO -> ONN): rather than
      * push the neutral point the wrong way for a period, go through the
      * P<->N-safe intermediate (here OON, the other state of the vector just
      * used) when that one balances. */
-    if (np_forced && best != 0xFFu && num_mul(dtc3l_np_current(best, i_abc), np_dev_V) > R(0.0)) {
+    if (np_forced && best != 0xFFu && best_push > R(0.0)) {
         for (uint8_t i = 0u; i < n; i++) {
             if (st[i] == best)
                 continue;
