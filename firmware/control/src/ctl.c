@@ -362,19 +362,16 @@ static void add_dead_time_error(const ctl_state *s, const ctl_cfg *cfg, const ha
 
 static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t v[2], real_t is[2])
 {
-    real_t v0[2], v1[2];
     uint8_t st0 = s->last_state[0];
     uint8_t st1 = s->last_state[1];
-    dtc3l_state_voltage(st1, x->vc1_V, x->vc2_V, v1);
-    if (st0 == st1) { /* one vector for the whole period: the same voltage, not worked out twice */
-        v0[0] = v1[0];
-        v0[1] = v1[1];
-    } else {
+    dtc3l_state_voltage(st1, x->vc1_V, x->vc2_V, v);
+    if (st0 != st1) { /* one vector for the whole period: its voltage (d0 x 0 + v1 is v1 exactly) */
+        real_t v0[2];
         dtc3l_state_voltage(st0, x->vc1_V, x->vc2_V, v0);
+        real_t d0 = s->last_act.duty0;
+        v[0] = num_mac(d0, v0[0] - v[0], v[0]);
+        v[1] = num_mac(d0, v0[1] - v[1], v[1]);
     }
-    real_t d0 = s->last_act.duty0;
-    v[0] = num_mac(d0, v0[0] - v1[0], v1[0]);
-    v[1] = num_mac(d0, v0[1] - v1[1], v1[1]);
     subtract_device_drops(cfg, x, v);
     add_dead_time_error(s, cfg, x, v);
     is[0] = num_mul(R(0.333333333), R(2.0) * x->ia_A - x->ib_A - x->ic_A);

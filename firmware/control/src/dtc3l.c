@@ -93,11 +93,9 @@ static real_t exit_edge(int8_t cur, real_t s_cur, const dtc3l_in *in, real_t b, 
     return dtc3l_edge_fraction(in->te_Nm, s_cur, *edge, dt_s);
 }
 
-/* Rate of change of |psi_s| under state @p st, Wb/s: psi . (v - Rs is) / |psi|. */
-static real_t flux_rate(const dtc3l_in *in, uint8_t st, real_t psi_abs)
+/* Rate of change of |psi_s| under the state voltage @p v, Wb/s: psi . (v - Rs is) / |psi|. */
+static real_t flux_rate(const dtc3l_in *in, const real_t v[2], real_t psi_abs)
 {
-    real_t v[2];
-    dtc3l_state_voltage(st, in->vc1_V, in->vc2_V, v);
     real_t e0 = v[0] - num_mul(in->rs_ohm, in->is_A[0]);
     real_t e1 = v[1] - num_mul(in->rs_ohm, in->is_A[1]);
     if (psi_abs < PSI_TINY_WB)
@@ -279,9 +277,11 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         return;
     uint8_t svh = dtc3l_table_flux_hold(g->sector6);
     uint8_t sth = dtc3l_choose_state(svh, in->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
-    real_t rate = flux_rate(in, sth, psi);
+    real_t v_h[2]; /* the pulse state's voltage, for both its flux rate and its torque slope */
+    dtc3l_state_voltage(sth, in->vc1_V, in->vc2_V, v_h);
+    real_t rate = flux_rate(in, v_h, psi);
     real_t d = rate > R(0.0) ? num_div(in->psi_ref_Wb - psi, num_mul(rate, dt_s)) : R(1.0);
-    real_t s_h = dtc3l_state_slope(in, sth);
+    real_t s_h = dtc3l_voltage_slope(in, v_h);
     real_t s_z = in->dte0_Nm_s;
     real_t hi = in->te_ref_Nm + b, lo = in->te_ref_Nm - b;
     /* a rising pulse peaks at its end */

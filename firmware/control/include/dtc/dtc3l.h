@@ -400,12 +400,18 @@ static inline real_t dtc3l_edge_fraction(real_t te_Nm, real_t slope_Nm_s, real_t
     return num_div(gap, reach);
 }
 
+/** dTe/dt under the stator voltage @p v (alpha, beta), N m/s (dte0 + dte_dv . v). Context: ANY. */
+static inline real_t dtc3l_voltage_slope(const dtc3l_in *in, const real_t v[2])
+{
+    return in->dte0_Nm_s + num_mul(in->dte_dv[0], v[0]) + num_mul(in->dte_dv[1], v[1]);
+}
+
 /** dTe/dt under space vector state @p state, N m/s (dte0 + dte_dv . v). Context: ANY. */
 static inline real_t dtc3l_state_slope(const dtc3l_in *in, uint8_t state)
 {
     real_t v[2];
     dtc3l_state_voltage(state, in->vc1_V, in->vc2_V, v);
-    return in->dte0_Nm_s + num_mul(in->dte_dv[0], v[0]) + num_mul(in->dte_dv[1], v[1]);
+    return dtc3l_voltage_slope(in, v);
 }
 
 /* ----------------------------------------------------- step (dtc3l.c) */
