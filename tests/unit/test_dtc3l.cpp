@@ -530,6 +530,59 @@ TEST(Dtc3lNp, ZeroVectorPrefersOooThenNnnOnTies)
     }
 }
 
+// The zero vector outside half the band after a small state: the zero state
+// on the way to the state of that vector which balances (the one whose NP
+// current has the sign opposite to vc1 - vc2): of OOO, NNN, PPP, none a P<->N
+// step from the previous state or to the target, least 2 x commutations to the
+// target + commutations from the previous state, that order on ties.
+TEST(Dtc3lNp, ZeroVectorLooksAheadToTheBalancingState)
+{
+    float i_abc[3] = {10.f, -4.f, -6.f};
+    const int zeros[3] = {13, 0, 26};
+    int small_seen = 0;
+    for (int prev = 0; prev < 27; ++prev) {
+        uint8_t sv = dtc3l_state_sv(uint8_t(prev));
+        if (dtc3l_sv_class(sv) != DTC3L_CLASS_SMALL)
+            continue;
+        ++small_seen;
+        uint8_t pair[3];
+        ASSERT_EQ(dtc3l_sv_states(sv, pair), 2u);
+        for (float dev : {1.0f, -1.0f, 1.4f, -1.4f}) {
+            // the plant's NP current of each state: the phase currents of its legs at O
+            int target = -1;
+            for (int k = 0; k < 2; ++k) {
+                uint8_t l[3];
+                legs_of(pair[k], l);
+                double inp = 0.0;
+                for (int j = 0; j < 3; ++j)
+                    inp += l[j] == 1 ? i_abc[j] : 0.0;
+                if (target < 0 && inp * dev <= 0.0)
+                    target = pair[k];
+            }
+            if (target < 0)
+                target = pair[1];
+            int want = 13, want_c = 99;
+            for (int z : zeros) {
+                if (pn_step(prev, z) || pn_step(z, target))
+                    continue;
+                uint8_t a[3], b[3], t[3];
+                legs_of(prev, a);
+                legs_of(z, b);
+                legs_of(target, t);
+                int c = 2 * (std::abs(b[0] - t[0]) + std::abs(b[1] - t[1]) + std::abs(b[2] - t[2])) +
+                        std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+                if (c < want_c) {
+                    want_c = c;
+                    want = z;
+                }
+            }
+            EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), dev, 1.5f, i_abc)), want)
+                << kStateNames[prev] << " dev " << dev;
+        }
+    }
+    EXPECT_EQ(small_seen, 12);
+}
+
 TEST(Dtc3lNp, InsideTheBandFewestCommutations)
 {
     float i_abc[3] = {10.f, -4.f, -6.f};

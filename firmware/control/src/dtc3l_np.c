@@ -29,6 +29,44 @@ static const uint8_t zero_after[DTC3L_N_STATES] = {
     13u, 13u, 13u, 13u, 13u, 26u, 13u, 26u, 26u, /* PNN..PPP */
 };
 
+/* The zero state on the way from small state `prev` to the state of its own
+ * vector that balances (column 0: the vector's first, P-type state; 1: its
+ * N-type one): of OOO, NNN, PPP the ones a P<->N step away from neither,
+ * least 2 x commutations(zero, target) + commutations(prev, zero), the first
+ * in that order on ties (OOO when none is free), i.e. the loop the
+ * look-ahead ran over the three zero states, precomputed (issue 11);
+ * tests/unit/test_dtc3l.cpp checks it against that rule. Rows of states that
+ * are not small are never read. */
+static const uint8_t zero_toward[DTC3L_N_STATES][2] = {
+    {13u, 13u}, /*  0 NNN (not small: unused) */
+    {13u, 0u}, /*  1 NNO */
+    {13u, 13u}, /*  2 NNP (not small: unused) */
+    {13u, 0u}, /*  3 NON */
+    {13u, 13u}, /*  4 NOO */
+    {13u, 13u}, /*  5 NOP (not small: unused) */
+    {13u, 13u}, /*  6 NPN (not small: unused) */
+    {13u, 13u}, /*  7 NPO (not small: unused) */
+    {13u, 13u}, /*  8 NPP (not small: unused) */
+    {13u, 0u}, /*  9 ONN */
+    {13u, 13u}, /* 10 ONO */
+    {13u, 13u}, /* 11 ONP (not small: unused) */
+    {13u, 13u}, /* 12 OON */
+    {13u, 13u}, /* 13 OOO (not small: unused) */
+    {13u, 13u}, /* 14 OOP */
+    {13u, 13u}, /* 15 OPN (not small: unused) */
+    {13u, 13u}, /* 16 OPO */
+    {26u, 13u}, /* 17 OPP */
+    {13u, 13u}, /* 18 PNN (not small: unused) */
+    {13u, 13u}, /* 19 PNO (not small: unused) */
+    {13u, 13u}, /* 20 PNP (not small: unused) */
+    {13u, 13u}, /* 21 PON (not small: unused) */
+    {13u, 13u}, /* 22 POO */
+    {26u, 13u}, /* 23 POP */
+    {13u, 13u}, /* 24 PPN (not small: unused) */
+    {26u, 13u}, /* 25 PPO */
+    {13u, 13u}, /* 26 PPP (not small: unused) */
+};
+
 uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                            const real_t i_abc[3])
 {
@@ -52,21 +90,7 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         uint8_t pair[3];
         (void)dtc3l_sv_states(prev_sv, pair);
         real_t inp0 = dtc3l_np_current(pair[0], i_abc);
-        uint8_t target = num_mul(inp0, np_dev_V) <= R(0.0) ? pair[0] : pair[1];
-        static const uint8_t zeros[3] = {DTC3L_STATE_OOO, 0u, 26u};
-        uint8_t best_z = DTC3L_STATE_OOO;
-        unsigned best_c = ~0u;
-        for (unsigned i = 0; i < 3u; i++) {
-            uint8_t z = zeros[i];
-            if (dtc3l_pn_step(prev_state, z) || dtc3l_pn_step(z, target))
-                continue;
-            unsigned c = 2u * dtc3l_leg_changes(z, target) + dtc3l_leg_changes(prev_state, z);
-            if (c < best_c) {
-                best_c = c;
-                best_z = z;
-            }
-        }
-        return best_z;
+        return zero_toward[prev_state][num_mul(inp0, np_dev_V) <= R(0.0) ? 0 : 1];
     }
     /* Vectors with a single state (medium, large) and the zero vector
      * without the NP look-ahead: nothing to score (the loop below would
