@@ -96,7 +96,7 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
      * without the NP look-ahead: nothing to score (the loop below would
      * give the same). */
     if (n == 1u)
-        return dtc3l_pn_step(prev_state, st[0]) ? dtc3l_pn_safe(prev_state, st[0]) : st[0];
+        return dtc3l_pn_safe(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
     if (sv == 0u)
         return zero_after[prev_state];
     uint8_t best = 0xFFu;
