@@ -455,6 +455,51 @@ TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
     }
 }
 
+// A prev_state that is not a state (0..26) counts as OOO (dtc3l.h): the same
+// decision, field for field, as with OOO before, over random inputs.
+TEST(Dtc3lStates, InvalidPreviousStateCountsAsOoo)
+{
+    ctl_cfg cfg;
+    ctl_cfg_default(&cfg);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    for (int k = 0; k < 20000; ++k) {
+        dtc3l_in in{};
+        in.te_ref_Nm = 30 * u(rng);
+        in.psi_ref_Wb = 0.45f;
+        in.te_Nm = in.te_ref_Nm + 6 * u(rng);
+        float th = 3.2f * u(rng);
+        float ps = 0.45f + 0.03f * u(rng);
+        in.psi_s_Wb[0] = ps * std::cos(th);
+        in.psi_s_Wb[1] = ps * std::sin(th);
+        in.is_A[0] = 30 * u(rng);
+        in.is_A[1] = 30 * u(rng);
+        in.dte0_Nm_s = 40000 * u(rng);
+        in.dte_dv[0] = 500 * u(rng);
+        in.dte_dv[1] = 500 * u(rng);
+        in.rs_ohm = 0.288f;
+        in.omega_e_rad_s = 400 * u(rng);
+        in.omega_m_rad_s = in.omega_e_rad_s / 2;
+        in.vc1_V = 155.5f + 10 * u(rng);
+        in.vc2_V = 155.5f + 10 * u(rng);
+        in.np_dev_V = in.vc1_V - in.vc2_V;
+        dtc3l a, b;
+        dtc3l_init(&a);
+        a.level = uint8_t(k & 1 ? DTC3L_LEVEL_HIGH : DTC3L_LEVEL_LOW);
+        a.torque_state = int8_t(k % 3 - 1);
+        b = a;
+        dtc3l_out oa, ob;
+        in.prev_state = DTC3L_STATE_OOO;
+        dtc3l_step(&a, &cfg.dtc, 200e-6f, &in, &oa);
+        in.prev_state = uint8_t(27 + k % 229); // 27..255
+        dtc3l_step(&b, &cfg.dtc, 200e-6f, &in, &ob);
+        ASSERT_EQ(oa.state[0], ob.state[0]) << k;
+        ASSERT_EQ(oa.state[1], ob.state[1]) << k;
+        ASSERT_EQ(oa.act.duty0, ob.act.duty0) << k;
+        ASSERT_EQ(a.torque_state, b.torque_state) << k;
+    }
+}
+
 // The redundant small state chosen outside the NP band pulls vc1 - vc2 back:
 // checked by integrating the PLANT over one period with that state.
 TEST(Dtc3lNp, RedundantSmallVectorDrivesNeutralPointTowardBalance)

@@ -364,10 +364,10 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
 {
     uint8_t st0 = s->last_state[0];
     uint8_t st1 = s->last_state[1];
-    dtc3l_state_voltage(st1, x->vc1_V, x->vc2_V, v);
+    dtc3l_state_voltage_unchecked(st1, x->vc1_V, x->vc2_V, v); /* last_state: always 0..26 */
     if (st0 != st1) { /* one vector for the whole period: its voltage (d0 x 0 + v1 is v1 exactly) */
         real_t v0[2];
-        dtc3l_state_voltage(st0, x->vc1_V, x->vc2_V, v0);
+        dtc3l_state_voltage_unchecked(st0, x->vc1_V, x->vc2_V, v0);
         real_t d0 = s->last_act.duty0;
         v[0] = num_mac(d0, v0[0] - v[0], v[0]);
         v[1] = num_mac(d0, v0[1] - v[1], v[1]);
@@ -386,8 +386,8 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
     uint8_t st1 = s->last_state[1];
     real_t d0 = s->last_act.duty0;
     real_t i_abc[3] = {x->ia_A, x->ib_A, x->ic_A};
-    real_t inp1 = dtc3l_np_current(st1, i_abc);
-    real_t inp0 = st0 == st1 ? inp1 : dtc3l_np_current(st0, i_abc); /* one vector: the same current */
+    real_t inp1 = dtc3l_np_current_unchecked(st1, i_abc);
+    real_t inp0 = st0 == st1 ? inp1 : dtc3l_np_current_unchecked(st0, i_abc); /* one vector: the same current */
     real_t inp = num_mac(d0, inp0 - inp1, inp1);
     return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
 }
@@ -548,9 +548,9 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
 static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, uint8_t a0,
                                          uint8_t a1)
 {
-    uint8_t n = dtc3l_leg_changes(prev_state, a0);
+    uint8_t n = dtc3l_leg_changes_unchecked(prev_state, a0); /* all three 0..26 */
     if (a1 != a0)
-        n = (uint8_t)(n + dtc3l_leg_changes(a0, a1));
+        n = (uint8_t)(n + dtc3l_leg_changes_unchecked(a0, a1));
     real_t f = num_mul((real_t)n, cfg->fsw_per_change_hz);
     s->fsw_hz = num_mac(cfg->fsw_lpf_a, f - s->fsw_hz, s->fsw_hz);
     if (!(cfg->fsw_max_hz > R(0.0))) {
@@ -567,10 +567,11 @@ static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8
 static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_out *out)
 {
     hal_actuation act;
-    uint8_t a0 = dtc3l_pn_safe(prev_state, s->dtc_out.state[0]);
-    uint8_t a1 = dtc3l_pn_safe(a0, s->dtc_out.state[1]);
-    dtc3l_legs(a0, &act.vector[0]);
-    dtc3l_legs(a1, &act.vector[1]);
+    /* prev_state was clamped, the DTC's states come from its tables: all 0..26 */
+    uint8_t a0 = dtc3l_pn_safe_unchecked(prev_state, s->dtc_out.state[0]);
+    uint8_t a1 = dtc3l_pn_safe_unchecked(a0, s->dtc_out.state[1]);
+    dtc3l_legs_unchecked(a0, &act.vector[0]);
+    dtc3l_legs_unchecked(a1, &act.vector[1]);
     act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 

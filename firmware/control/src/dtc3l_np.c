@@ -77,26 +77,26 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
     bool np_forced = small && np_out;
 
     if (prev_state >= DTC3L_N_STATES)
-        prev_state = DTC3L_STATE_OOO;
+        prev_state = DTC3L_STATE_OOO; /* from here on every state is 0..26: the unchecked look-ups */
 
     /* Zero vector: from NNN (PPP) the P-type (N-type) small states are a
      * P<->N step away. When the neutral point needs attention, pick the zero
      * state on the way to the balancing state of the small vector just used
      * (the likely next one), so that state stays reachable. */
     if (sv == 0u && num_abs(np_dev_V) > num_mul(NP_LOOKAHEAD_FRACTION, np_band_V)) {
-        uint8_t prev_sv = dtc3l_state_sv(prev_state);
+        uint8_t prev_sv = dtc3l_state_sv_unchecked(prev_state);
         if (dtc3l_sv_class(prev_sv) != DTC3L_CLASS_SMALL)
             return np_out ? (uint8_t)DTC3L_STATE_OOO : zero_after[prev_state];
         uint8_t pair[3];
         (void)dtc3l_sv_states(prev_sv, pair);
-        real_t inp0 = dtc3l_np_current(pair[0], i_abc);
+        real_t inp0 = dtc3l_np_current_unchecked(pair[0], i_abc);
         return zero_toward[prev_state][num_mul(inp0, np_dev_V) <= R(0.0) ? 0 : 1];
     }
     /* Vectors with a single state (medium, large) and the zero vector
      * without the NP look-ahead: nothing to score (the loop below would
      * give the same). */
     if (n == 1u)
-        return dtc3l_pn_safe(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
+        return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
     if (sv == 0u)
         return zero_after[prev_state];
     uint8_t best = 0xFFu;
@@ -105,12 +105,12 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
 
     for (uint8_t i = 0u; i < n; i++) {
         uint8_t c = st[i];
-        if (dtc3l_pn_step(prev_state, c))
+        if (dtc3l_pn_step_unchecked(prev_state, c))
             continue;
-        unsigned score = SCORE_PER_CHANGE * dtc3l_leg_changes(prev_state, c);
+        unsigned score = SCORE_PER_CHANGE * dtc3l_leg_changes_unchecked(prev_state, c);
         real_t push = R(0.0);
         if (small) {
-            push = num_mul(dtc3l_np_current(c, i_abc), np_dev_V);
+            push = num_mul(dtc3l_np_current_unchecked(c, i_abc), np_dev_V);
             bool toward = push <= R(0.0);
             if (!toward)
                 score += np_forced ? SCORE_NP_FORCED : SCORE_NP_TIE;
@@ -129,15 +129,15 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         for (uint8_t i = 0u; i < n; i++) {
             if (st[i] == best)
                 continue;
-            uint8_t m = dtc3l_pn_safe(prev_state, st[i]);
-            if (dtc3l_sv_class(dtc3l_state_sv(m)) == DTC3L_CLASS_SMALL &&
-                num_mul(dtc3l_np_current(m, i_abc), np_dev_V) < R(0.0))
+            uint8_t m = dtc3l_pn_safe_unchecked(prev_state, st[i]);
+            if (dtc3l_sv_class(dtc3l_state_sv_unchecked(m)) == DTC3L_CLASS_SMALL &&
+                num_mul(dtc3l_np_current_unchecked(m, i_abc), np_dev_V) < R(0.0))
                 best = m;
         }
     }
     /* Every state of the wanted vector would step a leg P<->N (a medium or
      * large vector after its opposite): hold those legs at O for now. */
     if (best == 0xFFu)
-        best = dtc3l_pn_safe(prev_state, st[0]);
+        best = dtc3l_pn_safe_unchecked(prev_state, st[0]);
     return best;
 }

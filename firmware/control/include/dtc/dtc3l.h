@@ -135,7 +135,7 @@ typedef struct {
     real_t omega_m_rad_s;     /**< mechanical speed estimate, rad/s (ripple-reduction range) */
     real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
     real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
-    uint8_t prev_state;       /**< state in force when the chosen period starts (0..26) */
+    uint8_t prev_state;       /**< state in force when the chosen period starts (0..26; others count as OOO) */
     real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
                                    switching-frequency regulation of ctl.c widens them */
 } dtc3l_in;
@@ -164,10 +164,17 @@ extern const uint32_t dtc3l_pn_step_mask[DTC3L_N_STATES];       /**< bit `to` se
 extern const uint8_t dtc3l_changes[DTC3L_N_STATES][DTC3L_N_STATES];    /**< leg commutations from -> to */
 extern const uint8_t dtc3l_pn_safe_to[DTC3L_N_STATES][DTC3L_N_STATES]; /**< to with P<->N legs held at O */
 
+/* Each accessor below comes twice: NAME_unchecked takes states 0..26 only
+ * (the control step's own states, which come from these tables or were
+ * clamped once; no test per call: issue 11, about 20 per tick), NAME handles
+ * any value as documented. */
+
+static inline void dtc3l_legs_unchecked(uint8_t state, hal_vector *v) { *v = dtc3l_state_legs[state]; }
+
 /** Leg codes of @p state (0..26; others: OOO) into @p v. Context: ANY. */
 static inline void dtc3l_legs(uint8_t state, hal_vector *v)
 {
-    *v = dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
+    dtc3l_legs_unchecked(state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO, v);
 }
 
 /** State number of @p v; 0xFF when a leg code is above HAL_LEG_P. Context: ANY. */
@@ -181,10 +188,12 @@ static inline uint8_t dtc3l_state_of(const hal_vector *v)
 extern const uint8_t dtc3l_state_sv_of[DTC3L_N_STATES];            /**< space vector of each state */
 extern const uint8_t dtc3l_sv_state_list[DTC3L_N_VECTORS][3];      /**< states of each sv, preferred first; 0xFF pads */
 
+static inline uint8_t dtc3l_state_sv_unchecked(uint8_t state) { return dtc3l_state_sv_of[state]; }
+
 /** Space vector 0..18 of @p state (others: 0). Context: ANY. */
 static inline uint8_t dtc3l_state_sv(uint8_t state)
 {
-    return state < DTC3L_N_STATES ? dtc3l_state_sv_of[state] : 0u;
+    return state < DTC3L_N_STATES ? dtc3l_state_sv_unchecked(state) : 0u;
 }
 
 /** Class of space vector @p sv. Context: ANY. */
@@ -208,13 +217,9 @@ static inline uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3])
     return (uint8_t)(sv == 0u || sv >= DTC3L_N_VECTORS ? 3u : (sv <= 6u ? 2u : 1u));
 }
 
-/**
- * Stator voltage (alpha, beta; isolated star) of @p state (others: OOO) for
- * the capacitor voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
- */
-static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
+static inline void dtc3l_state_voltage_unchecked(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
 {
-    const hal_vector *l = &dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
+    const hal_vector *l = &dtc3l_state_legs[state];
     real_t vn = -vc2_V; /* leg voltage by leg code N, O, P: -vc2, 0, vc1 */
     real_t va = l->leg[0] == HAL_LEG_P ? vc1_V : (l->leg[0] == HAL_LEG_N ? vn : R(0.0));
     real_t vb = l->leg[1] == HAL_LEG_P ? vc1_V : (l->leg[1] == HAL_LEG_N ? vn : R(0.0));
@@ -224,41 +229,56 @@ static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V
     v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
 }
 
+/**
+ * Stator voltage (alpha, beta; isolated star) of @p state (others: OOO) for
+ * the capacitor voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
+ */
+static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
+{
+    dtc3l_state_voltage_unchecked(state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO, vc1_V, vc2_V, v_ab);
+}
+
+static inline real_t dtc3l_np_current_unchecked(uint8_t state, const real_t i_abc[3])
+{
+    const real_t *k = dtc3l_np_legs[state];
+    return num_mul(k[0], i_abc[0]) + num_mul(k[1], i_abc[1]) + num_mul(k[2], i_abc[2]);
+}
+
 /** Neutral-point current drawn by @p state (others: 0): the sum of the phase
  *  currents of its legs at O, A. Context: ANY. */
 static inline real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3])
 {
-    if (state >= DTC3L_N_STATES)
-        return R(0.0);
-    const real_t *k = dtc3l_np_legs[state];
-    return num_mul(k[0], i_abc[0]) + num_mul(k[1], i_abc[1]) + num_mul(k[2], i_abc[2]);
+    return state < DTC3L_N_STATES ? dtc3l_np_current_unchecked(state, i_abc) : R(0.0);
+}
+
+static inline bool dtc3l_pn_step_unchecked(uint8_t from, uint8_t to)
+{
+    return ((dtc3l_pn_step_mask[from] >> to) & 1u) != 0u;
 }
 
 /** True when going from @p from to @p to steps some leg directly between P and N
  *  (false when either is not a state). Context: ANY. */
 static inline bool dtc3l_pn_step(uint8_t from, uint8_t to)
 {
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return false;
-    return ((dtc3l_pn_step_mask[from] >> to) & 1u) != 0u;
+    return from < DTC3L_N_STATES && to < DTC3L_N_STATES && dtc3l_pn_step_unchecked(from, to);
 }
+
+static inline uint8_t dtc3l_leg_changes_unchecked(uint8_t from, uint8_t to) { return dtc3l_changes[from][to]; }
 
 /** Number of leg commutations from @p from to @p to (N<->O and O<->P count 1;
  *  0 when either is not a state). Context: ANY. */
 static inline uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to)
 {
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return 0u;
-    return dtc3l_changes[from][to];
+    return from < DTC3L_N_STATES && to < DTC3L_N_STATES ? dtc3l_leg_changes_unchecked(from, to) : 0u;
 }
+
+static inline uint8_t dtc3l_pn_safe_unchecked(uint8_t from, uint8_t to) { return dtc3l_pn_safe_to[from][to]; }
 
 /** @p to with every leg that would step between P and N from @p from held at O
  *  (OOO when either is not a state). Context: ANY. */
 static inline uint8_t dtc3l_pn_safe(uint8_t from, uint8_t to)
 {
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return DTC3L_STATE_OOO;
-    return dtc3l_pn_safe_to[from][to];
+    return from < DTC3L_N_STATES && to < DTC3L_N_STATES ? dtc3l_pn_safe_unchecked(from, to) : (uint8_t)DTC3L_STATE_OOO;
 }
 
 /* ---------------------------------------------------- table (dtc3l_table.c) */
