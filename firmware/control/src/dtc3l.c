@@ -93,13 +93,6 @@ static real_t exit_edge(int8_t cur, real_t s_cur, const dtc3l_in *in, real_t b, 
     return dtc3l_edge_fraction(in->te_Nm, s_cur, *edge, dt_s);
 }
 
-/* dtc3l_state_slope for the step's own states (0..26) */
-static inline real_t state_slope(const dtc3l_in *in, uint8_t st)
-{
-    real_t v[2];
-    dtc3l_state_voltage_unchecked(st, in->vc1_V, in->vc2_V, v);
-    return dtc3l_voltage_slope(in, v);
-}
 
 /* Rate of change of |psi_s| under the state voltage @p v, Wb/s: psi . (v - Rs is) / |psi|. */
 static real_t flux_rate(const dtc3l_in *in, const real_t v[2], real_t psi_abs)
@@ -119,6 +112,7 @@ typedef struct {
     real_t i_abc_A[3];        /* predicted phase currents */
     real_t b_Nm, b2_Nm;       /* torque bands of this tick (cfg x in->band_scale) */
     uint8_t prev_state;       /* in->prev_state, or OOO when it is not a state (0..26 from here on) */
+    real_t leg_V[3];          /* leg voltage by leg code N, O, P: -vc2, 0, vc1 (the state voltages' selections) */
 } tick_geometry;
 
 /* The decision being built: two states, the duty of the first, and the
@@ -144,6 +138,27 @@ static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_in *in, tick_geom
     g->i_abc_A[2] = -g->i_abc_A[0] - g->i_abc_A[1];
     g->sector6 = dtc3l_sector6(in->psi_s_Wb[0], in->psi_s_Wb[1]);
     g->prev_state = in->prev_state < DTC3L_N_STATES ? in->prev_state : (uint8_t)DTC3L_STATE_OOO;
+    g->leg_V[HAL_LEG_N] = -in->vc2_V;
+    g->leg_V[HAL_LEG_O] = R(0.0);
+    g->leg_V[HAL_LEG_P] = in->vc1_V;
+}
+
+/* dtc3l_state_voltage for the step's own states (0..26), the leg voltages
+ * looked up by leg code (the same values as its selections) */
+static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab[2])
+{
+    const hal_vector *l = &dtc3l_state_legs[st];
+    real_t va = g->leg_V[l->leg[0]], vb = g->leg_V[l->leg[1]], vc = g->leg_V[l->leg[2]];
+    v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
+    v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
+}
+
+/* dtc3l_state_slope for the step's own states (0..26) */
+static inline real_t state_slope(const tick_geometry *g, const dtc3l_in *in, uint8_t st)
+{
+    real_t v[2];
+    state_voltage(g, st, v);
+    return dtc3l_voltage_slope(in, v);
 }
 
 /* Voltage level from the back-emf over Vdc/3, with hysteresis. */
@@ -241,7 +256,7 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
     real_t s_cur = R(0.0), edge = R(0.0), f = R(2.0);
     int8_t next = p->cur;
     for (int pass = 0; pass < 2; pass++) {
-        s_cur = state_slope(in, p->st0);
+        s_cur = state_slope(g, in, p->st0);
         f = exit_edge(p->cur, s_cur, in, b, dt_s, &edge, &next);
         if (!(f < dmin) || next == p->cur)
             break;
@@ -261,7 +276,7 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
      * edge before the period ends, start it later so that the period ends on
      * that edge (two-slope duty: Te_end = Te + s_hold (1 - d) T + s_act d T)
      * and stay in hold */
-    real_t s_next = state_slope(in, p->st1);
+    real_t s_next = state_slope(g, in, p->st1);
     real_t opp = next > 0 ? in->te_ref_Nm + b : in->te_ref_Nm - b;
     real_t gf = dtc3l_edge_fraction(edge, s_next, opp, dt_s);
     if (gf < R(1.0) - f) {
@@ -288,7 +303,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     uint8_t svh = dtc3l_table_flux_hold(g->sector6);
     uint8_t sth = dtc3l_choose_state(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
     real_t v_h[2]; /* the pulse state's voltage, for both its flux rate and its torque slope */
-    dtc3l_state_voltage_unchecked(sth, in->vc1_V, in->vc2_V, v_h);
+    state_voltage(g, sth, v_h);
     real_t rate = flux_rate(in, v_h, psi);
     real_t d = rate > R(0.0) ? num_div(in->psi_ref_Wb - psi, num_mul(rate, dt_s)) : R(1.0);
     real_t s_h = dtc3l_voltage_slope(in, v_h);
