@@ -4,10 +4,12 @@
 // (tests/common/im_ref.hpp), never against the firmware's own arithmetic.
 #include <gtest/gtest.h>
 
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -138,6 +140,27 @@ TEST(Dtc3lVectors, StateTablesMatchTheTopologyForEveryPair)
     dtc3l_state_voltage(200u, float(vc1), float(vc2), v);
     EXPECT_EQ(v[0], 0.0f);
     EXPECT_EQ(v[1], 0.0f);
+}
+
+// dtc3l_legs_voltage (leg voltages looked up by leg code) gives the very bits
+// of dtc3l_state_voltage (selections) for every state, balanced or not (the
+// control step's observer input relies on it: tools/sil_identical.sh).
+TEST(Dtc3lVectors, LegsVoltageEqualsStateVoltageBitForBit)
+{
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.f, 400.f);
+    for (int k = 0; k < 200; ++k) {
+        float vc1 = u(rng), vc2 = u(rng);
+        const float leg_V[3] = {-vc2, 0.0f, vc1};
+        for (int st = 0; st < 27; ++st) {
+            float a[2], b[2];
+            hal_vector hv;
+            dtc3l_legs(uint8_t(st), &hv);
+            dtc3l_state_voltage(uint8_t(st), vc1, vc2, a);
+            dtc3l_legs_voltage(&hv, leg_V, b);
+            ASSERT_EQ(std::memcmp(a, b, sizeof a), 0) << kStateNames[st] << " " << vc1 << " " << vc2;
+        }
+    }
 }
 
 // The 19 space vectors: magnitude class and direction as documented in dtc3l.h,

@@ -364,10 +364,12 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
 {
     uint8_t st0 = s->last_state[0];
     uint8_t st1 = s->last_state[1];
-    dtc3l_state_voltage_unchecked(st1, x->vc1_V, x->vc2_V, v); /* last_state: always 0..26 */
+    /* the states' voltages from their leg codes (last_act holds them) and the three leg voltages */
+    const real_t leg_V[3] = {-x->vc2_V, R(0.0), x->vc1_V};
+    dtc3l_legs_voltage(&s->last_act.vector[1], leg_V, v);
     if (st0 != st1) { /* one vector for the whole period: its voltage (d0 x 0 + v1 is v1 exactly) */
         real_t v0[2];
-        dtc3l_state_voltage_unchecked(st0, x->vc1_V, x->vc2_V, v0);
+        dtc3l_legs_voltage(&s->last_act.vector[0], leg_V, v0);
         real_t d0 = s->last_act.duty0;
         v[0] = num_mac(d0, v0[0] - v[0], v[0]);
         v[1] = num_mac(d0, v0[1] - v[1], v[1]);

@@ -230,6 +230,19 @@ static inline void dtc3l_state_voltage_unchecked(uint8_t state, real_t vc1_V, re
 }
 
 /**
+ * Stator voltage (alpha, beta) of the leg codes @p l (each 0..2, unchecked)
+ * with @p leg_V the leg voltage by leg code {-vc2, 0, vc1}: the same values
+ * as dtc3l_state_voltage, for a caller that has several states to work out
+ * at the same capacitor voltages. Context: ANY.
+ */
+static inline void dtc3l_legs_voltage(const hal_vector *l, const real_t leg_V[3], real_t v_ab[2])
+{
+    real_t va = leg_V[l->leg[0]], vb = leg_V[l->leg[1]], vc = leg_V[l->leg[2]];
+    v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
+    v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
+}
+
+/**
  * Stator voltage (alpha, beta; isolated star) of @p state (others: OOO) for
  * the capacitor voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
  */
