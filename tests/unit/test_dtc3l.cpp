@@ -10,6 +10,7 @@
 #include <complex>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -287,6 +288,38 @@ struct TableCase {
     uint8_t level;
     double rpm, torque;
 };
+
+// dtc3l_sectors (both sectors with one set of compares) gives exactly what the
+// two separate functions give: every angle on a fine grid, the float
+// neighbours of every boundary, and zero, signed zeros, tiny, huge, infinite
+// and NaN components.
+TEST(Dtc3lSector, BothAtOnceEqualTheSeparateFunctions)
+{
+    auto check = [](float a, float b) {
+        uint8_t s12 = 0xFF, s6 = 0xFF;
+        dtc3l_sectors(a, b, &s12, &s6);
+        ASSERT_EQ(s12, dtc3l_sector(a, b)) << a << " " << b;
+        ASSERT_EQ(s6, dtc3l_sector6(a, b)) << a << " " << b;
+    };
+    for (double deg = -720.0; deg < 720.0; deg += 0.01) {
+        float a = float(0.45 * std::cos(deg * kPi / 180)), b = float(0.45 * std::sin(deg * kPi / 180));
+        check(a, b);
+    }
+    const float tans[4] = {DTC3L_TAN15, DTC3L_TAN30, 1.0f, DTC3L_TAN75};
+    for (float ax : {1e-38f, 1e-3f, 0.45f, 3.0f, 1e30f})
+        for (float t : tans) {
+            float edge = t * ax; // the boundary as the functions compute it
+            for (float ay : {std::nextafter(edge, 0.0f), edge, std::nextafter(edge, 1e38f)})
+                for (float sa : {1.0f, -1.0f})
+                    for (float sb : {1.0f, -1.0f})
+                        check(sa * ax, sb * ay);
+        }
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    const float odd[] = {0.0f, -0.0f, 1e-45f, -1e-45f, 1e38f, -1e38f, inf, -inf, nan, 0.3f, -0.3f};
+    for (float a : odd)
+        for (float b : odd)
+            check(a, b);
+}
 
 TEST(Dtc3lSector, SixSectorsCentredOnTheSmallVectors)
 {

@@ -132,11 +132,10 @@ static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_in *in, tick_geom
     g->b_Nm = num_mul(cfg->torque_band_Nm, k);
     g->b2_Nm = num_mul(cfg->torque_band2_Nm, k);
     g->psi_Wb = num_sqrt(num_mul(in->psi_s_Wb[0], in->psi_s_Wb[0]) + num_mul(in->psi_s_Wb[1], in->psi_s_Wb[1]));
-    g->sector = dtc3l_sector(in->psi_s_Wb[0], in->psi_s_Wb[1]);
+    dtc3l_sectors(in->psi_s_Wb[0], in->psi_s_Wb[1], &g->sector, &g->sector6);
     g->i_abc_A[0] = in->is_A[0];
     g->i_abc_A[1] = num_mac(R(-0.5), in->is_A[0], num_mul(R(0.866025404), in->is_A[1]));
     g->i_abc_A[2] = -g->i_abc_A[0] - g->i_abc_A[1];
-    g->sector6 = dtc3l_sector6(in->psi_s_Wb[0], in->psi_s_Wb[1]);
     g->prev_state = in->prev_state < DTC3L_N_STATES ? in->prev_state : (uint8_t)DTC3L_STATE_OOO;
     g->leg_V[HAL_LEG_N] = -in->vc2_V;
     g->leg_V[HAL_LEG_O] = R(0.0);

@@ -335,6 +335,35 @@ static inline uint8_t dtc3l_sector6(real_t psi_alpha, real_t psi_beta)
     return (uint8_t)(near_axis ? 3u : (psi_beta >= R(0.0) ? 2u : 4u));
 }
 
+/** dtc3l_sector (@p sector) and dtc3l_sector6 (@p sector6) of the same flux
+ *  with one set of compares: the 60 deg sectors' boundary at 30 deg from the
+ *  alpha axis lies inside 12-sector 1 of the quadrant, so it is the one more
+ *  compare there (below 15 deg it is near the axis, from 45 deg on it is not;
+ *  the products by tan15 < tan30 < 1 keep that order in floats). Context: ANY. */
+static inline void dtc3l_sectors(real_t psi_alpha, real_t psi_beta, uint8_t *sector, uint8_t *sector6)
+{
+    real_t ax = num_abs(psi_alpha), ay = num_abs(psi_beta);
+    unsigned q;
+    bool near_axis;
+    if (ay < num_mul(DTC3L_TAN15, ax)) {
+        q = 0u;
+        near_axis = true;
+    } else if (ay < ax) {
+        q = 1u;
+        near_axis = ay < num_mul(DTC3L_TAN30, ax);
+    } else {
+        q = ay < num_mul(DTC3L_TAN75, ax) ? 2u : 3u;
+        near_axis = false;
+    }
+    if (psi_alpha >= R(0.0)) {
+        *sector = (uint8_t)(psi_beta >= R(0.0) ? q : (12u - q) % 12u);
+        *sector6 = (uint8_t)(near_axis ? 0u : (psi_beta >= R(0.0) ? 1u : 5u));
+    } else {
+        *sector = (uint8_t)(psi_beta >= R(0.0) ? 6u - q : 6u + q);
+        *sector6 = (uint8_t)(near_axis ? 3u : (psi_beta >= R(0.0) ? 2u : 4u));
+    }
+}
+
 /** Space vector at direction @p dir (0..11 after mod 12, 30 deg steps); even
  *  directions hold small (@p large false) or large vectors. Context: ANY. */
 static inline uint8_t dtc3l_sv_at(unsigned dir, bool large)
