@@ -116,11 +116,15 @@ void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t fau
 
     const uint8_t *b = (const uint8_t *)base;
     uint16_t pos = s->pos;
+    uint32_t n_ch = s->n_ch; /* read once: the stores below are float stores, which cannot change it */
     if (s->all_f32) { /* the usual case: the values as they are, no conversion to choose per channel */
-        for (uint32_t ch = 0u; ch < s->n_ch; ch++)
-            memcpy(&s->buf[ch][pos], b + s->src[ch].offset, sizeof(float));
+        for (uint32_t ch = 0u; ch < n_ch; ch++) {
+            float f;
+            memcpy(&f, b + s->src[ch].offset, sizeof f);
+            s->buf[ch][pos] = f;
+        }
     } else {
-        for (uint32_t ch = 0u; ch < s->n_ch; ch++) /* at most SCOPE_CHANNELS stores */
+        for (uint32_t ch = 0u; ch < n_ch; ch++) /* at most SCOPE_CHANNELS stores */
             s->buf[ch][pos] = read_src(b, s->src[ch]);
     }
     s->pos = (uint16_t)((pos + 1u) % SCOPE_SAMPLES);
