@@ -119,7 +119,7 @@ int hal_actuate(const hal_actuation *act)
 {
     if (act == NULL)
         return HAL_EINVAL;
-    _Static_assert(sizeof(hal_vector) == 3u && HAL_LEG_P == NPC_P, "the two vectors: six contiguous leg codes, NPC numbering");
+    _Static_assert(sizeof(hal_vector) == 3u && HAL_LEG_P == NPC_P, "two vectors: six leg codes, NPC numbering");
     if (!npc_legs_valid((const uint8_t *)act->vector)) /* any leg code above HAL_LEG_P */
         return HAL_EINVAL;
     if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */

@@ -205,6 +205,7 @@ static inline bool sample_within_limits(const ctl_cfg *cfg, const hal_sample *x,
     uint32_t ia = abs_bits(x->ia_A), ib = abs_bits(x->ib_A), ic = abs_bits(x->ic_A);
     uint32_t imax = ia > ib ? ia : ib;
     imax = imax > ic ? imax : ic;
+    /* undervoltage not judged: only an impossible vdc (below -vdc_max_V) takes the slow path */
     real_t vdc_min = uv_judged ? cfg->vdc_min_V : -cfg->vdc_max_V;
     return imax <= abs_bits(cfg->i_trip_A) && vdc <= cfg->vdc_max_V && vdc >= vdc_min &&
            num_abs(x->vc1_V - x->vc2_V) <= cfg->np_trip_V;
@@ -367,7 +368,7 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
     /* the states' voltages from their leg codes (last_act holds them) and the three leg voltages */
     const real_t leg_V[3] = {-x->vc2_V, R(0.0), x->vc1_V};
     dtc3l_legs_voltage(&s->last_act.vector[1], leg_V, v);
-    if (st0 != st1) { /* one vector for the whole period: its voltage (d0 x 0 + v1 is v1 exactly) */
+    if (st0 != st1) { /* two states: mixed by the duty (one state's d0 x 0 + v1 would be v1 exactly) */
         real_t v0[2];
         dtc3l_legs_voltage(&s->last_act.vector[0], leg_V, v0);
         real_t d0 = s->last_act.duty0;

@@ -93,7 +93,6 @@ static real_t exit_edge(int8_t cur, real_t s_cur, const dtc3l_in *in, real_t b, 
     return dtc3l_edge_fraction(in->te_Nm, s_cur, *edge, dt_s);
 }
 
-
 /* Rate of change of |psi_s| under the state voltage @p v, Wb/s: psi . (v - Rs is) / |psi|. */
 static real_t flux_rate(const dtc3l_in *in, const real_t v[2], real_t psi_abs)
 {

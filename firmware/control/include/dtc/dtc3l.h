@@ -169,6 +169,7 @@ extern const uint8_t dtc3l_pn_safe_to[DTC3L_N_STATES][DTC3L_N_STATES]; /**< to w
  * clamped once; no test per call: issue 11, about 20 per tick), NAME handles
  * any value as documented. */
 
+/** dtc3l_legs for @p state 0..26 (unchecked). Context: ANY. */
 static inline void dtc3l_legs_unchecked(uint8_t state, hal_vector *v) { *v = dtc3l_state_legs[state]; }
 
 /** Leg codes of @p state (0..26; others: OOO) into @p v. Context: ANY. */
@@ -188,6 +189,7 @@ static inline uint8_t dtc3l_state_of(const hal_vector *v)
 extern const uint8_t dtc3l_state_sv_of[DTC3L_N_STATES];            /**< space vector of each state */
 extern const uint8_t dtc3l_sv_state_list[DTC3L_N_VECTORS][3];      /**< states of each sv, preferred first; 0xFF pads */
 
+/** dtc3l_state_sv for @p state 0..26 (unchecked). Context: ANY. */
 static inline uint8_t dtc3l_state_sv_unchecked(uint8_t state) { return dtc3l_state_sv_of[state]; }
 
 /** Space vector 0..18 of @p state (others: 0). Context: ANY. */
@@ -217,6 +219,7 @@ static inline uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3])
     return (uint8_t)(sv == 0u || sv >= DTC3L_N_VECTORS ? 3u : (sv <= 6u ? 2u : 1u));
 }
 
+/** dtc3l_state_voltage for @p state 0..26 (unchecked). Context: ANY. */
 static inline void dtc3l_state_voltage_unchecked(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
 {
     const hal_vector *l = &dtc3l_state_legs[state];
@@ -251,6 +254,7 @@ static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V
     dtc3l_state_voltage_unchecked(state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO, vc1_V, vc2_V, v_ab);
 }
 
+/** dtc3l_np_current for @p state 0..26 (unchecked). Context: ANY. */
 static inline real_t dtc3l_np_current_unchecked(uint8_t state, const real_t i_abc[3])
 {
     const real_t *k = dtc3l_np_legs[state];
@@ -264,6 +268,7 @@ static inline real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3])
     return state < DTC3L_N_STATES ? dtc3l_np_current_unchecked(state, i_abc) : R(0.0);
 }
 
+/** dtc3l_pn_step for @p from and @p to 0..26 (unchecked). Context: ANY. */
 static inline bool dtc3l_pn_step_unchecked(uint8_t from, uint8_t to)
 {
     return ((dtc3l_pn_step_mask[from] >> to) & 1u) != 0u;
@@ -276,6 +281,7 @@ static inline bool dtc3l_pn_step(uint8_t from, uint8_t to)
     return from < DTC3L_N_STATES && to < DTC3L_N_STATES && dtc3l_pn_step_unchecked(from, to);
 }
 
+/** dtc3l_leg_changes for @p from and @p to 0..26 (unchecked). Context: ANY. */
 static inline uint8_t dtc3l_leg_changes_unchecked(uint8_t from, uint8_t to) { return dtc3l_changes[from][to]; }
 
 /** Number of leg commutations from @p from to @p to (N<->O and O<->P count 1;
@@ -285,6 +291,7 @@ static inline uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to)
     return from < DTC3L_N_STATES && to < DTC3L_N_STATES ? dtc3l_leg_changes_unchecked(from, to) : 0u;
 }
 
+/** dtc3l_pn_safe for @p from and @p to 0..26 (unchecked). Context: ANY. */
 static inline uint8_t dtc3l_pn_safe_unchecked(uint8_t from, uint8_t to) { return dtc3l_pn_safe_to[from][to]; }
 
 /** @p to with every leg that would step between P and N from @p from held at O
