@@ -119,10 +119,9 @@ int hal_actuate(const hal_actuation *act)
 {
     if (act == NULL)
         return HAL_EINVAL;
-    for (unsigned v = 0u; v < 2u; v++)
-        for (unsigned k = 0u; k < 3u; k++)
-            if (act->vector[v].leg[k] > (uint8_t)HAL_LEG_P)
-                return HAL_EINVAL;
+    _Static_assert(sizeof(hal_vector) == 3u && HAL_LEG_P == NPC_P, "two vectors: six leg codes, NPC numbering");
+    if (!npc_legs_valid((const uint8_t *)act->vector)) /* any leg code above HAL_LEG_P */
+        return HAL_EINVAL;
     if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */
         return HAL_EINVAL;
     if (g_pil.tm.per == 0u)

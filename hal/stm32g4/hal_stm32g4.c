@@ -866,12 +866,9 @@ int hal_actuate(const hal_actuation *act)
 {
     if (act == NULL)
         return HAL_EINVAL;
-    for (unsigned v = 0u; v < 2u; v++) {
-        for (unsigned leg = 0u; leg < 3u; leg++) {
-            if (act->vector[v].leg[leg] > (uint8_t)HAL_LEG_P)
-                return HAL_EINVAL;
-        }
-    }
+    _Static_assert(sizeof(hal_vector) == 3u, "the two vectors: six contiguous leg codes");
+    if (!npc_legs_valid((const uint8_t *)act->vector)) /* any leg code above HAL_LEG_P */
+        return HAL_EINVAL;
     if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */
         return HAL_EINVAL;
     if (g_board.per_counts == 0u)

@@ -26,6 +26,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 /** Event bits, equal to the HRTIM SETx1R/RSTx1R bits CMP2 and CMP1. */
 #define NPC_EV_START (1u << 4)
@@ -35,6 +36,23 @@
 #define NPC_N 0u
 #define NPC_O 1u
 #define NPC_P 2u
+
+/**
+ * True when each of the six leg codes at @p legs (the two vectors of an
+ * actuation, three legs each, contiguous bytes) is a leg state (<= NPC_P).
+ * Word-wide (issue 11: one test instead of six compares and branches): a
+ * byte is above NPC_P when a bit above bit 1 is set, or both low bits (3).
+ * Context: ANY (pure).
+ */
+static inline bool npc_legs_valid(const uint8_t legs[6])
+{
+    uint32_t w;
+    uint16_t h;
+    memcpy(&w, legs, sizeof w);
+    memcpy(&h, legs + 4, sizeof h);
+    uint32_t bad = (w & 0xFCFCFCFCu) | (w & (w >> 1) & 0x01010101u) | (h & 0xFCFCu) | (h & (h >> 1) & 0x0101u);
+    return bad == 0u;
+}
 
 /** Timing of one PWM period, in timer counts. */
 typedef struct {

@@ -203,3 +203,31 @@ TEST(NpcPlan, PairLevels)
 }
 
 } // namespace
+
+// The word-wide leg check against the byte-by-byte rule: every value 0..255 at
+// every one of the six positions, the others valid (0..2), and every
+// combination of valid and 3 (the value the bit test must catch from its two
+// low bits) over the six.
+TEST(NpcPlan, LegsValidEqualsTheByteRule)
+{
+    for (int pos = 0; pos < 6; ++pos) {
+        for (int v = 0; v < 256; ++v) {
+            for (int fill = 0; fill <= 2; ++fill) {
+                uint8_t legs[6];
+                for (int k = 0; k < 6; ++k)
+                    legs[k] = uint8_t((k + fill) % 3);
+                legs[pos] = uint8_t(v);
+                EXPECT_EQ(npc_legs_valid(legs), v <= 2) << "pos " << pos << " value " << v;
+            }
+        }
+    }
+    for (int m = 0; m < 4096; ++m) { // base 4 over six positions, digits 0..3
+        uint8_t legs[6];
+        bool valid = true;
+        for (int k = 0, x = m; k < 6; ++k, x /= 4) {
+            legs[k] = uint8_t(x % 4);
+            valid = valid && legs[k] <= 2;
+        }
+        EXPECT_EQ(npc_legs_valid(legs), valid) << m;
+    }
+}

@@ -4,10 +4,13 @@
 // (tests/common/im_ref.hpp), never against the firmware's own arithmetic.
 #include <gtest/gtest.h>
 
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -140,6 +143,27 @@ TEST(Dtc3lVectors, StateTablesMatchTheTopologyForEveryPair)
     EXPECT_EQ(v[1], 0.0f);
 }
 
+// dtc3l_legs_voltage (leg voltages looked up by leg code) gives the very bits
+// of dtc3l_state_voltage (selections) for every state, balanced or not (the
+// control step's observer input relies on it: tools/sil_identical.sh).
+TEST(Dtc3lVectors, LegsVoltageEqualsStateVoltageBitForBit)
+{
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.f, 400.f);
+    for (int k = 0; k < 200; ++k) {
+        float vc1 = u(rng), vc2 = u(rng);
+        const float leg_V[3] = {-vc2, 0.0f, vc1};
+        for (int st = 0; st < 27; ++st) {
+            float a[2], b[2];
+            hal_vector hv;
+            dtc3l_legs(uint8_t(st), &hv);
+            dtc3l_state_voltage(uint8_t(st), vc1, vc2, a);
+            dtc3l_legs_voltage(&hv, leg_V, b);
+            ASSERT_EQ(std::memcmp(a, b, sizeof a), 0) << kStateNames[st] << " " << vc1 << " " << vc2;
+        }
+    }
+}
+
 // The 19 space vectors: magnitude class and direction as documented in dtc3l.h,
 // every redundant state of a vector giving the same voltage (balanced link).
 TEST(Dtc3lVectors, SpaceVectorClassesAndDirections)
@@ -264,6 +288,38 @@ struct TableCase {
     uint8_t level;
     double rpm, torque;
 };
+
+// dtc3l_sectors (both sectors with one set of compares) gives exactly what the
+// two separate functions give: every angle on a fine grid, the float
+// neighbours of every boundary, and zero, signed zeros, tiny, huge, infinite
+// and NaN components.
+TEST(Dtc3lSector, BothAtOnceEqualTheSeparateFunctions)
+{
+    auto check = [](float a, float b) {
+        uint8_t s12 = 0xFF, s6 = 0xFF;
+        dtc3l_sectors(a, b, &s12, &s6);
+        ASSERT_EQ(s12, dtc3l_sector(a, b)) << a << " " << b;
+        ASSERT_EQ(s6, dtc3l_sector6(a, b)) << a << " " << b;
+    };
+    for (double deg = -720.0; deg < 720.0; deg += 0.01) {
+        float a = float(0.45 * std::cos(deg * kPi / 180)), b = float(0.45 * std::sin(deg * kPi / 180));
+        check(a, b);
+    }
+    const float tans[4] = {DTC3L_TAN15, DTC3L_TAN30, 1.0f, DTC3L_TAN75};
+    for (float ax : {1e-38f, 1e-3f, 0.45f, 3.0f, 1e30f})
+        for (float t : tans) {
+            float edge = t * ax; // the boundary as the functions compute it
+            for (float ay : {std::nextafter(edge, 0.0f), edge, std::nextafter(edge, 1e38f)})
+                for (float sa : {1.0f, -1.0f})
+                    for (float sb : {1.0f, -1.0f})
+                        check(sa * ax, sb * ay);
+        }
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    const float odd[] = {0.0f, -0.0f, 1e-45f, -1e-45f, 1e38f, -1e38f, inf, -inf, nan, 0.3f, -0.3f};
+    for (float a : odd)
+        for (float b : odd)
+            check(a, b);
+}
 
 TEST(Dtc3lSector, SixSectorsCentredOnTheSmallVectors)
 {
@@ -455,6 +511,51 @@ TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
     }
 }
 
+// A prev_state that is not a state (0..26) counts as OOO (dtc3l.h): the same
+// decision, field for field, as with OOO before, over random inputs.
+TEST(Dtc3lStates, InvalidPreviousStateCountsAsOoo)
+{
+    ctl_cfg cfg;
+    ctl_cfg_default(&cfg);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    for (int k = 0; k < 20000; ++k) {
+        dtc3l_in in{};
+        in.te_ref_Nm = 30 * u(rng);
+        in.psi_ref_Wb = 0.45f;
+        in.te_Nm = in.te_ref_Nm + 6 * u(rng);
+        float th = 3.2f * u(rng);
+        float ps = 0.45f + 0.03f * u(rng);
+        in.psi_s_Wb[0] = ps * std::cos(th);
+        in.psi_s_Wb[1] = ps * std::sin(th);
+        in.is_A[0] = 30 * u(rng);
+        in.is_A[1] = 30 * u(rng);
+        in.dte0_Nm_s = 40000 * u(rng);
+        in.dte_dv[0] = 500 * u(rng);
+        in.dte_dv[1] = 500 * u(rng);
+        in.rs_ohm = 0.288f;
+        in.omega_e_rad_s = 400 * u(rng);
+        in.omega_m_rad_s = in.omega_e_rad_s / 2;
+        in.vc1_V = 155.5f + 10 * u(rng);
+        in.vc2_V = 155.5f + 10 * u(rng);
+        in.np_dev_V = in.vc1_V - in.vc2_V;
+        dtc3l a, b;
+        dtc3l_init(&a);
+        a.level = uint8_t(k & 1 ? DTC3L_LEVEL_HIGH : DTC3L_LEVEL_LOW);
+        a.torque_state = int8_t(k % 3 - 1);
+        b = a;
+        dtc3l_out oa, ob;
+        in.prev_state = DTC3L_STATE_OOO;
+        dtc3l_step(&a, &cfg.dtc, 200e-6f, &in, &oa);
+        in.prev_state = uint8_t(27 + k % 229); // 27..255
+        dtc3l_step(&b, &cfg.dtc, 200e-6f, &in, &ob);
+        ASSERT_EQ(oa.state[0], ob.state[0]) << k;
+        ASSERT_EQ(oa.state[1], ob.state[1]) << k;
+        ASSERT_EQ(oa.act.duty0, ob.act.duty0) << k;
+        ASSERT_EQ(a.torque_state, b.torque_state) << k;
+    }
+}
+
 // The redundant small state chosen outside the NP band pulls vc1 - vc2 back:
 // checked by integrating the PLANT over one period with that state.
 TEST(Dtc3lNp, RedundantSmallVectorDrivesNeutralPointTowardBalance)
@@ -528,6 +629,59 @@ TEST(Dtc3lNp, ZeroVectorPrefersOooThenNnnOnTies)
             EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), 1.0f, 1.5f, i_abc)), want) << kStateNames[prev];
         }
     }
+}
+
+// The zero vector outside half the band after a small state: the zero state
+// on the way to the state of that vector which balances (the one whose NP
+// current has the sign opposite to vc1 - vc2): of OOO, NNN, PPP, none a P<->N
+// step from the previous state or to the target, least 2 x commutations to the
+// target + commutations from the previous state, that order on ties.
+TEST(Dtc3lNp, ZeroVectorLooksAheadToTheBalancingState)
+{
+    float i_abc[3] = {10.f, -4.f, -6.f};
+    const int zeros[3] = {13, 0, 26};
+    int small_seen = 0;
+    for (int prev = 0; prev < 27; ++prev) {
+        uint8_t sv = dtc3l_state_sv(uint8_t(prev));
+        if (dtc3l_sv_class(sv) != DTC3L_CLASS_SMALL)
+            continue;
+        ++small_seen;
+        uint8_t pair[3];
+        ASSERT_EQ(dtc3l_sv_states(sv, pair), 2u);
+        for (float dev : {1.0f, -1.0f, 1.4f, -1.4f}) {
+            // the plant's NP current of each state: the phase currents of its legs at O
+            int target = -1;
+            for (int k = 0; k < 2; ++k) {
+                uint8_t l[3];
+                legs_of(pair[k], l);
+                double inp = 0.0;
+                for (int j = 0; j < 3; ++j)
+                    inp += l[j] == 1 ? i_abc[j] : 0.0;
+                if (target < 0 && inp * dev <= 0.0)
+                    target = pair[k];
+            }
+            if (target < 0)
+                target = pair[1];
+            int want = 13, want_c = 99;
+            for (int z : zeros) {
+                if (pn_step(prev, z) || pn_step(z, target))
+                    continue;
+                uint8_t a[3], b[3], t[3];
+                legs_of(prev, a);
+                legs_of(z, b);
+                legs_of(target, t);
+                int c = 2 * (std::abs(b[0] - t[0]) + std::abs(b[1] - t[1]) + std::abs(b[2] - t[2])) +
+                        std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+                if (c < want_c) {
+                    want_c = c;
+                    want = z;
+                }
+            }
+            EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), dev, 1.5f, i_abc)), want)
+                << kStateNames[prev] << " dev " << dev;
+        }
+    }
+    EXPECT_EQ(small_seen, 12);
 }
 
 TEST(Dtc3lNp, InsideTheBandFewestCommutations)

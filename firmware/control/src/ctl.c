@@ -186,6 +186,50 @@ uint32_t ctl_clear_faults(ctl_state *s)
     return s->faults;
 }
 
+/* The magnitude bits of @p x: for finite values they order like |x|; a NaN
+ * or an infinity is above every finite value's. */
+static inline uint32_t abs_bits(real_t x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return u & 0x7FFFFFFFu;
+}
+
+/* The common case in one pass: every sample value finite and no limit of
+ * sample_faults() crossed. False sends the tick to sample_faults(), which
+ * says which. The phase currents compare as integers (one compare for the
+ * largest of the three; a NaN or infinite current fails it); a NaN or an
+ * infinity in vc1 or vc2 makes vdc or their difference fail its compare. */
+static inline bool sample_within_limits(const ctl_cfg *cfg, const hal_sample *x, real_t vdc, bool uv_judged)
+{
+    uint32_t ia = abs_bits(x->ia_A), ib = abs_bits(x->ib_A), ic = abs_bits(x->ic_A);
+    uint32_t imax = ia > ib ? ia : ib;
+    imax = imax > ic ? imax : ic;
+    /* undervoltage not judged: only an impossible vdc (below -vdc_max_V) takes the slow path */
+    real_t vdc_min = uv_judged ? cfg->vdc_min_V : -cfg->vdc_max_V;
+    return imax <= abs_bits(cfg->i_trip_A) && vdc <= cfg->vdc_max_V && vdc >= vdc_min &&
+           num_abs(x->vc1_V - x->vc2_V) <= cfg->np_trip_V;
+}
+
+/* Which limits the sample crosses (the rare case; enum ctl_fault bits). */
+static uint32_t sample_faults(const ctl_cfg *cfg, const hal_sample *x, real_t vdc, bool uv_judged)
+{
+    /* one test for all five: a NaN or an infinity in any of them makes the sum NaN */
+    if (!finite_r((x->ia_A - x->ia_A) + (x->ib_A - x->ib_A) + (x->ic_A - x->ic_A) + (x->vc1_V - x->vc1_V) +
+                  (x->vc2_V - x->vc2_V)))
+        return CTL_FAULT_SAMPLE_INVALID;
+    uint32_t f = 0u;
+    if (num_abs(x->ia_A) > cfg->i_trip_A || num_abs(x->ib_A) > cfg->i_trip_A || num_abs(x->ic_A) > cfg->i_trip_A)
+        f |= CTL_FAULT_OVERCURRENT;
+    if (vdc > cfg->vdc_max_V)
+        f |= CTL_FAULT_DC_OVERVOLT;
+    if (uv_judged && vdc < cfg->vdc_min_V)
+        f |= CTL_FAULT_DC_UNDERVOLT;
+    if (num_abs(x->vc1_V - x->vc2_V) > cfg->np_trip_V)
+        f |= CTL_FAULT_NP_IMBALANCE;
+    return f;
+}
+
 /* Conditions of this tick (enum ctl_fault bits). */
 static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 {
@@ -199,21 +243,15 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
         f |= CTL_FAULT_OVERRUN;
     if (!in->sample_fresh)
         return f | CTL_FAULT_STALE_SAMPLE; /* the values are not this tick's: judge nothing on them */
-    /* one test for all five: a NaN or an infinity in any of them makes the sum NaN */
-    if (!finite_r((x->ia_A - x->ia_A) + (x->ib_A - x->ib_A) + (x->ic_A - x->ic_A) + (x->vc1_V - x->vc1_V) +
-                  (x->vc2_V - x->vc2_V)))
-        return f | CTL_FAULT_SAMPLE_INVALID;
-
-    if (num_abs(x->ia_A) > cfg->i_trip_A || num_abs(x->ib_A) > cfg->i_trip_A || num_abs(x->ic_A) > cfg->i_trip_A)
-        f |= CTL_FAULT_OVERCURRENT;
-    real_t vdc = x->vc1_V + x->vc2_V;
-    if (vdc > cfg->vdc_max_V)
-        f |= CTL_FAULT_DC_OVERVOLT;
     /* bring-up levels 1 and 2 need no DC link */
-    if (active && cfg->bringup_level > BRINGUP_ADC && vdc < cfg->vdc_min_V)
-        f |= CTL_FAULT_DC_UNDERVOLT;
-    if (num_abs(x->vc1_V - x->vc2_V) > cfg->np_trip_V)
-        f |= CTL_FAULT_NP_IMBALANCE;
+    bool uv_judged = active && cfg->bringup_level > BRINGUP_ADC;
+    real_t vdc = x->vc1_V + x->vc2_V;
+    if (!sample_within_limits(cfg, x, vdc, uv_judged)) {
+        uint32_t sf = sample_faults(cfg, x, vdc, uv_judged);
+        if (sf & CTL_FAULT_SAMPLE_INVALID)
+            return f | sf; /* judge nothing else on a value that is not a number */
+        f |= sf;
+    }
     /* Written as "not within" so that a diverged (NaN) estimate trips too. */
     if (active && !(num_abs(s->obs.omega_m_filt_rad_s) <= cfg->overspeed_rad_s))
         f |= CTL_FAULT_OVERSPEED;
@@ -302,8 +340,8 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
     uint8_t st1 = s->last_state[1];
     real_t d0 = s->last_act.duty0;
     real_t i_abc[3] = {x->ia_A, x->ib_A, x->ic_A};
-    real_t inp1 = dtc3l_np_current(st1, i_abc);
-    real_t inp0 = st0 == st1 ? inp1 : dtc3l_np_current(st0, i_abc); /* one vector: the same current */
+    real_t inp1 = dtc3l_np_current_unchecked(st1, i_abc);
+    real_t inp0 = st0 == st1 ? inp1 : dtc3l_np_current_unchecked(st0, i_abc); /* one vector: the same current */
     real_t inp = num_mac(d0, inp0 - inp1, inp1);
     return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
 }
@@ -344,7 +382,6 @@ static void add_dead_time_error(const ctl_state *s, const ctl_cfg *cfg, const ha
 static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V, real_t v[2],
                     real_t is[2])
 {
-    real_t v0[2], v1[2];
     uint8_t st0 = s->last_state[0];
     uint8_t st1 = s->last_state[1];
     /* The capacitors' mean voltages over the period, not their values at its
@@ -355,17 +392,16 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
      * Linear over the period, so the mean is the midpoint: each capacitor
      * moves by half the predicted change, the mean by half of that. */
     real_t q = num_mul(R(0.25), np_dev_pred_V - (x->vc1_V - x->vc2_V));
-    real_t vc1 = x->vc1_V + q, vc2 = x->vc2_V - q;
-    dtc3l_state_voltage(st1, vc1, vc2, v1);
-    if (st0 == st1) { /* one vector for the whole period: the same voltage, not worked out twice */
-        v0[0] = v1[0];
-        v0[1] = v1[1];
-    } else {
-        dtc3l_state_voltage(st0, vc1, vc2, v0);
+    /* the states' voltages from their leg codes (last_act holds them) and the three leg voltages */
+    const real_t leg_V[3] = {-(x->vc2_V - q), R(0.0), x->vc1_V + q};
+    dtc3l_legs_voltage(&s->last_act.vector[1], leg_V, v);
+    if (st0 != st1) { /* two states: mixed by the duty (one state's d0 x 0 + v1 would be v1 exactly) */
+        real_t v0[2];
+        dtc3l_legs_voltage(&s->last_act.vector[0], leg_V, v0);
+        real_t d0 = s->last_act.duty0;
+        v[0] = num_mac(d0, v0[0] - v[0], v[0]);
+        v[1] = num_mac(d0, v0[1] - v[1], v[1]);
     }
-    real_t d0 = s->last_act.duty0;
-    v[0] = num_mac(d0, v0[0] - v1[0], v1[0]);
-    v[1] = num_mac(d0, v0[1] - v1[1], v1[1]);
     subtract_device_drops(cfg, x, v);
     add_dead_time_error(s, cfg, x, v);
     is[0] = num_mul(R(0.333333333), R(2.0) * x->ia_A - x->ib_A - x->ic_A);
@@ -551,9 +587,9 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
 static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, uint8_t a0,
                                          uint8_t a1)
 {
-    uint8_t n = dtc3l_leg_changes(prev_state, a0);
+    uint8_t n = dtc3l_leg_changes_unchecked(prev_state, a0); /* all three 0..26 */
     if (a1 != a0)
-        n = (uint8_t)(n + dtc3l_leg_changes(a0, a1));
+        n = (uint8_t)(n + dtc3l_leg_changes_unchecked(a0, a1));
     real_t f = num_mul((real_t)n, cfg->fsw_per_change_hz);
     s->fsw_hz = num_mac(cfg->fsw_lpf_a, f - s->fsw_hz, s->fsw_hz);
     if (!(cfg->fsw_max_hz > R(0.0))) {
@@ -570,10 +606,11 @@ static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8
 static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_out *out)
 {
     hal_actuation act;
-    uint8_t a0 = dtc3l_pn_safe(prev_state, s->dtc_out.state[0]);
-    uint8_t a1 = dtc3l_pn_safe(a0, s->dtc_out.state[1]);
-    dtc3l_legs(a0, &act.vector[0]);
-    dtc3l_legs(a1, &act.vector[1]);
+    /* prev_state was clamped, the DTC's states come from its tables: all 0..26 */
+    uint8_t a0 = dtc3l_pn_safe_unchecked(prev_state, s->dtc_out.state[0]);
+    uint8_t a1 = dtc3l_pn_safe_unchecked(a0, s->dtc_out.state[1]);
+    dtc3l_legs_unchecked(a0, &act.vector[0]);
+    dtc3l_legs_unchecked(a1, &act.vector[1]);
     act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 

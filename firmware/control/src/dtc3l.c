@@ -95,11 +95,9 @@ static real_t exit_edge(int8_t cur, real_t s_cur, const dtc3l_in *in, real_t b, 
     return dtc3l_edge_fraction(in->te_Nm, s_cur, *edge, dt_s);
 }
 
-/* Rate of change of |psi_s| under state @p st, Wb/s: psi . (v - Rs is) / |psi|. */
-static real_t flux_rate(const dtc3l_in *in, uint8_t st, real_t psi_abs)
+/* Rate of change of |psi_s| under the state voltage @p v, Wb/s: psi . (v - Rs is) / |psi|. */
+static real_t flux_rate(const dtc3l_in *in, const real_t v[2], real_t psi_abs)
 {
-    real_t v[2];
-    dtc3l_state_voltage(st, in->vc1_V, in->vc2_V, v);
     real_t e0 = v[0] - num_mul(in->rs_ohm, in->is_A[0]);
     real_t e1 = v[1] - num_mul(in->rs_ohm, in->is_A[1]);
     if (psi_abs < PSI_TINY_WB)
@@ -114,6 +112,8 @@ typedef struct {
     uint8_t sector6;          /* 0..5 */
     real_t i_abc_A[3];        /* predicted phase currents */
     real_t b_Nm, b2_Nm;       /* torque bands of this tick (cfg x in->band_scale) */
+    uint8_t prev_state;       /* in->prev_state, or OOO when it is not a state (0..26 from here on) */
+    real_t leg_V[3];          /* leg voltage by leg code N, O, P: -vc2, 0, vc1 (the state voltages' selections) */
 } tick_geometry;
 
 /* The decision being built: two states, the duty of the first, and the
@@ -133,11 +133,32 @@ static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_in *in, tick_geom
     g->b_Nm = num_mul(cfg->torque_band_Nm, k);
     g->b2_Nm = num_mul(cfg->torque_band2_Nm, k);
     g->psi_Wb = num_sqrt(num_mul(in->psi_s_Wb[0], in->psi_s_Wb[0]) + num_mul(in->psi_s_Wb[1], in->psi_s_Wb[1]));
-    g->sector = dtc3l_sector(in->psi_s_Wb[0], in->psi_s_Wb[1]);
+    dtc3l_sectors(in->psi_s_Wb[0], in->psi_s_Wb[1], &g->sector, &g->sector6);
     g->i_abc_A[0] = in->is_A[0];
     g->i_abc_A[1] = num_mac(R(-0.5), in->is_A[0], num_mul(R(0.866025404), in->is_A[1]));
     g->i_abc_A[2] = -g->i_abc_A[0] - g->i_abc_A[1];
-    g->sector6 = dtc3l_sector6(in->psi_s_Wb[0], in->psi_s_Wb[1]);
+    g->prev_state = in->prev_state < DTC3L_N_STATES ? in->prev_state : (uint8_t)DTC3L_STATE_OOO;
+    g->leg_V[HAL_LEG_N] = -in->vc2_V;
+    g->leg_V[HAL_LEG_O] = R(0.0);
+    g->leg_V[HAL_LEG_P] = in->vc1_V;
+}
+
+/* dtc3l_state_voltage for the step's own states (0..26), the leg voltages
+ * looked up by leg code (the same values as its selections) */
+static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab[2])
+{
+    const hal_vector *l = &dtc3l_state_legs[st];
+    real_t va = g->leg_V[l->leg[0]], vb = g->leg_V[l->leg[1]], vc = g->leg_V[l->leg[2]];
+    v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
+    v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
+}
+
+/* dtc3l_state_slope for the step's own states (0..26) */
+static inline real_t state_slope(const tick_geometry *g, const dtc3l_in *in, uint8_t st)
+{
+    real_t v[2];
+    state_voltage(g, st, v);
+    return dtc3l_voltage_slope(in, v);
 }
 
 /* Voltage level from the back-emf over Vdc/3, with hysteresis. */
@@ -188,7 +209,7 @@ static uint8_t np_checked_vector(uint8_t sv, const dtc3l_in *in, const dtc3l_cfg
          * docs/envelope.md section 5) */
         uint8_t st[3];
         (void)dtc3l_sv_states(sv, st);
-        real_t inp = dtc3l_np_current(st[0], g->i_abc_A);
+        real_t inp = dtc3l_np_current_unchecked(st[0], g->i_abc_A);
         real_t np_next = num_mac(cfg->np_V_per_A, inp, in->np_dev_V);
         if (!(num_abs(np_next) > R(2.0) * cfg->np_band_V && num_abs(np_next) > num_abs(in->np_dev_V)))
             return sv;
@@ -218,7 +239,7 @@ static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_
 {
     p->cur = torque_comparator(s->torque_state, in->te_Nm, in->te_ref_Nm, g->b_Nm, g->b2_Nm, in->dte0_Nm_s);
     p->after = p->cur;
-    p->st0 = state_for_demand(s, cfg, in, g, p->cur, in->prev_state, &p->sv0);
+    p->st0 = state_for_demand(s, cfg, in, g, p->cur, g->prev_state, &p->sv0);
     p->st1 = p->st0;
     p->duty0 = R(1.0);
     p->split = false;
@@ -235,13 +256,13 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
     real_t s_cur = R(0.0), edge = R(0.0), f = R(2.0);
     int8_t next = p->cur;
     for (int pass = 0; pass < 2; pass++) {
-        s_cur = dtc3l_state_slope(in, p->st0);
+        s_cur = state_slope(g, in, p->st0);
         f = exit_edge(p->cur, s_cur, in, b, dt_s, &edge, &next);
         if (!(f < dmin) || next == p->cur)
             break;
         p->cur = next;
         p->after = p->cur;
-        p->st0 = p->st1 = state_for_demand(s, cfg, in, g, p->cur, in->prev_state, &p->sv0);
+        p->st0 = p->st1 = state_for_demand(s, cfg, in, g, p->cur, g->prev_state, &p->sv0);
     }
     if (!(f >= dmin && f <= R(1.0) - dmin && next != p->cur))
         return; /* no crossing, or it falls at the next period start */
@@ -255,7 +276,7 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
      * edge before the period ends, start it later so that the period ends on
      * that edge (two-slope duty: Te_end = Te + s_hold (1 - d) T + s_act d T)
      * and stay in hold */
-    real_t s_next = dtc3l_state_slope(in, p->st1);
+    real_t s_next = state_slope(g, in, p->st1);
     real_t opp = next > 0 ? in->te_ref_Nm + b : in->te_ref_Nm - b;
     real_t gf = dtc3l_edge_fraction(edge, s_next, opp, dt_s);
     if (gf < R(1.0) - f) {
@@ -280,10 +301,12 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     if (!(!p->split && p->sv0 == 0u && s->level == (uint8_t)DTC3L_LEVEL_LOW && psi < in->psi_ref_Wb - cfg->flux_band_Wb))
         return;
     uint8_t svh = dtc3l_table_flux_hold(g->sector6);
-    uint8_t sth = dtc3l_choose_state(svh, in->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
-    real_t rate = flux_rate(in, sth, psi);
+    uint8_t sth = dtc3l_choose_state(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+    real_t v_h[2]; /* the pulse state's voltage, for both its flux rate and its torque slope */
+    state_voltage(g, sth, v_h);
+    real_t rate = flux_rate(in, v_h, psi);
     real_t d = rate > R(0.0) ? num_div(in->psi_ref_Wb - psi, num_mul(rate, dt_s)) : R(1.0);
-    real_t s_h = dtc3l_state_slope(in, sth);
+    real_t s_h = dtc3l_voltage_slope(in, v_h);
     real_t s_z = in->dte0_Nm_s;
     real_t hi = in->te_ref_Nm + b, lo = in->te_ref_Nm - b;
     /* a rising pulse peaks at its end */
@@ -318,7 +341,7 @@ static uint8_t balancing_or(uint8_t fallback, uint8_t svn, uint8_t from, const d
                             const tick_geometry *g)
 {
     uint8_t c = dtc3l_choose_state(svn, from, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
-    if (!(num_mul(dtc3l_np_current(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
+    if (!(num_mul(dtc3l_np_current_unchecked(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
         return fallback;
     return c;
 }
@@ -337,9 +360,9 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
         return;
     uint8_t svn = dtc3l_table_flux_hold((uint8_t)((g->sector6 + (s->flux_state > 0 ? 0u : 3u)) % 6u));
     bool full = p->st1 == p->st0;
-    uint8_t sv_b = dtc3l_state_sv(p->st1);
-    if (dtc3l_state_sv(p->st0) == 0u)
-        p->st0 = balancing_or(p->st0, svn, in->prev_state, cfg, in, g);
+    uint8_t sv_b = dtc3l_state_sv_unchecked(p->st1);
+    if (dtc3l_state_sv_unchecked(p->st0) == 0u)
+        p->st0 = balancing_or(p->st0, svn, g->prev_state, cfg, in, g);
     if (full)
         p->st1 = p->st0;
     else if (sv_b == 0u) /* the second state follows the (possibly new) first one */
@@ -375,20 +398,20 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, con
     bool small = cls == DTC3L_CLASS_SMALL;
     if (small) {
         /* of the vector's two states, the one that leaves the link nearer to balance */
-        real_t n0 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current(st[0], g->i_abc_A), in->np_dev_V));
-        real_t n1 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current(st[1], g->i_abc_A), in->np_dev_V));
+        real_t n0 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[0], g->i_abc_A), in->np_dev_V));
+        real_t n1 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[1], g->i_abc_A), in->np_dev_V));
         target = n1 < n0 ? st[1] : st[0];
         real_t n_target = n1 < n0 ? n1 : n0;
-        real_t n_chosen = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current(p->st0, g->i_abc_A), in->np_dev_V));
+        real_t inp_chosen = dtc3l_np_current_unchecked(p->st0, g->i_abc_A);
+        real_t n_chosen = num_abs(num_mac(cfg->np_V_per_A, inp_chosen, in->np_dev_V));
         /* the chosen one is kept unless the link is outside its band and the
          * chosen state pushes it further, or it would take the link beyond the
          * room of an intermediate */
-        bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V &&
-                         num_mul(dtc3l_np_current(p->st0, g->i_abc_A), in->np_dev_V) > R(0.0);
+        bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
         bool too_far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V) && n_chosen > n_target;
         if (p->st0 == target || !(wrong_way || too_far))
             return;
-        if (!dtc3l_pn_step(in->prev_state, target)) {
+        if (!dtc3l_pn_step_unchecked(g->prev_state, target)) {
             p->st0 = p->st1 = target; /* one commutation more, within reach */
             return;
         }
@@ -397,10 +420,10 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, con
     }
     if (p->st0 == target)
         return;
-    uint8_t mid = small ? dtc3l_pn_safe(in->prev_state, target) : p->st0;
-    if (dtc3l_pn_step(mid, target) || dtc3l_pn_step(in->prev_state, mid))
+    uint8_t mid = small ? dtc3l_pn_safe_unchecked(g->prev_state, target) : p->st0;
+    if (dtc3l_pn_step_unchecked(mid, target) || dtc3l_pn_step_unchecked(g->prev_state, mid))
         return;
-    real_t dv = num_mul(cfg->np_V_per_A, dtc3l_np_current(mid, g->i_abc_A)); /* V per whole period */
+    real_t dv = num_mul(cfg->np_V_per_A, dtc3l_np_current_unchecked(mid, g->i_abc_A)); /* V per whole period */
     bool outward = num_mul(dv, in->np_dev_V) > R(0.0);
     real_t d = R(1.0);
     if (small && !outward) {
@@ -421,8 +444,8 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, con
 static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out *out)
 {
     s->torque_state = p->after;
-    dtc3l_legs(p->st0, &out->act.vector[0]);
-    dtc3l_legs(p->st1, &out->act.vector[1]);
+    dtc3l_legs_unchecked(p->st0, &out->act.vector[0]);
+    dtc3l_legs_unchecked(p->st1, &out->act.vector[1]);
     out->act.duty0 = p->st1 == p->st0 ? R(1.0) : p->duty0;
     out->state[0] = p->st0;
     out->state[1] = p->st1;

@@ -29,6 +29,44 @@ static const uint8_t zero_after[DTC3L_N_STATES] = {
     13u, 13u, 13u, 13u, 13u, 26u, 13u, 26u, 26u, /* PNN..PPP */
 };
 
+/* The zero state on the way from small state `prev` to the state of its own
+ * vector that balances (column 0: the vector's first, P-type state; 1: its
+ * N-type one): of OOO, NNN, PPP the ones a P<->N step away from neither,
+ * least 2 x commutations(zero, target) + commutations(prev, zero), the first
+ * in that order on ties (OOO when none is free), i.e. the loop the
+ * look-ahead ran over the three zero states, precomputed (issue 11);
+ * tests/unit/test_dtc3l.cpp checks it against that rule. Rows of states that
+ * are not small are never read. */
+static const uint8_t zero_toward[DTC3L_N_STATES][2] = {
+    {13u, 13u}, /*  0 NNN (not small: unused) */
+    {13u, 0u}, /*  1 NNO */
+    {13u, 13u}, /*  2 NNP (not small: unused) */
+    {13u, 0u}, /*  3 NON */
+    {13u, 13u}, /*  4 NOO */
+    {13u, 13u}, /*  5 NOP (not small: unused) */
+    {13u, 13u}, /*  6 NPN (not small: unused) */
+    {13u, 13u}, /*  7 NPO (not small: unused) */
+    {13u, 13u}, /*  8 NPP (not small: unused) */
+    {13u, 0u}, /*  9 ONN */
+    {13u, 13u}, /* 10 ONO */
+    {13u, 13u}, /* 11 ONP (not small: unused) */
+    {13u, 13u}, /* 12 OON */
+    {13u, 13u}, /* 13 OOO (not small: unused) */
+    {13u, 13u}, /* 14 OOP */
+    {13u, 13u}, /* 15 OPN (not small: unused) */
+    {13u, 13u}, /* 16 OPO */
+    {26u, 13u}, /* 17 OPP */
+    {13u, 13u}, /* 18 PNN (not small: unused) */
+    {13u, 13u}, /* 19 PNO (not small: unused) */
+    {13u, 13u}, /* 20 PNP (not small: unused) */
+    {13u, 13u}, /* 21 PON (not small: unused) */
+    {13u, 13u}, /* 22 POO */
+    {26u, 13u}, /* 23 POP */
+    {13u, 13u}, /* 24 PPN (not small: unused) */
+    {26u, 13u}, /* 25 PPO */
+    {13u, 13u}, /* 26 PPP (not small: unused) */
+};
+
 uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                            const real_t i_abc[3])
 {
@@ -39,78 +77,67 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
     bool np_forced = small && np_out;
 
     if (prev_state >= DTC3L_N_STATES)
-        prev_state = DTC3L_STATE_OOO;
+        prev_state = DTC3L_STATE_OOO; /* from here on every state is 0..26: the unchecked look-ups */
 
     /* Zero vector: from NNN (PPP) the P-type (N-type) small states are a
      * P<->N step away. When the neutral point needs attention, pick the zero
      * state on the way to the balancing state of the small vector just used
      * (the likely next one), so that state stays reachable. */
     if (sv == 0u && num_abs(np_dev_V) > num_mul(NP_LOOKAHEAD_FRACTION, np_band_V)) {
-        uint8_t prev_sv = dtc3l_state_sv(prev_state);
+        uint8_t prev_sv = dtc3l_state_sv_unchecked(prev_state);
         if (dtc3l_sv_class(prev_sv) != DTC3L_CLASS_SMALL)
             return np_out ? (uint8_t)DTC3L_STATE_OOO : zero_after[prev_state];
         uint8_t pair[3];
         (void)dtc3l_sv_states(prev_sv, pair);
-        real_t inp0 = dtc3l_np_current(pair[0], i_abc);
-        uint8_t target = num_mul(inp0, np_dev_V) <= R(0.0) ? pair[0] : pair[1];
-        static const uint8_t zeros[3] = {DTC3L_STATE_OOO, 0u, 26u};
-        uint8_t best_z = DTC3L_STATE_OOO;
-        unsigned best_c = ~0u;
-        for (unsigned i = 0; i < 3u; i++) {
-            uint8_t z = zeros[i];
-            if (dtc3l_pn_step(prev_state, z) || dtc3l_pn_step(z, target))
-                continue;
-            unsigned c = 2u * dtc3l_leg_changes(z, target) + dtc3l_leg_changes(prev_state, z);
-            if (c < best_c) {
-                best_c = c;
-                best_z = z;
-            }
-        }
-        return best_z;
+        real_t inp0 = dtc3l_np_current_unchecked(pair[0], i_abc);
+        return zero_toward[prev_state][num_mul(inp0, np_dev_V) <= R(0.0) ? 0 : 1];
     }
     /* Vectors with a single state (medium, large) and the zero vector
      * without the NP look-ahead: nothing to score (the loop below would
      * give the same). */
     if (n == 1u)
-        return dtc3l_pn_step(prev_state, st[0]) ? dtc3l_pn_safe(prev_state, st[0]) : st[0];
+        return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
     if (sv == 0u)
         return zero_after[prev_state];
     uint8_t best = 0xFFu;
     unsigned best_score = ~0u;
+    real_t best_push = R(0.0); /* i_np (vc1 - vc2) of the best so far (small vectors) */
 
     for (uint8_t i = 0u; i < n; i++) {
         uint8_t c = st[i];
-        if (dtc3l_pn_step(prev_state, c))
+        if (dtc3l_pn_step_unchecked(prev_state, c))
             continue;
-        unsigned score = SCORE_PER_CHANGE * dtc3l_leg_changes(prev_state, c);
+        unsigned score = SCORE_PER_CHANGE * dtc3l_leg_changes_unchecked(prev_state, c);
+        real_t push = R(0.0);
         if (small) {
-            real_t inp = dtc3l_np_current(c, i_abc);
-            bool toward = num_mul(inp, np_dev_V) <= R(0.0);
+            push = num_mul(dtc3l_np_current_unchecked(c, i_abc), np_dev_V);
+            bool toward = push <= R(0.0);
             if (!toward)
                 score += np_forced ? SCORE_NP_FORCED : SCORE_NP_TIE;
         }
         if (score < best_score) {
             best_score = score;
             best = c;
+            best_push = push;
         }
     }
     /* The balancing state is a P<->N step away (e.g. PPO -> ONN): rather than
      * push the neutral point the wrong way for a period, go through the
      * P<->N-safe intermediate (here OON, the other state of the vector just
      * used) when that one balances. */
-    if (np_forced && best != 0xFFu && num_mul(dtc3l_np_current(best, i_abc), np_dev_V) > R(0.0)) {
+    if (np_forced && best != 0xFFu && best_push > R(0.0)) {
         for (uint8_t i = 0u; i < n; i++) {
             if (st[i] == best)
                 continue;
-            uint8_t m = dtc3l_pn_safe(prev_state, st[i]);
-            if (dtc3l_sv_class(dtc3l_state_sv(m)) == DTC3L_CLASS_SMALL &&
-                num_mul(dtc3l_np_current(m, i_abc), np_dev_V) < R(0.0))
+            uint8_t m = dtc3l_pn_safe_unchecked(prev_state, st[i]);
+            if (dtc3l_sv_class(dtc3l_state_sv_unchecked(m)) == DTC3L_CLASS_SMALL &&
+                num_mul(dtc3l_np_current_unchecked(m, i_abc), np_dev_V) < R(0.0))
                 best = m;
         }
     }
     /* Every state of the wanted vector would step a leg P<->N (a medium or
      * large vector after its opposite): hold those legs at O for now. */
     if (best == 0xFFu)
-        best = dtc3l_pn_safe(prev_state, st[0]);
+        best = dtc3l_pn_safe_unchecked(prev_state, st[0]);
     return best;
 }

@@ -38,9 +38,13 @@ void scope_arm(scope *s, const scope_src *src, uint8_t n_src)
     }
     for (uint32_t ch = k; ch < SCOPE_CHANNELS; ch++)
         s->armed_channel[ch] = 0u;
-    for (uint32_t i = 0u; i < n; i++)
+    bool all_f32 = true;
+    for (uint32_t i = 0u; i < n; i++) {
         s->src[i] = src[i];
+        all_f32 = all_f32 && src[i].kind == (uint8_t)SCOPE_SRC_F32;
+    }
     s->n_ch = n;
+    s->all_f32 = all_f32;
     s->trigger = s->cfg.trigger;
     s->pretrigger = s->cfg.pretrigger < SCOPE_SAMPLES ? s->cfg.pretrigger : (uint16_t)(SCOPE_SAMPLES - 1u);
     s->decimation = s->cfg.decimation >= 1u ? s->cfg.decimation : 1u;
@@ -112,8 +116,17 @@ void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t fau
 
     const uint8_t *b = (const uint8_t *)base;
     uint16_t pos = s->pos;
-    for (uint32_t ch = 0u; ch < s->n_ch; ch++) /* at most SCOPE_CHANNELS stores */
-        s->buf[ch][pos] = read_src(b, s->src[ch]);
+    uint32_t n_ch = s->n_ch; /* read once: the stores below are float stores, which cannot change it */
+    if (s->all_f32) { /* the usual case: the values as they are, no conversion to choose per channel */
+        for (uint32_t ch = 0u; ch < n_ch; ch++) {
+            float f;
+            memcpy(&f, b + s->src[ch].offset, sizeof f);
+            s->buf[ch][pos] = f;
+        }
+    } else {
+        for (uint32_t ch = 0u; ch < n_ch; ch++) /* at most SCOPE_CHANNELS stores */
+            s->buf[ch][pos] = read_src(b, s->src[ch]);
+    }
     s->pos = (uint16_t)((pos + 1u) % SCOPE_SAMPLES);
     if (s->filled < SCOPE_SAMPLES)
         s->filled++;

@@ -135,7 +135,7 @@ typedef struct {
     real_t omega_m_rad_s;     /**< mechanical speed estimate, rad/s (ripple-reduction range) */
     real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
     real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
-    uint8_t prev_state;       /**< state in force when the chosen period starts (0..26) */
+    uint8_t prev_state;       /**< state in force when the chosen period starts (0..26; others count as OOO) */
     real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
                                    switching-frequency regulation of ctl.c widens them */
 } dtc3l_in;
@@ -164,10 +164,18 @@ extern const uint32_t dtc3l_pn_step_mask[DTC3L_N_STATES];       /**< bit `to` se
 extern const uint8_t dtc3l_changes[DTC3L_N_STATES][DTC3L_N_STATES];    /**< leg commutations from -> to */
 extern const uint8_t dtc3l_pn_safe_to[DTC3L_N_STATES][DTC3L_N_STATES]; /**< to with P<->N legs held at O */
 
+/* Each accessor below comes twice: NAME_unchecked takes states 0..26 only
+ * (the control step's own states, which come from these tables or were
+ * clamped once; no test per call: issue 11, about 20 per tick), NAME handles
+ * any value as documented. */
+
+/** dtc3l_legs for @p state 0..26 (unchecked). Context: ANY. */
+static inline void dtc3l_legs_unchecked(uint8_t state, hal_vector *v) { *v = dtc3l_state_legs[state]; }
+
 /** Leg codes of @p state (0..26; others: OOO) into @p v. Context: ANY. */
 static inline void dtc3l_legs(uint8_t state, hal_vector *v)
 {
-    *v = dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
+    dtc3l_legs_unchecked(state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO, v);
 }
 
 /** State number of @p v; 0xFF when a leg code is above HAL_LEG_P. Context: ANY. */
@@ -181,10 +189,13 @@ static inline uint8_t dtc3l_state_of(const hal_vector *v)
 extern const uint8_t dtc3l_state_sv_of[DTC3L_N_STATES];            /**< space vector of each state */
 extern const uint8_t dtc3l_sv_state_list[DTC3L_N_VECTORS][3];      /**< states of each sv, preferred first; 0xFF pads */
 
+/** dtc3l_state_sv for @p state 0..26 (unchecked). Context: ANY. */
+static inline uint8_t dtc3l_state_sv_unchecked(uint8_t state) { return dtc3l_state_sv_of[state]; }
+
 /** Space vector 0..18 of @p state (others: 0). Context: ANY. */
 static inline uint8_t dtc3l_state_sv(uint8_t state)
 {
-    return state < DTC3L_N_STATES ? dtc3l_state_sv_of[state] : 0u;
+    return state < DTC3L_N_STATES ? dtc3l_state_sv_unchecked(state) : 0u;
 }
 
 /** Class of space vector @p sv. Context: ANY. */
@@ -208,13 +219,10 @@ static inline uint8_t dtc3l_sv_states(uint8_t sv, uint8_t states[3])
     return (uint8_t)(sv == 0u || sv >= DTC3L_N_VECTORS ? 3u : (sv <= 6u ? 2u : 1u));
 }
 
-/**
- * Stator voltage (alpha, beta; isolated star) of @p state (others: OOO) for
- * the capacitor voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
- */
-static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
+/** dtc3l_state_voltage for @p state 0..26 (unchecked). Context: ANY. */
+static inline void dtc3l_state_voltage_unchecked(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
 {
-    const hal_vector *l = &dtc3l_state_legs[state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO];
+    const hal_vector *l = &dtc3l_state_legs[state];
     real_t vn = -vc2_V; /* leg voltage by leg code N, O, P: -vc2, 0, vc1 */
     real_t va = l->leg[0] == HAL_LEG_P ? vc1_V : (l->leg[0] == HAL_LEG_N ? vn : R(0.0));
     real_t vb = l->leg[1] == HAL_LEG_P ? vc1_V : (l->leg[1] == HAL_LEG_N ? vn : R(0.0));
@@ -224,41 +232,73 @@ static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V
     v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
 }
 
+/**
+ * Stator voltage (alpha, beta) of the leg codes @p l (each 0..2, unchecked)
+ * with @p leg_V the leg voltage by leg code {-vc2, 0, vc1}: the same values
+ * as dtc3l_state_voltage, for a caller that has several states to work out
+ * at the same capacitor voltages. Context: ANY.
+ */
+static inline void dtc3l_legs_voltage(const hal_vector *l, const real_t leg_V[3], real_t v_ab[2])
+{
+    real_t va = leg_V[l->leg[0]], vb = leg_V[l->leg[1]], vc = leg_V[l->leg[2]];
+    v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
+    v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
+}
+
+/**
+ * Stator voltage (alpha, beta; isolated star) of @p state (others: OOO) for
+ * the capacitor voltages @p vc1_V (P to O) and @p vc2_V (O to N). Context: ANY.
+ */
+static inline void dtc3l_state_voltage(uint8_t state, real_t vc1_V, real_t vc2_V, real_t v_ab[2])
+{
+    dtc3l_state_voltage_unchecked(state < DTC3L_N_STATES ? state : DTC3L_STATE_OOO, vc1_V, vc2_V, v_ab);
+}
+
+/** dtc3l_np_current for @p state 0..26 (unchecked). Context: ANY. */
+static inline real_t dtc3l_np_current_unchecked(uint8_t state, const real_t i_abc[3])
+{
+    const real_t *k = dtc3l_np_legs[state];
+    return num_mul(k[0], i_abc[0]) + num_mul(k[1], i_abc[1]) + num_mul(k[2], i_abc[2]);
+}
+
 /** Neutral-point current drawn by @p state (others: 0): the sum of the phase
  *  currents of its legs at O, A. Context: ANY. */
 static inline real_t dtc3l_np_current(uint8_t state, const real_t i_abc[3])
 {
-    if (state >= DTC3L_N_STATES)
-        return R(0.0);
-    const real_t *k = dtc3l_np_legs[state];
-    return num_mul(k[0], i_abc[0]) + num_mul(k[1], i_abc[1]) + num_mul(k[2], i_abc[2]);
+    return state < DTC3L_N_STATES ? dtc3l_np_current_unchecked(state, i_abc) : R(0.0);
+}
+
+/** dtc3l_pn_step for @p from and @p to 0..26 (unchecked). Context: ANY. */
+static inline bool dtc3l_pn_step_unchecked(uint8_t from, uint8_t to)
+{
+    return ((dtc3l_pn_step_mask[from] >> to) & 1u) != 0u;
 }
 
 /** True when going from @p from to @p to steps some leg directly between P and N
  *  (false when either is not a state). Context: ANY. */
 static inline bool dtc3l_pn_step(uint8_t from, uint8_t to)
 {
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return false;
-    return ((dtc3l_pn_step_mask[from] >> to) & 1u) != 0u;
+    return from < DTC3L_N_STATES && to < DTC3L_N_STATES && dtc3l_pn_step_unchecked(from, to);
 }
+
+/** dtc3l_leg_changes for @p from and @p to 0..26 (unchecked). Context: ANY. */
+static inline uint8_t dtc3l_leg_changes_unchecked(uint8_t from, uint8_t to) { return dtc3l_changes[from][to]; }
 
 /** Number of leg commutations from @p from to @p to (N<->O and O<->P count 1;
  *  0 when either is not a state). Context: ANY. */
 static inline uint8_t dtc3l_leg_changes(uint8_t from, uint8_t to)
 {
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return 0u;
-    return dtc3l_changes[from][to];
+    return from < DTC3L_N_STATES && to < DTC3L_N_STATES ? dtc3l_leg_changes_unchecked(from, to) : 0u;
 }
+
+/** dtc3l_pn_safe for @p from and @p to 0..26 (unchecked). Context: ANY. */
+static inline uint8_t dtc3l_pn_safe_unchecked(uint8_t from, uint8_t to) { return dtc3l_pn_safe_to[from][to]; }
 
 /** @p to with every leg that would step between P and N from @p from held at O
  *  (OOO when either is not a state). Context: ANY. */
 static inline uint8_t dtc3l_pn_safe(uint8_t from, uint8_t to)
 {
-    if (from >= DTC3L_N_STATES || to >= DTC3L_N_STATES)
-        return DTC3L_STATE_OOO;
-    return dtc3l_pn_safe_to[from][to];
+    return from < DTC3L_N_STATES && to < DTC3L_N_STATES ? dtc3l_pn_safe_unchecked(from, to) : (uint8_t)DTC3L_STATE_OOO;
 }
 
 /* ---------------------------------------------------- table (dtc3l_table.c) */
@@ -300,6 +340,35 @@ static inline uint8_t dtc3l_sector6(real_t psi_alpha, real_t psi_beta)
     if (psi_alpha >= R(0.0))
         return (uint8_t)(near_axis ? 0u : (psi_beta >= R(0.0) ? 1u : 5u));
     return (uint8_t)(near_axis ? 3u : (psi_beta >= R(0.0) ? 2u : 4u));
+}
+
+/** dtc3l_sector (@p sector) and dtc3l_sector6 (@p sector6) of the same flux
+ *  with one set of compares: the 60 deg sectors' boundary at 30 deg from the
+ *  alpha axis lies inside 12-sector 1 of the quadrant, so it is the one more
+ *  compare there (below 15 deg it is near the axis, from 45 deg on it is not;
+ *  the products by tan15 < tan30 < 1 keep that order in floats). Context: ANY. */
+static inline void dtc3l_sectors(real_t psi_alpha, real_t psi_beta, uint8_t *sector, uint8_t *sector6)
+{
+    real_t ax = num_abs(psi_alpha), ay = num_abs(psi_beta);
+    unsigned q;
+    bool near_axis;
+    if (ay < num_mul(DTC3L_TAN15, ax)) {
+        q = 0u;
+        near_axis = true;
+    } else if (ay < ax) {
+        q = 1u;
+        near_axis = ay < num_mul(DTC3L_TAN30, ax);
+    } else {
+        q = ay < num_mul(DTC3L_TAN75, ax) ? 2u : 3u;
+        near_axis = false;
+    }
+    if (psi_alpha >= R(0.0)) {
+        *sector = (uint8_t)(psi_beta >= R(0.0) ? q : (12u - q) % 12u);
+        *sector6 = (uint8_t)(near_axis ? 0u : (psi_beta >= R(0.0) ? 1u : 5u));
+    } else {
+        *sector = (uint8_t)(psi_beta >= R(0.0) ? 6u - q : 6u + q);
+        *sector6 = (uint8_t)(near_axis ? 3u : (psi_beta >= R(0.0) ? 2u : 4u));
+    }
 }
 
 /** Space vector at direction @p dir (0..11 after mod 12, 30 deg steps); even
@@ -400,12 +469,18 @@ static inline real_t dtc3l_edge_fraction(real_t te_Nm, real_t slope_Nm_s, real_t
     return num_div(gap, reach);
 }
 
+/** dTe/dt under the stator voltage @p v (alpha, beta), N m/s (dte0 + dte_dv . v). Context: ANY. */
+static inline real_t dtc3l_voltage_slope(const dtc3l_in *in, const real_t v[2])
+{
+    return in->dte0_Nm_s + num_mul(in->dte_dv[0], v[0]) + num_mul(in->dte_dv[1], v[1]);
+}
+
 /** dTe/dt under space vector state @p state, N m/s (dte0 + dte_dv . v). Context: ANY. */
 static inline real_t dtc3l_state_slope(const dtc3l_in *in, uint8_t state)
 {
     real_t v[2];
     dtc3l_state_voltage(state, in->vc1_V, in->vc2_V, v);
-    return in->dte0_Nm_s + num_mul(in->dte_dv[0], v[0]) + num_mul(in->dte_dv[1], v[1]);
+    return dtc3l_voltage_slope(in, v);
 }
 
 /* ----------------------------------------------------- step (dtc3l.c) */

@@ -71,6 +71,7 @@ typedef struct {
     scope_src src[SCOPE_CHANNELS];
     uint8_t armed_channel[SCOPE_CHANNELS]; /**< signal numbers of the capture (for the reader) */
     uint8_t n_ch;                       /**< channels in use */
+    bool all_f32;                       /**< every channel in use is SCOPE_SRC_F32: stored as read */
     uint8_t trigger;                    /**< scope_trigger of the capture */
     uint16_t pretrigger;
     uint16_t decimation;
