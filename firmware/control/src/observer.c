@@ -100,10 +100,10 @@ static void model_apply(const model_matrix *a, const real_t x[4], real_t out[4])
  * from 1 rad gave 0.6-0.8 rad there and the shaft ran away); the smaller
  * angle near standstill (0.56 rad at 0, 0.87 rad at 30 rpm) keeps the 30 rpm
  * points from the bias a large rotation gives where the stator frequency is
- * near zero (0.7 rad at 0 held two of them 0.4-0.5 rpm outside 5 rpm). cos and sin by their Taylor
- * series to the 4th and 5th power: |phi| <= 1.5 rad keeps the error below
- * 0.1 % of the rotation, and only + and x keep the host and target results
- * bit-identical. */
+ * near zero (0.7 rad at 0 held two of them 0.4-0.5 rpm outside 5 rpm). cos
+ * and sin by their Taylor series to the 4th and 5th power: |phi| <= 1.5 rad
+ * keeps the error below 0.1 % of the rotation, and only + and x keep the host
+ * and target results bit-identical. */
 #define REGEN_MIN_NM R(2.0)        /* below this the sign of a torque is noise */
 #define REGEN_SHAPE_AT_ZERO R(0.4) /* shape at standstill */
 #define REGEN_RISE R(3.0)          /* shape per unit of |omega|/speed below the plateau: 1 at 0.2 */
