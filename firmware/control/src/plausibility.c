@@ -14,7 +14,6 @@ void plaus_reset(plaus_state *p)
     for (int k = 0; k < 3; k++) {
         p->stuck_ticks[k] = 0u;
         p->open_ticks[k] = 0u;
-        p->open_limit_ticks[k] = 0u;
         p->open_peak_A[k] = R(0.0);
         p->last_A[k] = R(0.0);
     }
@@ -27,14 +26,11 @@ static uint16_t count(uint16_t n, bool cond)
 }
 
 /* Half an electrical period at |omega_e| = @p w_rad_s (above the judging
- * frequency), in ticks of @p period_s, at least PLAUS_OPEN_MIN_TICKS (and at
- * most what the counter holds). */
-static uint16_t half_period_ticks(real_t w_rad_s, real_t period_s)
+ * frequency), in ticks of @p period_s, at least PLAUS_OPEN_MIN_TICKS. */
+static uint32_t half_period_ticks(real_t w_rad_s, real_t period_s)
 {
-    real_t n = num_div(NUM_PI, num_mul(w_rad_s, period_s));
-    if (!(n < R(60000.0)))
-        return 60000u;
-    return n < (real_t)PLAUS_OPEN_MIN_TICKS ? (uint16_t)PLAUS_OPEN_MIN_TICKS : (uint16_t)n;
+    uint32_t n = (uint32_t)(NUM_PI / num_mul(w_rad_s, period_s));
+    return n < PLAUS_OPEN_MIN_TICKS ? PLAUS_OPEN_MIN_TICKS : n;
 }
 
 uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stopped, real_t omega_e_rad_s,
@@ -74,21 +70,13 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
             f |= CTL_FAULT_CURRENT_SENSOR;
         p->last_A[k] = i[k];
         /* The two remaining currents cross zero too: the magnitude is judged by its
-         * peak over the time the phase has been at ~0 A, not tick by tick. The
-         * half period is taken when the phase comes to ~0 A, at a speed the lost
-         * phase has not yet disturbed; judged from then on whatever the estimate
-         * does (plausibility.h). */
-        bool near_zero = num_abs(i[k]) < PLAUS_OPEN_A;
-        if (!near_zero || (p->open_ticks[k] == 0u && !judge_open)) {
-            p->open_ticks[k] = 0u;
-            p->open_peak_A[k] = R(0.0);
-            continue;
-        }
-        if (p->open_ticks[k] == 0u)
-            p->open_limit_ticks[k] = half_period_ticks(w, period_s);
-        p->open_ticks[k] = count(p->open_ticks[k], true);
-        p->open_peak_A[k] = mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k];
-        if (p->open_ticks[k] > p->open_limit_ticks[k] && p->open_peak_A[k] > PLAUS_CURRENT_A)
+         * peak over the time the phase has been at ~0 A, not tick by tick. */
+        bool open = judge_open && num_abs(i[k]) < PLAUS_OPEN_A;
+        p->open_ticks[k] = count(p->open_ticks[k], open);
+        p->open_peak_A[k] = open ? (mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k]) : R(0.0);
+        /* the half period is at least PLAUS_OPEN_MIN_TICKS: worked out only past that */
+        if (p->open_ticks[k] > PLAUS_OPEN_MIN_TICKS && p->open_ticks[k] > half_period_ticks(w, period_s) &&
+            p->open_peak_A[k] > PLAUS_CURRENT_A)
             f |= CTL_FAULT_PHASE_LOSS;
     }
     return f;

@@ -13,10 +13,7 @@
  *  - phase loss: one phase near 0 A for longer than half an electrical period
  *    while the others carried current (the magnitude exceeded
  *    PLAUS_CURRENT_A meanwhile); not judged below PLAUS_PHASE_MIN_HZ, where a
- *    healthy phase may sit near zero for long. The half period is the one at
- *    the estimated speed when the phase came to 0 A: a lost phase throws the
- *    observer's model out, and its estimate fell from 600 to 25-90 rpm within
- *    40 ms of an opened phase (the half period then grows without bound).
+ *    healthy phase may sit near zero for long.
  *  - DC dividers: while stopped (no neutral-point current) the two capacitors
  *    share the link equally, so |vc1 - vc2| beyond PLAUS_DIVIDER_REL of the
  *    link is a divider or sensor error. A common error of both dividers keeps
@@ -59,7 +56,6 @@ typedef struct {
     uint16_t sum_ticks;       /**< ticks in a row with an implausible current sum */
     uint16_t stuck_ticks[3];  /**< ticks in a row with a repeated reading, per phase */
     uint16_t open_ticks[3];   /**< ticks in a row with a phase near 0 A */
-    uint16_t open_limit_ticks[3]; /**< half an electrical period when that began, ticks (0: not judged) */
     float open_peak_A[3];     /**< largest current magnitude seen meanwhile, A */
     float last_A[3];          /**< the readings of the previous check, A */
 } plaus_state;
