@@ -509,16 +509,19 @@ TEST(Regenerating, RatedLoadDrivingTheMotorAt100RpmTripsWhenTheEstimateIsLost)
         ASSERT_TRUE(r.m.runaway) << "the forcing no longer loses the shaft: this test needs another forcing";
         EXPECT_NE(r.m.faults & (CTL_FAULT_STALL | CTL_FAULT_LOSS_OF_CONTROL), 0u) << "faults 0x" << std::hex
                                                                                   << r.m.faults;
-        // Measured: ideal inverter STALL 0.30 s after the command reaches its limit
+        // Measured: real inverter STALL 0.20 s after the command reaches its limit
         // (the braking stall: off speed, then 0.1 s windows in which the estimate does
-        // not fall); real inverter LOSS_OF_CONTROL 0.47 s after the load, before the
-        // command reached its limit. The stall timer alone took 1.2-1.3 s (the shaft at
-        // 8,600-9,600 rpm by then), and before the braking stall nothing tripped.
+        // not fall); ideal inverter LOSS_OF_CONTROL 0.57 s after the load, before the
+        // command reached its limit (0.30 s after the limit and 0.47 s after the load,
+        // the other way round, before issue 11's round 4: which check sees it first is
+        // chaotic). The stall timer alone took 1.2-1.3 s (the shaft at 8,600-9,600 rpm
+        // by then), and before the braking stall nothing tripped.
         EXPECT_GE(t_trip, 0.0);
         if (t_limit >= 0.0 && t_limit < t_trip)
             EXPECT_LE(t_trip - t_limit, 0.4);
         else
-            EXPECT_LE(t_trip - 2.5, 0.6); // from the load step
+            EXPECT_LE(t_trip - 2.5, 0.8); // from the load step: the monitor's 10 ms once the
+                                          // estimate has left the shaft by its level
     }
 }
 

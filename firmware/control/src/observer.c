@@ -98,7 +98,7 @@ static void model_apply(const model_matrix *a, const real_t x[4], real_t out[4])
  * sweep (docs/envelope.md section 6): the plateau holds rated regenerating
  * torque at 1.5-4 Hz of stator frequency (100-200 rpm; the old linear fade
  * from 1 rad gave 0.6-0.8 rad there and the shaft ran away); the smaller
- * angle near standstill (0.56 rad at 0, 0.87 rad at 30 rpm) keeps the 30 rpm
+ * angle near standstill (0.56 rad at 0, 0.82 rad at 30 rpm) keeps the 30 rpm
  * points from the bias a large rotation gives where the stator frequency is
  * near zero (0.7 rad at 0 held two of them 0.4-0.5 rpm outside 5 rpm). cos
  * and sin by their Taylor series to the 4th and 5th power: |phi| <= 1.5 rad
