@@ -100,7 +100,8 @@ static void model_apply(const model_matrix *a, const real_t x[4], real_t out[4])
  * from 1 rad gave 0.6-0.8 rad there and the shaft ran away); the smaller
  * angle near standstill (0.56 rad at 0, 0.82 rad at 30 rpm) keeps the 30 rpm
  * points from the bias a large rotation gives where the stator frequency is
- * near zero (0.7 rad at 0 held two of them 0.4-0.5 rpm outside 5 rpm). cos
+ * near zero (0.7 rad at 0 held two of them 0.4-0.5 rpm outside 5 rpm 2.5 s
+ * after the load; held longer they drift anyway, docs/envelope.md). cos
  * and sin by their Taylor series to the 4th and 5th power: |phi| <= 1.5 rad
  * keeps the error below 0.1 % of the rotation, and only + and x keep the host
  * and target results bit-identical. */
