@@ -463,6 +463,34 @@ TEST(Dtc3lStates, NoChoiceEverStepsALegBetweenPAndN)
     }
 }
 
+// A random DTC input over the operating range (torque, flux, currents, slopes,
+// speed, capacitor voltages), for the randomized tests below; prev_state is left
+// to the caller.
+dtc3l_in random_dtc_input(std::mt19937 &rng)
+{
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    dtc3l_in in{};
+    in.te_ref_Nm = 30 * u(rng);
+    in.psi_ref_Wb = 0.45f;
+    in.te_Nm = in.te_ref_Nm + 6 * u(rng);
+    float th = 3.2f * u(rng);
+    float ps = 0.45f + 0.03f * u(rng);
+    in.psi_s_Wb[0] = ps * std::cos(th);
+    in.psi_s_Wb[1] = ps * std::sin(th);
+    in.is_A[0] = 30 * u(rng);
+    in.is_A[1] = 30 * u(rng);
+    in.dte0_Nm_s = 40000 * u(rng);
+    in.dte_dv[0] = 500 * u(rng);
+    in.dte_dv[1] = 500 * u(rng);
+    in.rs_ohm = 0.288f;
+    in.omega_e_rad_s = 400 * u(rng);
+    in.omega_m_rad_s = in.omega_e_rad_s / 2;
+    in.vc1_V = 155.5f + 10 * u(rng);
+    in.vc2_V = 155.5f + 10 * u(rng);
+    in.np_dev_V = in.vc1_V - in.vc2_V;
+    return in;
+}
+
 // Random decisions of the full DTC step: consecutive vectors inside a period
 // and across periods never step a leg between P and N.
 TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
@@ -470,32 +498,13 @@ TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
     ctl_cfg cfg;
     ctl_cfg_default(&cfg);
     std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(-1.f, 1.f);
     for (int ripple = 0; ripple < 2; ++ripple) {
         cfg.dtc.ripple_reduction = ripple != 0;
         dtc3l s;
         dtc3l_init(&s);
         uint8_t prev = DTC3L_STATE_OOO;
         for (int k = 0; k < 200000; ++k) {
-            dtc3l_in in{};
-            in.te_ref_Nm = 30 * u(rng);
-            in.psi_ref_Wb = 0.45f;
-            in.te_Nm = in.te_ref_Nm + 6 * u(rng);
-            float th = 3.2f * u(rng);
-            float ps = 0.45f + 0.03f * u(rng);
-            in.psi_s_Wb[0] = ps * std::cos(th);
-            in.psi_s_Wb[1] = ps * std::sin(th);
-            in.is_A[0] = 30 * u(rng);
-            in.is_A[1] = 30 * u(rng);
-            in.dte0_Nm_s = 40000 * u(rng);
-            in.dte_dv[0] = 500 * u(rng);
-            in.dte_dv[1] = 500 * u(rng);
-            in.rs_ohm = 0.288f;
-            in.omega_e_rad_s = 400 * u(rng);
-            in.omega_m_rad_s = in.omega_e_rad_s / 2;
-            in.vc1_V = 155.5f + 10 * u(rng);
-            in.vc2_V = 155.5f + 10 * u(rng);
-            in.np_dev_V = in.vc1_V - in.vc2_V;
+            dtc3l_in in = random_dtc_input(rng);
             in.prev_state = prev;
             dtc3l_out out;
             dtc3l_step(&s, &cfg.dtc, 200e-6f, &in, &out);
@@ -518,27 +527,8 @@ TEST(Dtc3lStates, InvalidPreviousStateCountsAsOoo)
     ctl_cfg cfg;
     ctl_cfg_default(&cfg);
     std::mt19937 rng(5);
-    std::uniform_real_distribution<float> u(-1.f, 1.f);
     for (int k = 0; k < 20000; ++k) {
-        dtc3l_in in{};
-        in.te_ref_Nm = 30 * u(rng);
-        in.psi_ref_Wb = 0.45f;
-        in.te_Nm = in.te_ref_Nm + 6 * u(rng);
-        float th = 3.2f * u(rng);
-        float ps = 0.45f + 0.03f * u(rng);
-        in.psi_s_Wb[0] = ps * std::cos(th);
-        in.psi_s_Wb[1] = ps * std::sin(th);
-        in.is_A[0] = 30 * u(rng);
-        in.is_A[1] = 30 * u(rng);
-        in.dte0_Nm_s = 40000 * u(rng);
-        in.dte_dv[0] = 500 * u(rng);
-        in.dte_dv[1] = 500 * u(rng);
-        in.rs_ohm = 0.288f;
-        in.omega_e_rad_s = 400 * u(rng);
-        in.omega_m_rad_s = in.omega_e_rad_s / 2;
-        in.vc1_V = 155.5f + 10 * u(rng);
-        in.vc2_V = 155.5f + 10 * u(rng);
-        in.np_dev_V = in.vc1_V - in.vc2_V;
+        dtc3l_in in = random_dtc_input(rng);
         dtc3l a, b;
         dtc3l_init(&a);
         a.level = uint8_t(k & 1 ? DTC3L_LEVEL_HIGH : DTC3L_LEVEL_LOW);
