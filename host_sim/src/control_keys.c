@@ -58,6 +58,7 @@ static const sim_control_key keys[] = {
     REAL("obs_regen_angle_rad", obs.regen_angle_rad, 0.0, 1.5, "rad"),
     REAL("obs_regen_speed_rad_s", obs.regen_speed_rad_s, 1e-3, 2000.0, "rad/s"),
     REAL("obs_rs_ident_tol", rs_ident_tol, 0.0, 1.0, "1"),
+    REAL("regen_flux_min_frac", regen_flux_min_frac, 0.5, 1.0, "1"),
     /* protection */
     REAL("i_trip_A", i_trip_A, 0.0, 1000.0, "A"),
     REAL("vdc_max_V", vdc_max_V, 0.0, 2000.0, "V"),

@@ -73,15 +73,16 @@ TEST(Duty, OverhaulingLoadIsFlaggedAsRunaway)
 // 20.5 N m driving load. The sensorless estimate stays near 125 rpm while the shaft runs away,
 // so neither the overspeed trip (on the estimate) nor the loss-of-control monitor (not judged at
 // low stator frequency) sees it; the stall trip does, from the torque command pinned at the limit.
-// The firmware's low-speed measures (regenerating-mode stabilisation, dead-time compensation) now
-// hold this point; they are switched off here to keep the runaway that the stall trip must catch.
+// The firmware's low-speed measures (regenerating-mode stabilisation, lowered flux near zero
+// stator frequency, dead-time compensation) now hold this point; they are switched off here to
+// keep the runaway that the stall trip must catch.
 // When the runaway starts is chaotic (a one-ulp change in the RBFN basis moved the first escape
 // that is not caught from about 2 s to 4.4 s); 7 s covers both.
 TEST(Duty, SilentLowSpeedGeneratingRunawayTripsStall)
 {
     auto l = simtest::parse_text("[sim]\nduration_s = 7\n[controller]\nname = rbfn\n"
                                  "[reference]\nramp = 0.3 0.5 30\n[load]\nstep = 1.2 -20.5\n"
-                                 "[control]\nobs_regen_angle_rad = 0\ndead_time_comp_s = 0\n");
+                                 "[control]\nobs_regen_angle_rad = 0\nregen_flux_min_frac = 1\ndead_time_comp_s = 0\n");
     ASSERT_EQ(l.rc, 0) << l.error;
     sim_result res;
     ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;

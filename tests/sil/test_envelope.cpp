@@ -478,6 +478,49 @@ TEST(Regenerating, RatedLoadDrivingTheMotorAt100RpmIsHeld)
     }
 }
 
+// A load driving the motor near zero stator frequency (rotor speed minus the
+// slip within about 1 Hz of zero): the speed is not observable there, and at
+// rated flux the estimate drifted for seconds (80 rpm with 41 N m ran at
+// 118-123 rpm). The drive lowers the flux so that the stator frequency passes
+// through zero to the side opposing the rotation (ctl.c, regen_flux_factor):
+// held within 5 rpm for 10 s on both inverters. With the flux kept at rated
+// (regen_flux_min_frac = 1) the 80 rpm point must still drift beyond 5 rpm,
+// or this test no longer tests the lowering.
+TEST(Regenerating, NearZeroStatorFrequencyIsHeldWithLoweredFlux)
+{
+    struct Point {
+        double rpm, load_Nm;
+    };
+    for (bool real : {false, true}) {
+        for (Point p : {Point{30, -20.5}, Point{-30, 20.5}, Point{45, -20.5}, Point{60, -30.75}, Point{80, -41}}) {
+            SCOPED_TRACE(std::string(real ? "real" : "ideal") + " inverter, " + std::to_string(p.rpm) + " rpm");
+            char ramp[64], load[64];
+            std::snprintf(ramp, sizeof ramp, "reference.ramp=0.3 0.5 %g", p.rpm);
+            std::snprintf(load, sizeof load, "load.step=1.2 %g", p.load_Nm);
+            std::vector<std::string> sets = {ramp, load, "sim.duration_s=12.2", "metrics.window=point 11.2 12.2"};
+            if (real)
+                sets.insert(sets.end(), {"inverter.dead_time_s=2e-6", "inverter.v_on_V=1", "control.v_drop_V=1"});
+            SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN, sets);
+            ASSERT_EQ(r.status, SIM_OK) << r.error;
+            double n = window_speed(r.m, "point");
+            std::printf("[envelope] %g rpm, %g N m generating, %s: %.2f rpm after 10 s, faults 0x%x\n", p.rpm,
+                        p.load_Nm, real ? "real" : "ideal", n, r.m.faults);
+            EXPECT_EQ(r.m.faults, 0u);
+            EXPECT_FALSE(r.m.runaway);
+            EXPECT_NEAR(n, p.rpm, 5.0);
+        }
+        std::vector<std::string> rated = {"reference.ramp=0.3 0.5 80", "load.step=1.2 -41", "sim.duration_s=12.2",
+                                          "metrics.window=point 11.2 12.2", "control.regen_flux_min_frac=1"};
+        if (real)
+            rated.insert(rated.end(), {"inverter.dead_time_s=2e-6", "inverter.v_on_V=1", "control.v_drop_V=1"});
+        SimRun r = run_sim("operating_point.ini", SCENARIO_CTL_RBFN, rated);
+        ASSERT_EQ(r.status, SIM_OK) << r.error;
+        std::printf("[envelope] 80 rpm, -41 N m, flux kept rated, %s: %.2f rpm\n", real ? "real" : "ideal",
+                    window_speed(r.m, "point"));
+        EXPECT_GT(window_speed(r.m, "point") - 80.0, 5.0);
+    }
+}
+
 // When the estimate does lose the shaft in that region anyway (forced here:
 // the regenerating-mode rotation off, as on the firmware before it held this
 // point), the drive must trip, not push at its torque limit while the motor

@@ -1,10 +1,9 @@
 """The whole capability sweep (issue 8 part 3): the 135 grid points inside the rated envelope on
 both inverter models, with the firmware defaults, each held 10 s under its load. Every point
-holds (no fault, no runaway, the mean speed over the last second within the 5 rpm of the
-criterion) except where the stator frequency is within 0.2 Hz of zero: there (+-30 rpm with
-20.5 N m generating, 0.09 Hz) the speed is hardly observable from the terminals and the estimate
-drifts by 8-11 rpm over the 10 s (docs/envelope.md, "Capability sweep"); those points must still
-neither trip nor run away. Reads the sweep's own CSV."""
+holds: no fault, no runaway, the mean speed over the last second within the 5 rpm of the
+criterion. That includes +-30 rpm with 20.5 N m generating, where the stator frequency at rated
+flux is 0.09 Hz: the drive lowers the flux there (ctl.c, regen_flux_factor; before, the estimate
+drifted by 8-11 rpm over the 10 s, docs/envelope.md section 6). Reads the sweep's own CSV."""
 import csv
 import os
 import subprocess
@@ -14,7 +13,6 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[2]
 SCRIPT = REPO / "tools" / "envelope_sweep.py"
 SIM = Path(os.environ.get("DTC_SIM", REPO / "build" / "host" / "bin" / "dtc-sim"))
-ZERO_FS_HZ = 0.2
 
 
 def test_every_rated_point_holds_on_both_inverters(tmp_path):
@@ -26,7 +24,6 @@ def test_every_rated_point_holds_on_both_inverters(tmp_path):
     print("\n".join(l for l in r.stdout.splitlines() if "points hold" in l or "fails:" in l or "wall time" in l))
     print(r.stderr[-3000:])
     assert r.returncode == 0
-    near_zero = 0
     for inverter in ("real", "ideal"):
         with open(out / inverter / "results.csv", newline="", encoding="utf-8") as f:
             rows = list(csv.DictReader(f))
@@ -34,9 +31,5 @@ def test_every_rated_point_holds_on_both_inverters(tmp_path):
         for row in rows:
             where = f"{inverter} {row['name']} (f_s {float(row['fs_hz']):+.2f} Hz)"
             assert int(row["faults"]) == 0 and row["runaway"] == "False", where
-            if abs(float(row["fs_hz"])) < ZERO_FS_HZ:
-                near_zero += 1
-                continue
             assert row["holds"] == "True", where
             assert abs(float(row["speed_rpm"]) - float(row["rpm"])) <= 5.0, where
-    assert near_zero == 6  # +-30 rpm with 20.5 N m generating and 0 rpm without load, on both inverters

@@ -74,6 +74,7 @@ void ctl_cfg_default(ctl_cfg *cfg)
     cfg->fsw_max_hz = R(850.0);            /* 0.5..1 kHz at 500 rpm, <= 1.5 kHz everywhere */
     cfg->band_scale_max = R(4.0);
     cfg->rs_ident_tol = R(0.1); /* docs/envelope.md section 6 */
+    cfg->regen_flux_min_frac = R(0.7); /* docs/envelope.md section 6; the torque limit at 0.7 x rated flux is 44.6 N m */
     cfg->guard.wc_rad_s = R(6.0);          /* 1 Hz */
     cfg->guard.flux_err_frac = R(0.15);
     cfg->guard.time_s = R(0.01);
@@ -116,6 +117,11 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->inv_fsw_max_s = cfg->fsw_max_hz > R(0.0) ? num_div(R(1.0), cfg->fsw_max_hz) : R(0.0);
     cfg->fw_v_per_vdc = num_mul(cfg->fw_voltage_frac, NUM_INV_SQRT3);
     cfg->te_limit_Nm_Wb2 = num_mul(cfg->te_pullout_frac, cfg->te_pullout_Nm_Wb2);
+    /* rated-flux slip per N m: Rr / (1.5 p psi_r^2), psi_r = psi_ref Lm / Ls (no load) */
+    real_t psi_r = num_div(num_mul(cfg->dtc.psi_ref_Wb, m->Lm_H), m->Ls_H);
+    real_t slip_den = num_mul(num_mul(R(1.5), m->pole_pairs), num_mul(psi_r, psi_r));
+    cfg->slip_rad_s_per_Nm = slip_den > R(0.0) ? num_div(m->Rr_ohm, slip_den) : R(0.0);
+    cfg->regen_k2_min = num_mul(cfg->regen_flux_min_frac, cfg->regen_flux_min_frac);
 }
 
 int ctl_cfg_check(const ctl_cfg *cfg)
@@ -135,7 +141,7 @@ int ctl_cfg_check(const ctl_cfg *cfg)
     const observer_cfg *o = &cfg->obs;
     if (!(o->k_gain >= R(1.0) && o->kp_speed >= R(0.0) && o->ki_speed >= R(0.0) && o->ki_rs >= R(0.0) &&
           o->speed_lpf_hz >= R(0.0) && o->regen_angle_rad >= R(0.0) && o->regen_angle_rad <= R(1.5) &&
-          o->regen_speed_rad_s > R(0.0)))
+          o->regen_speed_rad_s > R(0.0) && cfg->regen_flux_min_frac >= R(0.5) && cfg->regen_flux_min_frac <= R(1.0)))
         return CTL_CFG_E_OBSERVER;
     if (!(cfg->i_trip_A > R(0.0) && cfg->vdc_max_V > R(0.0) && cfg->vdc_min_V >= R(0.0) &&
           cfg->vdc_min_V < cfg->vdc_max_V && cfg->np_trip_V > R(0.0) && cfg->overspeed_rad_s > R(0.0) &&
@@ -410,6 +416,47 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
     observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
 }
 
+/* Lowered flux for regeneration near zero stator frequency. A load driving
+ * the motor at low speed puts the stator frequency (rotor speed minus the
+ * slip) near zero, where the speed estimate drifts (the machine is not
+ * observable there; docs/envelope.md section 6). The slip grows as 1/flux^2
+ * at a given torque, so a lower flux takes the stator frequency through zero
+ * to the side opposing the rotation, LOWFLUX_MARGIN_RAD_S beyond it, where
+ * the observer holds the speed. Decided on the rated-flux slip of the torque
+ * command and the estimated speed (neither moves with the flux, so the
+ * decision does not feed back on itself), with hysteresis; only where a flux
+ * of at least regen_flux_min_frac x rated reaches the margin (the torque
+ * limit at that flux stays above the rated torque). Returns the flux factor
+ * (1 = rated) and sets the observer's regen_low_flux. */
+#ifndef LOWFLUX_MARGIN_RAD_S
+#define LOWFLUX_MARGIN_RAD_S R(2.5)    /* stator frequency aimed at: 0.4 Hz against the rotation */
+#endif
+#ifndef LOWFLUX_ENTER_RAD_S
+#define LOWFLUX_ENTER_RAD_S R(6.3)     /* rated-flux stator frequency below which it starts, 1.0 Hz */
+#endif
+#define LOWFLUX_EXIT_RAD_S R(8.8)      /* ... and above which it ends, 1.4 Hz */
+#define LOWFLUX_EXIT_K2 R(0.92)        /* hysteresis of the reach test, x regen_k2_min */
+#define LOWFLUX_MIN_NM R(2.0)          /* below this the sign of the command is noise */
+static real_t regen_flux_factor(ctl_state *s, const ctl_cfg *cfg)
+{
+    real_t w = s->obs.omega_e_rad_s;
+    real_t te = s->te_ref_Nm;
+    bool regen = s->run_state == CTL_RUNNING && (w >= R(0.0) ? te < -LOWFLUX_MIN_NM : te > LOWFLUX_MIN_NM);
+    if (!regen || !(cfg->regen_flux_min_frac < R(1.0))) { /* the usual case, and cheap */
+        s->obs.regen_low_flux = false;
+        return R(1.0);
+    }
+    real_t a = num_abs(w);
+    real_t slip = num_mul(num_abs(te), cfg->slip_rad_s_per_Nm);
+    real_t k2 = num_div(slip, a + LOWFLUX_MARGIN_RAD_S);
+    bool on = s->obs.regen_low_flux ? (a - slip < LOWFLUX_EXIT_RAD_S && k2 >= num_mul(LOWFLUX_EXIT_K2, cfg->regen_k2_min))
+                                    : (a - slip < LOWFLUX_ENTER_RAD_S && k2 >= cfg->regen_k2_min);
+    s->obs.regen_low_flux = on;
+    if (!on || k2 >= R(1.0))
+        return R(1.0);
+    return num_sqrt(k2 > cfg->regen_k2_min ? k2 : cfg->regen_k2_min);
+}
+
 /* Flux reference: rated, or what the measured DC link allows at the present
  * speed (field weakening), whichever is lower; slew-limited so that
  * magnetising does not trip. Then the torque limit at that flux. */
@@ -423,7 +470,7 @@ static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg, const hal_samp
     real_t over = num_div(s->te_short_Nm - cfg->dtc.torque_band2_Nm, cfg->speed.te_max_Nm);
     s->fw_trim = num_sat(s->fw_trim - num_mul(cfg->band_rate_T, over), R(0.85), R(1.0));
 
-    real_t target = cfg->dtc.psi_ref_Wb;
+    real_t target = num_mul(cfg->dtc.psi_ref_Wb, regen_flux_factor(s, cfg));
     real_t v_max = num_mul(num_mul(cfg->fw_v_per_vdc, s->fw_trim), x->vc1_V + x->vc2_V);
     real_t w = num_abs(s->obs.omega_e_rad_s);
     if (num_mul(target, w) > v_max)

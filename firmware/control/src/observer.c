@@ -110,8 +110,11 @@ static void model_apply(const model_matrix *a, const real_t x[4], real_t out[4])
 #define REGEN_RISE R(3.0)          /* shape per unit of |omega|/speed below the plateau: 1 at 0.2 */
 #define REGEN_PLATEAU_HI R(0.45)   /* end of the plateau, fraction of speed */
 #define REGEN_FALL R(1.81818182)   /* 1 / (1 - REGEN_PLATEAU_HI): 0 at speed */
+/* With the flux lowered so that the stator frequency opposes the rotation
+ * (observer.regen_low_flux): there the full angle pulls the estimate off. */
+#define REGEN_LOW_FLUX_SCALE R(0.25)
 static void rotate_for_regeneration(const observer_cfg *cfg, real_t omega_e, real_t te_Nm, real_t te_cmd_Nm,
-                                    const real_t e[2], real_t er[2])
+                                    bool low_flux, const real_t e[2], real_t er[2])
 {
     real_t w = num_abs(omega_e);
     bool regenerating = omega_e >= R(0.0) ? (te_Nm < -REGEN_MIN_NM && te_cmd_Nm < -REGEN_MIN_NM)
@@ -131,6 +134,8 @@ static void rotate_for_regeneration(const observer_cfg *cfg, real_t omega_e, rea
             shape = R(1.0);
     }
     real_t phi = num_mul(cfg->regen_angle_rad, shape);
+    if (low_flux)
+        phi = num_mul(phi, REGEN_LOW_FLUX_SCALE);
     if (omega_e < R(0.0))
         phi = -phi;
     real_t p2 = num_mul(phi, phi);
@@ -202,6 +207,7 @@ void observer_init(observer *s, const observer_cfg *cfg)
     s->omega_m_filt_rad_s = R(0.0);
     s->rs_ohm = cfg->m.rs_nom_ohm;
     s->te_cmd_Nm = R(0.0);
+    s->regen_low_flux = false;
 }
 
 void observer_gain(const observer_cfg *cfg, real_t omega_e, real_t rs_ohm, real_t g_is[2], real_t g_psi[2])
@@ -263,7 +269,7 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
 
     /* speed adaptation: PI on e x psi_r_hat (a Lyapunov-derived law) */
     real_t er[2];
-    rotate_for_regeneration(cfg, s->omega_e_rad_s, num_mul(m->kt, ccross(s->psi_r_Wb, is_meas)), s->te_cmd_Nm, e, er);
+    rotate_for_regeneration(cfg, s->omega_e_rad_s, num_mul(m->kt, ccross(s->psi_r_Wb, is_meas)), s->te_cmd_Nm, s->regen_low_flux, e, er);
     real_t eps = num_mul(er[0], s->psi_r_Wb[1]) - num_mul(er[1], s->psi_r_Wb[0]);
     s->omega_int_rad_s = num_limit(num_mac(m->ki_speed_T, eps, s->omega_int_rad_s), m->omega_max_rad_s);
     s->omega_e_rad_s = num_limit(num_mac(cfg->kp_speed, eps, s->omega_int_rad_s), m->omega_max_rad_s);

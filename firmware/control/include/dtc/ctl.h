@@ -58,7 +58,7 @@ enum ctl_cfg_error {
     CTL_CFG_E_MOTOR = -1,     /**< a motor parameter not > 0, or Ls, Lr not > Lm */
     CTL_CFG_E_PERIOD = -2,    /**< period_s outside 20e-6..2e-3 or vdc_nom_V not > 0 */
     CTL_CFG_E_DTC = -3,       /**< psi_ref not > 0, a band < 0, band2 <= band, level_down >= level_up, duty_min outside 0..0.45 */
-    CTL_CFG_E_OBSERVER = -4,  /**< k_gain < 1, a gain < 0 or speed_lpf_hz < 0 */
+    CTL_CFG_E_OBSERVER = -4,  /**< k_gain < 1, a gain < 0, speed_lpf_hz < 0 or regen_flux_min_frac outside 0.5..1 */
     CTL_CFG_E_PROTECTION = -5,/**< a trip level not > 0, or vdc_min_V >= vdc_max_V */
     CTL_CFG_E_SPEED = -6,     /**< speed_cfg_check failed */
 };
@@ -99,6 +99,8 @@ typedef struct {
     real_t v_drop_V;          /**< on-state drop of one device, V: subtracted from the applied voltage the
                                    observer and the loss-of-control monitor use (0 = none) */
     real_t band_scale_max;    /**< largest widening of the torque bands, x (>= 1) */
+    real_t regen_flux_min_frac; /**< lowest flux for low-speed regeneration, fraction of dtc.psi_ref_Wb,
+                                   0.5..1 (1 = never lowered; ctl.c, regen_flux_factor) */
     real_t rs_ident_tol;      /**< Rs identified while magnetising replaces the model's when they differ by
                                    more than this fraction, 0..1 (1 = never; dtc/rs_ident.h) */
     ctl_guard_cfg guard;      /**< loss-of-control monitor (voltage-model flux check) */
@@ -117,6 +119,8 @@ typedef struct {
     real_t inv_fsw_max_s;     /**< 1 / fsw_max_hz, s (0 when the regulation is off) */
     real_t fw_v_per_vdc;      /**< fw_voltage_frac / sqrt 3: usable phase voltage per volt of DC link */
     real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
+    real_t slip_rad_s_per_Nm; /**< electrical slip per N m at the rated flux, (rad/s)/(N m) */
+    real_t regen_k2_min;      /**< regen_flux_min_frac^2 */
     rs_ident_cfg rsid;        /**< constants of the Rs identification */
 } ctl_cfg;
 

@@ -29,7 +29,10 @@
  * regenerating-mode operation in sensorless induction motor drives by
  * full-order flux observer design", IEEE TIE 2004; the angle and its fade
  * here were chosen by the SIL capability sweep, docs/envelope.md section 6).
- * Near zero stator frequency no law helps: the machine is not observable there.
+ * Near zero stator frequency no law helps: the machine is not observable there,
+ * so the drive lowers the flux until the stator frequency opposes the rotation
+ * (ctl.c, regen_flux_factor; regen_low_flux), and the rotation is then a
+ * quarter of its angle (found on the capability sweep, docs/envelope.md section 6).
  *
  * Discretisation: the 2x2 complex system is advanced over one period with the
  * matrix exponential of the zero-order-hold step expanded to fourth order
@@ -47,6 +50,8 @@
  */
 #ifndef DTC_OBSERVER_H
 #define DTC_OBSERVER_H
+
+#include <stdbool.h>
 
 #include "dtc/motor_model.h"
 #include "dtc/num.h"
@@ -111,6 +116,9 @@ typedef struct {
     real_t rs_ohm;            /**< adapted stator resistance, ohm */
     real_t te_cmd_Nm;         /**< torque the drive commands in this period, N m; set by the caller
                                    before observer_step (0: none; gates the regenerating-mode rotation) */
+    bool regen_low_flux;      /**< set by the caller: the flux is lowered so that the stator frequency
+                                   opposes the rotation (ctl.c, lower_flux_for_regeneration); the
+                                   regenerating-mode rotation is then REGEN_LOW_FLUX_SCALE of its angle */
 } observer;
 
 /** What a step returns: estimates at t_k and the prediction for t_{k+1}. */
