@@ -428,12 +428,8 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
  * of at least regen_flux_min_frac x rated reaches the margin (the torque
  * limit at that flux stays above the rated torque). Returns the flux factor
  * (1 = rated) and sets the observer's regen_low_flux. */
-#ifndef LOWFLUX_MARGIN_RAD_S
 #define LOWFLUX_MARGIN_RAD_S R(2.5)    /* stator frequency aimed at: 0.4 Hz against the rotation */
-#endif
-#ifndef LOWFLUX_ENTER_RAD_S
 #define LOWFLUX_ENTER_RAD_S R(6.3)     /* rated-flux stator frequency below which it starts, 1.0 Hz */
-#endif
 #define LOWFLUX_EXIT_RAD_S R(8.8)      /* ... and above which it ends, 1.4 Hz */
 #define LOWFLUX_EXIT_K2 R(0.92)        /* hysteresis of the reach test, x regen_k2_min */
 #define LOWFLUX_MIN_NM R(2.0)          /* below this the sign of the command is noise */
