@@ -33,6 +33,8 @@ typedef struct {
     uint8_t last_leg[3];      /* leg states at the end of the programmed period */
     uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
     bool pn_step_seen;        /* as the target's BOARD_FAULT_PN_STEP */
+    bool idle_held;           /* gates off: the registers hold idle_req's programme, which repeats itself */
+    npc_request idle_req;     /* the last request programmed with the gates off */
 } pil_board;
 
 /* Stand-ins for the six timers' SET/RST/CMP1 registers and the update-disable
@@ -87,6 +89,7 @@ int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us)
     g_pil.tm.min_pulse = (uint32_t)((uint64_t)PIL_MIN_PULSE_NS * PIL_COUNT_HZ / 1000000000u);
     for (unsigned leg = 0u; leg < 3u; leg++)
         g_pil.last_leg[leg] = (uint8_t)HAL_LEG_O;
+    g_pil.idle_held = false;
     return HAL_OK;
 }
 
@@ -115,10 +118,10 @@ int hal_sample_read(hal_sample *out)
     return HAL_OK;
 }
 
-int hal_actuate(const hal_actuation *act)
+/* The target's work (hal_stm32g4.c program_period): plan each leg's
+ * switching events for the period and write them to the timers. */
+static __attribute__((noinline)) int program_period(const hal_actuation *act)
 {
-    if (act == NULL)
-        return HAL_EINVAL;
     _Static_assert(sizeof(hal_vector) == 3u && HAL_LEG_P == NPC_P, "two vectors: six leg codes, NPC numbering");
     if (!npc_legs_valid((const uint8_t *)act->vector)) /* any leg code above HAL_LEG_P */
         return HAL_EINVAL;
@@ -126,8 +129,6 @@ int hal_actuate(const hal_actuation *act)
         return HAL_EINVAL;
     if (g_pil.tm.per == 0u)
         return HAL_OK; /* tick not started: nothing to program */
-    /* The target's work (hal_stm32g4.c hal_actuate): plan each leg's switching
-     * events for the period and write them to the timers. */
     uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
     npc_instants instants;
     npc_instants_of(&g_pil.tm, t0, &instants); /* once for the three legs */
@@ -153,7 +154,36 @@ int hal_actuate(const hal_actuation *act)
     return HAL_OK;
 }
 
-void hal_gate_enable(bool enable) { g_pil.gates_on = enable && !g_pil.fault_input && g_pil.tick_running; }
+/* Gates off (as the target's actuate_gates_off): the request repeats (the
+ * zero vector); once a programme has left the legs where it found them, the
+ * preloaded registers hold what the same request would write again. */
+static __attribute__((noinline)) int actuate_gates_off(const hal_actuation *act)
+{
+    npc_request req = npc_request_of((const uint8_t *)act->vector, act->duty0);
+    if (g_pil.idle_held && npc_request_same(&req, &g_pil.idle_req))
+        return HAL_OK;
+    uint32_t prev = npc_legs_word(g_pil.last_leg);
+    int rc = program_period(act);
+    g_pil.idle_held = rc == HAL_OK && g_pil.tm.per != 0u && npc_legs_word(g_pil.last_leg) == prev;
+    g_pil.idle_req = req;
+    return rc;
+}
+
+int hal_actuate(const hal_actuation *act)
+{
+    if (act == NULL)
+        return HAL_EINVAL;
+    if (!g_pil.gates_on)
+        return actuate_gates_off(act);
+    return program_period(act);
+}
+
+void hal_gate_enable(bool enable)
+{
+    if (enable)
+        g_pil.idle_held = false; /* the running programmes will overwrite the held one */
+    g_pil.gates_on = enable && !g_pil.fault_input && g_pil.tick_running;
+}
 
 bool hal_gate_enabled(void) { return g_pil.gates_on; }
 

@@ -149,6 +149,8 @@ typedef struct {
     uint32_t min_pulse_counts;
     uint8_t last_leg[3];      /* leg state at the end of the last latched period */
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
+    bool idle_held;           /* gates off: the preloaded registers hold idle_req's programme, which repeats itself */
+    npc_request idle_req;     /* the last request programmed with the gates off */
     volatile bool gates_on;
     volatile bool fault_latched; /* set by the HRTIM fault ISR, reported once */
     uint32_t fault_inner_cycles; /* BOARD_FAULT_BACKUP_DELAY_NS in core cycles, set before the fault is armed */
@@ -478,6 +480,7 @@ static int hrtim_start(uint32_t period_us)
     }
     for (uint32_t leg = 0u; leg < 3u; leg++)
         g_board.last_leg[leg] = (uint8_t)HAL_LEG_O;
+    g_board.idle_held = false;
 
     HRTIM_ADC2R = HRTIM_ADC2R_AD2MC1;
     HRTIM_MICR = HRTIM_MICR_MCMP1C;
@@ -862,10 +865,10 @@ _Static_assert(NPC_EV_T == HRTIM_SET_CMP1 && NPC_EV_T == HRTIM_RST_CMP1, "CMP1 e
 _Static_assert(NPC_P == (unsigned)HAL_LEG_P && NPC_O == (unsigned)HAL_LEG_O && NPC_N == (unsigned)HAL_LEG_N,
                "leg states");
 
-int hal_actuate(const hal_actuation *act)
+/* Plan each leg's switching events for the period and write them to the
+ * timers' preloaded registers. */
+static __attribute__((noinline)) int program_period(const hal_actuation *act)
 {
-    if (act == NULL)
-        return HAL_EINVAL;
     _Static_assert(sizeof(hal_vector) == 3u, "the two vectors: six contiguous leg codes");
     if (!npc_legs_valid((const uint8_t *)act->vector)) /* any leg code above HAL_LEG_P */
         return HAL_EINVAL;
@@ -904,6 +907,33 @@ int hal_actuate(const hal_actuation *act)
     return HAL_OK;
 }
 
+/* Gates off (stopped, faulted: issue 11): the control asks for the same
+ * request every period (the zero vector). Once a programme has left the legs
+ * where it found them, the preloaded registers (transferred again at every
+ * roll-over, RM0440 HRTIM TxREPU) hold exactly what the same request would
+ * write, so nothing is written. Only here: with the gates on the request
+ * changes nearly every period and the test would cost. */
+static __attribute__((noinline)) int actuate_gates_off(const hal_actuation *act)
+{
+    npc_request req = npc_request_of((const uint8_t *)act->vector, act->duty0);
+    if (g_board.idle_held && npc_request_same(&req, &g_board.idle_req))
+        return HAL_OK;
+    uint32_t prev = npc_legs_word(g_board.last_leg);
+    int rc = program_period(act);
+    g_board.idle_held = rc == HAL_OK && g_board.per_counts != 0u && npc_legs_word(g_board.last_leg) == prev;
+    g_board.idle_req = req;
+    return rc;
+}
+
+int hal_actuate(const hal_actuation *act)
+{
+    if (act == NULL)
+        return HAL_EINVAL;
+    if (!g_board.gates_on)
+        return actuate_gates_off(act);
+    return program_period(act);
+}
+
 /* ------------------------------------------------------ gates and faults */
 
 /* The fault line reaches two pins, PB10 (FLT3: outer switches) and PB5 (EEV6:
@@ -929,6 +959,7 @@ void hal_gate_enable(bool enable)
         g_board.gates_on = false;
         return;
     }
+    g_board.idle_held = false; /* the running programmes will overwrite the held one */
     /* Refused (gates stay off) without a running tick, a valid calibration,
      * or while the fault line is low. */
     if (!g_board.tick_running || !g_board.adc_ok || fault_pin_active() || g_board.fault_latched)

@@ -54,6 +54,40 @@ static inline bool npc_legs_valid(const uint8_t legs[6])
     return bad == 0u;
 }
 
+/**
+ * An actuation's request as the gates-off repeat compares it (issue 11): the
+ * six leg codes and the duty's bits (no padding byte compared).
+ */
+typedef struct {
+    uint32_t legs_0123; /**< leg codes 0..3 of the two vectors, as stored */
+    uint32_t legs_45;   /**< leg codes 4 and 5 */
+    uint32_t duty_bits; /**< the duty's float bits */
+} npc_request;
+
+/** @return the request of leg codes @p legs (six contiguous bytes) and duty @p duty0. Context: ANY (pure). */
+static inline npc_request npc_request_of(const uint8_t legs[6], float duty0)
+{
+    npc_request r;
+    uint16_t h;
+    memcpy(&r.legs_0123, legs, sizeof r.legs_0123);
+    memcpy(&h, legs + 4, sizeof h);
+    r.legs_45 = h;
+    memcpy(&r.duty_bits, &duty0, sizeof r.duty_bits);
+    return r;
+}
+
+/** @return true when @p a and @p b are the same request. Context: ANY (pure). */
+static inline bool npc_request_same(const npc_request *a, const npc_request *b)
+{
+    return ((a->legs_0123 ^ b->legs_0123) | (a->legs_45 ^ b->legs_45) | (a->duty_bits ^ b->duty_bits)) == 0u;
+}
+
+/** @return the three leg states @p leg packed as one word, for an equality test. Context: ANY (pure). */
+static inline uint32_t npc_legs_word(const uint8_t leg[3])
+{
+    return (uint32_t)leg[0] | ((uint32_t)leg[1] << 8) | ((uint32_t)leg[2] << 16);
+}
+
 /** Timing of one PWM period, in timer counts. */
 typedef struct {
     uint32_t per;       /**< period, counts (> keepout + min_pulse) */

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -229,5 +230,45 @@ TEST(NpcPlan, LegsValidEqualsTheByteRule)
             valid = valid && legs[k] <= 2;
         }
         EXPECT_EQ(npc_legs_valid(legs), valid) << m;
+    }
+}
+
+// The gates-off repeat (hal_actuate) skips writing when the request is the
+// held one: the comparison must see every leg code and every bit of the duty,
+// and nothing else (the padding after the six codes).
+TEST(NpcPlan, RequestSameSeesEveryLegAndDutyBit)
+{
+    const uint8_t base[8] = {1, 1, 1, 1, 1, 1, 0xAA, 0x55};
+    const npc_request a = npc_request_of(base, 1.0f);
+    uint8_t padded[8] = {1, 1, 1, 1, 1, 1, 0x00, 0xFF};
+    const npc_request b = npc_request_of(padded, 1.0f);
+    EXPECT_TRUE(npc_request_same(&a, &b)); // padding ignored
+    for (int pos = 0; pos < 6; ++pos) {
+        for (uint8_t v : {uint8_t(0), uint8_t(2)}) {
+            uint8_t legs[8] = {1, 1, 1, 1, 1, 1, 0, 0};
+            legs[pos] = v;
+            const npc_request c = npc_request_of(legs, 1.0f);
+            EXPECT_FALSE(npc_request_same(&a, &c)) << "pos " << pos << " value " << int(v);
+        }
+    }
+    for (int bit = 0; bit < 32; ++bit) {
+        uint32_t u = 0x3F800000u ^ (1u << bit); // 1.0f with one bit flipped
+        float d;
+        std::memcpy(&d, &u, sizeof d);
+        const npc_request c = npc_request_of(base, d);
+        EXPECT_FALSE(npc_request_same(&a, &c)) << "duty bit " << bit;
+    }
+    const npc_request zero = npc_request_of(base, 0.0f);
+    EXPECT_FALSE(npc_request_same(&a, &zero));
+}
+
+TEST(NpcPlan, LegsWordIsOneToOne)
+{
+    for (int x = 0; x < 27; ++x) {
+        for (int y = 0; y < 27; ++y) {
+            const uint8_t a[3] = {uint8_t(x % 3), uint8_t(x / 3 % 3), uint8_t(x / 9)};
+            const uint8_t b[3] = {uint8_t(y % 3), uint8_t(y / 3 % 3), uint8_t(y / 9)};
+            EXPECT_EQ(npc_legs_word(a) == npc_legs_word(b), x == y) << x << " " << y;
+        }
     }
 }
