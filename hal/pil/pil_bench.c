@@ -180,7 +180,7 @@ static void scope_keep_armed(drive *d)
     d->scope.cfg.trigger = SCOPE_TRIG_REF;
     d->scope.cfg.pretrigger = SCOPE_SAMPLES / 2u;
     d->scope.cfg.decimation = 1u;
-    scope_arm(&d->scope, src, SCOPE_CHANNELS);
+    drive_scope_arm(d, src, SCOPE_CHANNELS);
 }
 
 static void print_err(const char *file, const char *what)

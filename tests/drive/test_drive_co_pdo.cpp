@@ -94,11 +94,13 @@ TEST(DriveCoPdo, LayoutAndScalingMatchTheDbc)
     s.omega_meas_rad_s = float(-12.34 / kRpmPerRadS);
     s.tel.te_ref_Nm = 8.126f;
     s.tel.psi_s_est_Wb = 0.4499f;
-    s.speed_err_rad_s = float(1.75 / kRpmPerRadS);
+    // speed_err_rad_s and vdc_diff_V are derived from the raw fields in the
+    // background's copy (drive_read_snapshot): 500 - 498.27 = 1.73 rpm, 300 - 301.234 V
     s.tel.eps_hat = -180.26f;
     s.tel.w_norm = 412.0f;
     s.tel.zeta_bar = 3.33f;
-    s.vdc_diff_V = -1.234f;
+    s.vc1_V = 300.0f;
+    s.vc2_V = 301.234f;
     s.tel.faults = 0x21u;
     s.tel.te_est_Nm = 100000.0f; // not mapped
     b.frames.clear();
@@ -112,14 +114,14 @@ TEST(DriveCoPdo, LayoutAndScalingMatchTheDbc)
     EXPECT_EQ(s16(&t1[0].data[4]), -123);
     EXPECT_EQ(s16(&t1[0].data[6]), 813);    // 0.01 N m
     EXPECT_EQ(s16(&t2[0].data[0]), 4499);   // 0.1 mWb
-    EXPECT_EQ(s16(&t2[0].data[2]), 175);    // 0.01 rpm
+    EXPECT_EQ(s16(&t2[0].data[2]), 173);    // 0.01 rpm
     EXPECT_EQ(s16(&t2[0].data[4]), -1803);  // 0.1 rad/s^2
     EXPECT_EQ(s16(&t2[0].data[6]), 4120);
     EXPECT_EQ(s16(&t3[0].data[0]), 33);
     EXPECT_EQ(s16(&t3[0].data[2]), -123);   // 0.01 V
     EXPECT_EQ(u16(&t3[0].data[4]), 0x21u);
     // Saturation instead of wrap-around.
-    s.speed_err_rad_s = float(1000.0 / kRpmPerRadS); // 1000 rpm > 327.67
+    s.tel.omega_est_rad_s = float(-500.0 / kRpmPerRadS); // speed error 1000 rpm > 327.67
     s.tel.eps_hat = -5000.0f;
     b.frames.clear();
     run_ticks(b, 50);

@@ -5,6 +5,7 @@
 #include "dtc/drive.h"
 
 #include <stdatomic.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "dtc/drive_co.h"
@@ -112,6 +113,21 @@ static bool quick_stop_step(drive *d, const ctl_cfg *cfg, ctl_in *in)
     return done;
 }
 
+/* The derived fields of @p s selected by @p which (DRIVE_SNAP_*), from its raw
+ * fields. Inline: the interrupt's call with the scope's constant-per-capture
+ * mask and the background's with all of them. */
+static inline void snapshot_derive(drive_snapshot *s, uint32_t which)
+{
+    if ((which & DRIVE_SNAP_SPEED_ERR) != 0u)
+        s->speed_err_rad_s = s->tel.speed_ref_rad_s - s->tel.omega_est_rad_s;
+    if ((which & DRIVE_SNAP_VDC_DIFF) != 0u)
+        s->vdc_diff_V = s->vc1_V - s->vc2_V;
+    if ((which & DRIVE_SNAP_I_PEAK) != 0u)
+        s->i_peak_A = num_sqrt(R(0.6666667) * (s->ia_A * s->ia_A + s->ib_A * s->ib_A + s->ic_A * s->ic_A));
+    if ((which & DRIVE_SNAP_VDC) != 0u)
+        s->vdc_V = s->vc1_V + s->vc2_V;
+}
+
 static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
 {
     drive_snapshot *s = &d->snap;
@@ -125,12 +141,10 @@ static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
     s->ib_A = in->sample.ib_A;
     s->ic_A = in->sample.ic_A;
     s->tick = d->tick;
-    s->speed_err_rad_s = d->out.tel.speed_ref_rad_s - d->out.tel.omega_est_rad_s;
-    s->vdc_diff_V = in->sample.vc1_V - in->sample.vc2_V;
     s->quick_stop_done = quick_stop_done;
-    const hal_sample *x = &in->sample;
-    s->i_peak_A = num_sqrt(R(0.6666667) * (x->ia_A * x->ia_A + x->ib_A * x->ib_A + x->ic_A * x->ic_A));
-    s->vdc_V = x->vc1_V + x->vc2_V;
+    uint32_t which = d->snap_derived;
+    if (which != 0u) /* only what the armed scope reads */
+        snapshot_derive(s, which);
     publish_fence();
     s->seq++; /* even: consistent */
 }
@@ -195,6 +209,29 @@ void drive_read_snapshot(const drive *d, drive_snapshot *out)
         publish_fence();
         s1 = d->snap.seq;
     } while (s0 != s1 || (s0 & 1u));
+    snapshot_derive(out, DRIVE_SNAP_SPEED_ERR | DRIVE_SNAP_VDC_DIFF | DRIVE_SNAP_I_PEAK | DRIVE_SNAP_VDC);
+}
+
+void drive_scope_arm(drive *d, const scope_src *src, uint8_t n_src)
+{
+    static const struct {
+        uint16_t offset;
+        uint8_t bit;
+    } derived[] = {
+        {(uint16_t)offsetof(drive_snapshot, speed_err_rad_s), (uint8_t)DRIVE_SNAP_SPEED_ERR},
+        {(uint16_t)offsetof(drive_snapshot, vdc_diff_V), (uint8_t)DRIVE_SNAP_VDC_DIFF},
+        {(uint16_t)offsetof(drive_snapshot, i_peak_A), (uint8_t)DRIVE_SNAP_I_PEAK},
+        {(uint16_t)offsetof(drive_snapshot, vdc_V), (uint8_t)DRIVE_SNAP_VDC},
+    };
+    uint32_t which = 0u;
+    for (uint32_t i = 0u; i < n_src && i < SCOPE_CHANNELS; i++)
+        for (uint32_t k = 0u; k < sizeof derived / sizeof derived[0]; k++)
+            if (src[i].offset == derived[k].offset)
+                which |= derived[k].bit;
+    scope_stop(&d->scope); /* the interrupt stops reading the old sources before their fields may go stale */
+    d->snap_derived = (uint8_t)which;
+    publish_fence();
+    scope_arm(&d->scope, src, n_src);
 }
 
 void drive_background(drive *d)

@@ -82,7 +82,7 @@ static uint32_t scope_arm_from_settings(drive *d)
     }
     if (s->cfg.decimation == 0u || s->cfg.pretrigger >= SCOPE_SAMPLES)
         return CO_ABORT_PARAM_INCOMPAT;
-    scope_arm(s, src, n);
+    drive_scope_arm(d, src, n);
     return CO_ABORT_NONE;
 }
 

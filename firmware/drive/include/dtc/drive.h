@@ -49,7 +49,13 @@ typedef struct {
     float held_s;              /**< ISR: time held at zero speed at the end of the ramp, s */
 } drive_quick_stop;
 
-/** Telemetry snapshot guarded by a sequence counter (odd while the ISR writes). */
+/**
+ * Telemetry snapshot guarded by a sequence counter (odd while the ISR writes).
+ * The derived fields (speed_err_rad_s, vdc_diff_V, i_peak_A, vdc_V) are worked
+ * out from the raw ones by drive_read_snapshot, so every copy has them; in the
+ * interrupt's own d->snap only those the armed scope reads (issue 11: the
+ * background reads at ms rates, the tick need not pay for them).
+ */
 typedef struct {
     volatile uint32_t seq;
     ctl_telemetry tel;
@@ -63,6 +69,12 @@ typedef struct {
     float i_peak_A;           /**< stator current magnitude sqrt(2/3 (ia^2 + ib^2 + ic^2)), A */
     float vdc_V;              /**< DC link voltage vc1_V + vc2_V, V */
 } drive_snapshot;
+
+/** Derived snapshot fields the interrupt works out for the scope (drive.snap_derived). */
+#define DRIVE_SNAP_SPEED_ERR (1u << 0) /**< speed_err_rad_s */
+#define DRIVE_SNAP_VDC_DIFF (1u << 1)  /**< vdc_diff_V */
+#define DRIVE_SNAP_I_PEAK (1u << 2)    /**< i_peak_A */
+#define DRIVE_SNAP_VDC (1u << 3)       /**< vdc_V */
 
 /** Interrupt timing statistics, in HAL cycles (hal_cycles_hz per second). */
 typedef struct {
@@ -99,6 +111,8 @@ typedef struct drive {
     uint8_t reset_cause;            /**< hal_reset_cause() at drive_init (0x2510:7) */
     bool reset_cause_sent;          /**< the EMCY of a watchdog reset went out (once per start) */
     drive_snapshot bg_snap;         /**< background copy of snap, taken once per drive_background pass */
+    uint8_t snap_derived;           /**< DRIVE_SNAP_* the interrupt works out in snap (the armed scope's
+                                         sources; written by drive_scope_arm while the scope is stopped) */
 } drive;
 
 /**
@@ -136,8 +150,15 @@ void drive_set_run(drive *d, bool run);
  */
 void drive_background(drive *d);
 
-/** Copy the latest consistent telemetry snapshot. Context: BG. */
+/** Copy the latest consistent telemetry snapshot, derived fields included. Context: BG. */
 void drive_read_snapshot(const drive *d, drive_snapshot *out);
+
+/**
+ * Arm the scope (scope_arm) on sources in the telemetry snapshot (byte
+ * offsets in drive_snapshot), and have the interrupt work out the derived
+ * snapshot fields among them. Context: BG.
+ */
+void drive_scope_arm(drive *d, const scope_src *src, uint8_t n_src);
 
 #ifdef __cplusplus
 }
