@@ -43,6 +43,8 @@ void scope_arm(scope *s, const scope_src *src, uint8_t n_src)
         s->src[i] = src[i];
         all_f32 = all_f32 && src[i].kind == (uint8_t)SCOPE_SRC_F32;
     }
+    for (uint32_t i = n; i < SCOPE_CHANNELS; i++) /* read (the base's first word) but never shown */
+        s->src[i] = (scope_src){.offset = 0u, .kind = (uint8_t)SCOPE_SRC_F32};
     s->n_ch = n;
     s->all_f32 = all_f32;
     s->trigger = s->cfg.trigger;
@@ -92,22 +94,26 @@ static inline float read_src(const uint8_t *base, scope_src src)
 void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t faults, uint32_t tick)
 {
     /* Trigger events are watched every tick, whatever the state, so that the
-     * first tick after arming compares with a valid previous value. */
-    bool ref_changed = s->primed && ref_cmd_rad_s != s->last_ref_rad_s;
-    bool fault_edge = s->primed && faults != 0u && s->last_faults == 0u;
+     * first tick after arming compares with a valid previous value: the
+     * previous values are kept every tick, the edges worked out only where a
+     * trigger can be taken. */
+    real_t last_ref_rad_s = s->last_ref_rad_s;
+    uint32_t last_faults = s->last_faults;
+    bool primed = s->primed;
     s->last_ref_rad_s = ref_cmd_rad_s;
     s->last_faults = faults;
     s->primed = true;
 
     uint8_t st = s->state;
-    if (st != SCOPE_ARMED && st != SCOPE_TRIGGERED)
-        return;
+    if ((uint8_t)(st - (uint8_t)SCOPE_ARMED) > (uint8_t)(SCOPE_TRIGGERED - SCOPE_ARMED))
+        return; /* neither ARMED nor TRIGGERED */
     if (st == SCOPE_ARMED && s->filled >= s->pretrigger) {
         bool manual = s->trig_req;
         if (manual)
             s->trig_req = false;
-        if (manual || (s->trigger == SCOPE_TRIG_REF && ref_changed) ||
-            (s->trigger == SCOPE_TRIG_FAULT && fault_edge))
+        uint8_t trigger = s->trigger;
+        if (manual || (primed && ((trigger == SCOPE_TRIG_REF && ref_cmd_rad_s != last_ref_rad_s) ||
+                                  (trigger == SCOPE_TRIG_FAULT && faults != 0u && last_faults == 0u))))
             s->pending = true;
     }
     if (++s->dec_count < s->decimation)
@@ -116,14 +122,21 @@ void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t fau
 
     const uint8_t *b = (const uint8_t *)base;
     uint16_t pos = s->pos;
-    uint32_t n_ch = s->n_ch; /* read once: the stores below are float stores, which cannot change it */
-    if (s->all_f32) { /* the usual case: the values as they are, no conversion to choose per channel */
-        for (uint32_t ch = 0u; ch < n_ch; ch++) {
-            float f;
-            memcpy(&f, b + s->src[ch].offset, sizeof f);
-            s->buf[ch][pos] = f;
-        }
+    if (s->all_f32) {
+        /* The usual case: the values as they are, every channel (scope_arm
+         * points the unused ones at the base's first word; the reader never
+         * reads their columns), no loop and no conversion to choose. */
+        float f0, f1, f2, f3;
+        memcpy(&f0, b + s->src[0].offset, sizeof f0);
+        memcpy(&f1, b + s->src[1].offset, sizeof f1);
+        memcpy(&f2, b + s->src[2].offset, sizeof f2);
+        memcpy(&f3, b + s->src[3].offset, sizeof f3);
+        s->buf[0][pos] = f0;
+        s->buf[1][pos] = f1;
+        s->buf[2][pos] = f2;
+        s->buf[3][pos] = f3;
     } else {
+        uint32_t n_ch = s->n_ch; /* read once: the stores below are float stores, which cannot change it */
         for (uint32_t ch = 0u; ch < n_ch; ch++) /* at most SCOPE_CHANNELS stores */
             s->buf[ch][pos] = read_src(b, s->src[ch]);
     }

@@ -122,7 +122,8 @@ float scope_value(const scope *s, uint32_t ch, uint32_t j);
 /**
  * Interrupt part: trigger detection and one store per channel every
  * decimation ticks. Constant time. @p base is the telemetry snapshot the
- * source offsets refer to, @p ref_cmd_rad_s the commanded (not ramped) speed
+ * source offsets refer to (at least 4 bytes: with float channels only, the
+ * unused channels read its first word), @p ref_cmd_rad_s the commanded (not ramped) speed
  * reference, @p faults the latched fault bits, @p tick the tick counter.
  * Context: ISR.
  */
