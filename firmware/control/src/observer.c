@@ -222,6 +222,17 @@ void observer_gain(const observer_cfg *cfg, real_t omega_e, real_t rs_ohm, real_
     g_psi[1] = -num_mul(m->gain_inv_c_k1, omega_e);
 }
 
+/* One stage of the ZOH series: w_out = y + h A w_in (w_out may be w_in). Written out
+ * three times (not a loop): the loop's register shuffles cost more than its body saves. */
+static inline void zoh_stage(const model_matrix *a, real_t h, const real_t y[4], const real_t w_in[4],
+                             real_t w_out[4])
+{
+    real_t aw[4];
+    model_apply(a, w_in, aw);
+    for (int i = 0; i < 4; i++)
+        w_out[i] = num_mac(h, aw[i], y[i]);
+}
+
 /* observer_model_advance with the model matrix already built and the input
  * u = [u_is, u_psi]; @p h holds T x k_zoh_inv_n (observer_model.h_T) */
 static void advance_with(const model_matrix *pa, real_t T, const real_t h[3], const real_t x[4], const real_t u[4],
@@ -230,18 +241,14 @@ static void advance_with(const model_matrix *pa, real_t T, const real_t h[3], co
     const model_matrix a = *pa;
 
     /* y = A x + u, the derivative at the period start */
-    real_t y[4], w[4], aw[4];
+    real_t y[4], w[4];
     model_apply_add(&a, x, u, y);
 
     /* x+ = x + T (y + T/2 A (y + T/3 A (y + T/4 A y))): the ZOH step of the
      * matrix exponential to fourth order, evaluated with four A products. */
-    for (int i = 0; i < 4; i++)
-        w[i] = y[i];
-    for (int n = 0; n < 3; n++) {
-        model_apply(&a, w, aw);
-        for (int i = 0; i < 4; i++)
-            w[i] = num_mac(h[n], aw[i], y[i]);
-    }
+    zoh_stage(&a, h[0], y, y, w);
+    zoh_stage(&a, h[1], y, w, w);
+    zoh_stage(&a, h[2], y, w, w);
     for (int i = 0; i < 4; i++)
         x_next[i] = num_mac(T, w[i], x[i]);
 }
