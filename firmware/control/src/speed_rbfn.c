@@ -58,7 +58,7 @@ void speed_rbfn_command(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m
     real_t robust = num_mul(s->zeta_bar, robust_switch(e, cfg->boundary_rad_s));
 
     /* B_n^-1 [...] = J [...]; -A_n X / B_n = B X. */
-    real_t acc = in->domega_ref_rad_s2 - eps_hat + num_mul(cfg->k, e) + robust; /* rad/s^2 */
+    real_t acc = num_mac(cfg->k, e, in->domega_ref_rad_s2 - eps_hat) + robust; /* rad/s^2 */
     real_t u = num_mac(m->J_kgm2, acc, num_mul(m->B_Nms, x));
     real_t te = num_limit(u, te_max_Nm);
 
