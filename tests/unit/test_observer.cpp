@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <complex>
 #include <vector>
 
@@ -251,7 +252,7 @@ TEST(ObserverOutputs, TorqueAndFluxMatchReference)
     observer obs;
     observer_init(&obs, &cfg);
     imref::Vec4 x = imref::Vec4::Zero();
-    double worst_te = 0, worst_psi = 0, worst_pred_te = 0;
+    double worst_te = 0, worst_psi = 0, worst_pred_te = 0, worst_slope = 0, peak_slope = 0;
     for (int k = 0; k < 10000; ++k) {
         double th = 2 * kPi * 17.5 * k * kT;
         Eigen::Vector2d v(58.0 * std::cos(th), 58.0 * std::sin(th));
@@ -264,12 +265,31 @@ TEST(ObserverOutputs, TorqueAndFluxMatchReference)
             worst_te = std::max(worst_te, std::abs(out.te_Nm - imref::torque(P, x)));
             worst_psi = std::max(worst_psi, std::abs(out.psi_s_abs_Wb - imref::psi_s(P, x).norm()));
             worst_pred_te = std::max(worst_pred_te, std::abs(out.te_pred_Nm - imref::torque(P, xn)));
+            // the torque slopes at t_{k+1}: dTe/dt of the machine equations,
+            // 1.5 p (dpsi_s x is + psi_s x dis), at the reference state, under zero voltage
+            // (dte0) and per volt of each axis (dte_dv); a steady state's own voltage would
+            // give a slope near 0 whatever the terms
+            auto slope_ref = [&](const Eigen::Vector2d &vv) {
+                imref::Vec4 dx = imref::deriv(P, we, xn, vv);
+                Eigen::Vector2d ps = imref::psi_s(P, xn);
+                double sigma_ls = P.Ls() - P.Lm * P.Lm / P.Lr();
+                Eigen::Vector2d dps = sigma_ls * dx.head<2>() + (P.Lm / P.Lr()) * dx.tail<2>();
+                return 1.5 * P.p * (dps[0] * xn[1] - dps[1] * xn[0] + ps[0] * dx[1] - ps[1] * dx[0]);
+            };
+            double s0 = slope_ref(Eigen::Vector2d::Zero());
+            double sa = slope_ref(Eigen::Vector2d(1.0, 0.0)) - s0, sb = slope_ref(Eigen::Vector2d(0.0, 1.0)) - s0;
+            worst_slope = std::max(worst_slope, std::abs(out.dte0_Nm_s - s0));
+            worst_slope = std::max(worst_slope, 100.0 * std::abs(out.dte_dv[0] - sa)); // per 100 V
+            worst_slope = std::max(worst_slope, 100.0 * std::abs(out.dte_dv[1] - sb));
+            peak_slope = std::max(peak_slope, std::abs(s0));
         }
         x = xn;
     }
     EXPECT_LT(worst_te, 0.05);      // N m, at about 20 N m of load
     EXPECT_LT(worst_psi, 1e-3);     // Wb
     EXPECT_LT(worst_pred_te, 0.05); // the one-period prediction too
+    std::printf("torque slope: worst error %.1f N m/s of peak %.1f N m/s\n", worst_slope, peak_slope);
+    EXPECT_LT(worst_slope, 1e-4 * peak_slope); // and its slopes (the DTC's duty calculation)
 }
 
 } // namespace

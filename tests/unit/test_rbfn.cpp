@@ -134,6 +134,44 @@ TEST(RbfnBasisGrid, MatchesEigenReferenceOnUniformGrids)
     }
 }
 
+// The command tick's one pass (rbfn_grid_eval): the unnormalised basis times the scale is the
+// reference basis of eq. 8, and the output is eq. 9 with random weights.
+TEST(RbfnGridEval, BasisTimesScaleAndOutputMatchTheReference)
+{
+    Rng r;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const int n = r.uint(1, RBFN_NODES_MAX);
+        const double c0 = r.uni(-20.0, 0.0), h = r.uni(0.5, 6.0), w = h * r.uni(0.5, 1.5);
+        float c[RBFN_NODES_MAX], s[RBFN_NODES_MAX], v[RBFN_NODES_MAX], wt[RBFN_NODES_MAX];
+        Vec mc(n), ms(n), mw(n);
+        for (int q = 0; q < n; ++q) {
+            c[q] = float(c0 + q * h);
+            s[q] = float(w);
+            wt[q] = float(r.uni(-500.0, 500.0));
+            mc[q] = c[q];
+            ms[q] = s[q];
+            mw[q] = wt[q];
+        }
+        rbfn_grid g;
+        rbfn_grid_derive(&g, c, s, uint32_t(n));
+        ASSERT_EQ(g.n, uint32_t(n));
+        const double span = c0 + (n - 1) * h;
+        const float x = float(r.uni(c0 - 2.0 * h, span + 2.0 * h));
+        float scale = 0.0f;
+        const float y = rbfn_grid_eval(&g, c, uint32_t(n), x, wt, v, &scale);
+        Vec zr = ref_basis(mc, ms, x);
+        for (int q = 0; q < n; ++q)
+            ASSERT_NEAR(double(v[q]) * scale, zr[q], 2e-5 * std::max(1.0, zr[q] * n)) << "trial " << trial << " node " << q;
+        EXPECT_NEAR(y, mw.dot(zr), 1e-5 * mw.cwiseAbs().sum()) << "trial " << trial;
+    }
+    const float c[3] = {-10.0f, 0.0f, 10.0f}, s[3] = {1.0f, 1.0f, 1.0f}, wt[3] = {1.0f, 2.0f, 3.0f};
+    rbfn_grid g;
+    rbfn_grid_derive(&g, c, s, 3u);
+    float v[3], scale = 0.0f;
+    EXPECT_TRUE(std::isnan(rbfn_grid_eval(&g, c, 3u, std::numeric_limits<float>::quiet_NaN(), wt, v, &scale)));
+    EXPECT_TRUE(std::isnan(scale) && std::isnan(v[0]) && std::isnan(v[1]) && std::isnan(v[2]));
+}
+
 TEST(RbfnBasisGrid, RefusesGridsThatAreNotUniformAndHandlesFarInputs)
 {
     const float c[3] = {-10.0f, 0.0f, 10.0f};

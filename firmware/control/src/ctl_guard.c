@@ -8,9 +8,14 @@ void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s)
 {
     real_t a = num_mul(cfg->wc_rad_s, period_s);
     cfg->wc_T = num_sat(a, R(0.0), R(1.0));
+    cfg->two_wc_rad_s = R(2.0) * cfg->wc_rad_s;
     /* 1 - exp(-2 pi 50 Hz n T): the stator-frequency low-pass over a window of n ticks */
-    for (uint32_t n = 0u; n <= CTL_GUARD_WINDOW_MAX; n++)
-        cfg->w_lpf_n[n] = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), num_mul((real_t)n, period_s))), R(0.0), R(1.0));
+    for (uint32_t n = 0u; n <= CTL_GUARD_WINDOW_MAX; n++) {
+        real_t window_s = num_mul((real_t)n, period_s);
+        cfg->w_lpf_n[n] = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), window_s)), R(0.0), R(1.0));
+        cfg->window_n_s[n] = window_s;
+        cfg->leak_n[n] = num_mul((real_t)n, cfg->wc_T);
+    }
 }
 
 void ctl_guard_reset(ctl_guard *g)
@@ -40,16 +45,16 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
 {
     /* the window: the ticks since the last check (CTL_GUARD_WINDOW_MAX in the caller's schedule,
      * fewer in the first window after a reset) */
-    uint32_t n = g->n_ticks;
-    real_t nf = (real_t)n;
-    real_t a = num_mul(nf, cfg->wc_T); /* the leak over the window (1 - wc T)^n to first order */
+    uint32_t n = g->n_ticks < CTL_GUARD_WINDOW_MAX ? g->n_ticks : CTL_GUARD_WINDOW_MAX;
+    real_t a = cfg->leak_n[n]; /* the leak over the window (1 - wc T)^n to first order */
+    real_t window_s = cfg->window_n_s[n];
     real_t prev[2] = {g->psi_vm_Wb[0], g->psi_vm_Wb[1]};
     real_t d[2];
     for (int i = 0; i < 2; i++) {
         /* psi_vm' = v - Rs is - wc psi_vm (s / (s + wc) of the machine's flux), on to t_k:
          * the volt-seconds of the window are exact (v is constant over each period) */
-        real_t emf_sum = g->sum_v_V[i] - num_mul(rs_ohm, g->sum_is_A[i]);
-        g->psi_vm_Wb[i] = num_mac(period_s, emf_sum, g->psi_vm_Wb[i] - num_mul(a, g->psi_vm_Wb[i]));
+        real_t emf_sum = num_mac(-rs_ohm, g->sum_is_A[i], g->sum_v_V[i]);
+        g->psi_vm_Wb[i] = num_mac(period_s, emf_sum, num_mac(-a, prev[i], prev[i]));
         g->sum_v_V[i] = R(0.0);
         g->sum_is_A[i] = R(0.0);
         /* the same high-pass on the observer's flux: psi - lowpass(psi), sampled at the checks */
@@ -58,31 +63,30 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
         d[i] = g->psi_vm_Wb[i] - (psi_obs_Wb[i] - g->psi_obs_lp_Wb[i]);
     }
     g->n_ticks = 0u;
-    real_t e2 = num_mul(d[0], d[0]) + num_mul(d[1], d[1]);
+    real_t e2 = num_mac(d[0], d[0], num_mul(d[1], d[1]));
     /* num_sqrt maps NaN to 0: keep a NaN (a broken voltage or current) as NaN */
     g->err_Wb = e2 >= R(0.0) ? num_sqrt(e2) : e2;
 
     /* stator frequency of the machine's flux: rotation of psi_vm over the
      * window, low-passed (the PWM ripple of one period is ~10 % of the flux) */
-    real_t window_s = num_mul(nf, period_s);
-    real_t n2 = num_mul(prev[0], prev[0]) + num_mul(prev[1], prev[1]);
-    real_t cr = num_mul(prev[0], g->psi_vm_Wb[1]) - num_mul(prev[1], g->psi_vm_Wb[0]);
+    real_t n2 = num_mac(prev[0], prev[0], num_mul(prev[1], prev[1]));
+    real_t cr = num_mac(prev[0], g->psi_vm_Wb[1], -num_mul(prev[1], g->psi_vm_Wb[0]));
     real_t w = n2 > R(1e-4) && n > 0u ? num_div(cr, num_mul(n2, window_s)) : R(0.0);
-    real_t w_lpf = cfg->w_lpf_n[n < CTL_GUARD_WINDOW_MAX ? n : CTL_GUARD_WINDOW_MAX];
-    g->omega_s_rad_s = num_mac(w_lpf, w - g->omega_s_rad_s, g->omega_s_rad_s);
+    real_t omega_s = num_mac(cfg->w_lpf_n[n], w - g->omega_s_rad_s, g->omega_s_rad_s);
+    g->omega_s_rad_s = omega_s;
     /* an Rs error dR gives a flux error up to dR |is| / |omega_s| through
      * the integrator (at most dR |is| / wc): allowed for rs_tol_frac of Rs */
-    real_t wabs = num_abs(g->omega_s_rad_s);
-    if (wabs < cfg->wc_rad_s)
-        wabs = cfg->wc_rad_s;
-    real_t is_abs = num_sqrt(num_mul(is_A[0], is_A[0]) + num_mul(is_A[1], is_A[1]));
-    /* an error dV of the applied voltage (device drops, dead time: neither is
-     * compensated) integrates the same way: at most dV / |omega_s| */
-    g->tol_Wb = num_mul(cfg->flux_err_frac, psi_ref_Wb) +
-                num_div(num_mul(num_mul(cfg->rs_tol_frac, rs_ohm), is_abs) + cfg->v_tol_V, wabs);
+    real_t wabs = num_abs(omega_s);
     /* Near standstill the voltage model integrates mostly the voltage errors
      * (device drops, dead time) and the leak: judged only above twice its corner. */
-    bool slow = num_abs(g->omega_s_rad_s) < R(2.0) * cfg->wc_rad_s;
+    bool slow = wabs < cfg->two_wc_rad_s;
+    if (wabs < cfg->wc_rad_s)
+        wabs = cfg->wc_rad_s;
+    real_t is_abs = num_sqrt(num_mac(is_A[0], is_A[0], num_mul(is_A[1], is_A[1])));
+    /* an error dV of the applied voltage (device drops, dead time: neither is
+     * compensated) integrates the same way: at most dV / |omega_s| */
+    g->tol_Wb = num_mac(cfg->flux_err_frac, psi_ref_Wb,
+                        num_div(num_mac(num_mul(cfg->rs_tol_frac, rs_ohm), is_abs, cfg->v_tol_V), wabs));
     bool finite = g->err_Wb == g->err_Wb; /* a NaN error is judged at any frequency */
     if (!judge || !(cfg->flux_err_frac > R(0.0)) || (slow && finite)) {
         g->t_above_s = R(0.0);

@@ -54,16 +54,18 @@ float num_expf(float x)
     if (x < EXP_X_MIN)
         return 0.0f;
     int32_t k = round_i32(x * LOG2_E); /* -126..128 */
-    float r = (x - (float)k * LN2_HI) - (float)k * LN2_LO; /* |r| <= ln2/2 + a little */
-    /* e^r = 1 + r + r^2/2! + ... + r^7/7!: truncation below 6e-9 relative. */
+    float kf = (float)k;
+    float r = fmaf(-kf, LN2_LO, fmaf(-kf, LN2_HI, x)); /* |r| <= ln2/2 + a little */
+    /* e^r = 1 + r + r^2/2! + ... + r^7/7!: truncation below 6e-9 relative; Horner
+     * with fused multiply-adds (one VFMA each on the target, exact fmaf on the host). */
     float p = 1.9841270113829523e-04f;
-    p = p * r + 1.3888889225199819e-03f;
-    p = p * r + 8.333333767950535e-03f;
-    p = p * r + 4.16666679084301e-02f;
-    p = p * r + 0.1666666716337204f;
-    p = p * r + 0.5f;
-    p = p * r + 1.0f;
-    p = p * r + 1.0f;
+    p = fmaf(p, r, 1.3888889225199819e-03f);
+    p = fmaf(p, r, 8.333333767950535e-03f);
+    p = fmaf(p, r, 4.16666679084301e-02f);
+    p = fmaf(p, r, 0.1666666716337204f);
+    p = fmaf(p, r, 0.5f);
+    p = fmaf(p, r, 1.0f);
+    p = fmaf(p, r, 1.0f);
     if (k > 127)
         return (p * pow2i(k - 1)) * 2.0f;
     return p * pow2i(k);

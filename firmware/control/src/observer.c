@@ -12,80 +12,78 @@
 
 /* ---------------------------------------------------------- complex helpers */
 
-/* z = a * b (complex) */
-static inline void cmul(const real_t a[2], const real_t b[2], real_t z[2])
-{
-    real_t re = num_mul(a[0], b[0]) - num_mul(a[1], b[1]);
-    real_t im = num_mul(a[0], b[1]) + num_mul(a[1], b[0]);
-    z[0] = re;
-    z[1] = im;
-}
-
-/* Im(conj(a) b) = a x b: the planar cross product. */
+/* Im(conj(a) b) = a x b: the planar cross product (one rounding fewer fused). */
 static inline real_t ccross(const real_t a[2], const real_t b[2])
 {
-    return num_mul(a[0], b[1]) - num_mul(a[1], b[0]);
+    return num_mac(a[0], b[1], -num_mul(a[1], b[0]));
 }
 
-/* The model matrix at one operating point. */
+/* The model matrix at one operating point: a11 real, a12 = a12r + j a12i =
+ * c (1/Tr - j omega), a21 = Lm/Tr real, a22 = a22r + j a22i = -1/Tr + j omega. */
 typedef struct {
-    real_t a11;      /* real */
-    real_t a12[2];   /* c (1/Tr - j omega) */
-    real_t a21;      /* real, Lm/Tr */
-    real_t a22[2];   /* -1/Tr + j omega */
+    real_t a11;
+    real_t a12r, a12i;
+    real_t a21;
+    real_t a22r, a22i;
 } model_matrix;
 
-/* The terms that depend on Rs alone: the model's a11 and the real parts of
- * the Kubota gains (observer_gain). */
+/* The terms that depend on Rs alone: the model's a11, the real parts of the
+ * Kubota gains (observer_gain) and kt (a11 - 1/Tr), the torque slope's
+ * (observer_step). */
 typedef struct {
     real_t a11;
     real_t g_is0;
     real_t g_psi0;
+    real_t kt_a11_tr;
 } rs_terms;
 
 static void rs_terms_at(const observer_model *m, real_t rs_ohm, rs_terms *t)
 {
-    real_t ar11 = -(num_mul(rs_ohm, m->b) + m->a_r);
+    real_t ar11 = -num_mac(rs_ohm, m->b, m->a_r);
     real_t ar22 = -m->inv_tr;
     /* Kubota: trace and determinant of A + G C are k and k^2 times those of A. */
     t->a11 = ar11;
     t->g_is0 = num_mul(m->gain_k1, ar11 + ar22);
-    t->g_psi0 = num_mul(m->gain_k21, num_mul(m->inv_c, ar11) + m->lm_tr) - num_mul(m->gain_inv_c_k1, ar11 + ar22);
+    t->g_psi0 = num_mac(m->gain_k21, num_mac(m->inv_c, ar11, m->lm_tr), -num_mul(m->gain_inv_c_k1, ar11 + ar22));
+    t->kt_a11_tr = num_mul(m->kt, ar11 + ar22);
 }
 
 /* The model matrix at speed omega_e with the Rs term a11 (rs_terms). */
 static void model_matrix_with(const observer_model *m, real_t a11, real_t omega_e, model_matrix *a)
 {
     a->a11 = a11;
-    a->a12[0] = m->c_inv_tr;
-    a->a12[1] = -num_mul(m->c, omega_e);
+    a->a12r = m->c_inv_tr;
+    a->a12i = -num_mul(m->c, omega_e);
     a->a21 = m->lm_tr;
-    a->a22[0] = -m->inv_tr;
-    a->a22[1] = omega_e;
+    a->a22r = -m->inv_tr;
+    a->a22i = omega_e;
 }
 
-static void model_matrix_at(const observer_model *m, real_t rs_ohm, real_t omega_e, model_matrix *a)
+/* out = A x + add, x = [is (2), psi_r (2)]: each row one product and two
+ * fused multiply-adds onto the addend. */
+static inline void model_apply_add(const model_matrix *a, const real_t x[4], const real_t add[4], real_t out[4])
 {
-    a->a11 = -(num_mul(rs_ohm, m->b) + m->a_r);
-    a->a12[0] = m->c_inv_tr;
-    a->a12[1] = -num_mul(m->c, omega_e);
-    a->a21 = m->lm_tr;
-    a->a22[0] = -m->inv_tr;
-    a->a22[1] = omega_e;
+    real_t o0 = num_mac(a->a11, x[0], num_mac(a->a12r, x[2], num_mac(-a->a12i, x[3], add[0])));
+    real_t o1 = num_mac(a->a11, x[1], num_mac(a->a12r, x[3], num_mac(a->a12i, x[2], add[1])));
+    real_t o2 = num_mac(a->a21, x[0], num_mac(a->a22r, x[2], num_mac(-a->a22i, x[3], add[2])));
+    real_t o3 = num_mac(a->a21, x[1], num_mac(a->a22r, x[3], num_mac(a->a22i, x[2], add[3])));
+    out[0] = o0;
+    out[1] = o1;
+    out[2] = o2;
+    out[3] = o3;
 }
 
-/* out = A x, x = [is (2), psi_r (2)] */
-static void model_apply(const model_matrix *a, const real_t x[4], real_t out[4])
+/* out = A x */
+static inline void model_apply(const model_matrix *a, const real_t x[4], real_t out[4])
 {
-    real_t t[2];
-    cmul(a->a12, &x[2], t);
-    real_t i0 = num_mul(a->a11, x[0]) + t[0];
-    real_t i1 = num_mul(a->a11, x[1]) + t[1];
-    cmul(a->a22, &x[2], t);
-    out[2] = num_mul(a->a21, x[0]) + t[0];
-    out[3] = num_mul(a->a21, x[1]) + t[1];
-    out[0] = i0;
-    out[1] = i1;
+    real_t o0 = num_mac(a->a11, x[0], num_mac(a->a12r, x[2], num_mul(-a->a12i, x[3])));
+    real_t o1 = num_mac(a->a11, x[1], num_mac(a->a12r, x[3], num_mul(a->a12i, x[2])));
+    real_t o2 = num_mac(a->a21, x[0], num_mac(a->a22r, x[2], num_mul(-a->a22i, x[3])));
+    real_t o3 = num_mac(a->a21, x[1], num_mac(a->a22r, x[3], num_mul(a->a22i, x[2])));
+    out[0] = o0;
+    out[1] = o1;
+    out[2] = o2;
+    out[3] = o3;
 }
 
 /* e' = e exp(-j phi), phi = sgn(omega) angle shape(|omega| / speed) below
@@ -141,8 +139,8 @@ static void rotate_for_regeneration(const observer_cfg *cfg, real_t omega_e, rea
     real_t p2 = num_mul(phi, phi);
     real_t c = R(1.0) - num_mul(p2, R(0.5) - num_mul(p2, R(0.0416666667)));
     real_t sn = num_mul(phi, R(1.0) - num_mul(p2, R(0.166666667) - num_mul(p2, R(0.00833333333))));
-    er[0] = num_mul(c, e[0]) + num_mul(sn, e[1]);
-    er[1] = num_mul(c, e[1]) - num_mul(sn, e[0]);
+    er[0] = num_mac(c, e[0], num_mul(sn, e[1]));
+    er[1] = num_mac(c, e[1], -num_mul(sn, e[0]));
 }
 
 /* The ZOH series' factors 1/4, 1/3, 1/2 (advance_with); the steps T x these
@@ -196,6 +194,9 @@ void observer_cfg_derive(observer_cfg *cfg, const motor_model *mm, real_t period
     m->nom_a11 = t.a11;
     m->nom_g_is0 = t.g_is0;
     m->nom_g_psi0 = t.g_psi0;
+    m->nom_kt_a11_tr = t.kt_a11_tr;
+    m->one_minus_lpf_alpha = R(1.0) - m->lpf_alpha;
+    m->lpf_alpha_pp = num_mul(m->lpf_alpha, m->inv_pole_pairs);
 }
 
 void observer_init(observer *s, const observer_cfg *cfg)
@@ -221,30 +222,33 @@ void observer_gain(const observer_cfg *cfg, real_t omega_e, real_t rs_ohm, real_
     g_psi[1] = -num_mul(m->gain_inv_c_k1, omega_e);
 }
 
-/* observer_model_advance with the model matrix already built; @p h holds
- * T x k_zoh_inv_n (observer_model.h_T) */
-static void advance_with(const model_matrix *pa, real_t T, const real_t h[3], const real_t x[4],
-                         const real_t u_is[2], const real_t u_psi[2], real_t x_next[4])
+/* One stage of the ZOH series: w_out = y + h A w_in (w_out may be w_in). Written out
+ * three times (not a loop): the loop's register shuffles cost more than its body saves. */
+static inline void zoh_stage(const model_matrix *a, real_t h, const real_t y[4], const real_t w_in[4],
+                             real_t w_out[4])
+{
+    real_t aw[4];
+    model_apply(a, w_in, aw);
+    for (int i = 0; i < 4; i++)
+        w_out[i] = num_mac(h, aw[i], y[i]);
+}
+
+/* observer_model_advance with the model matrix already built and the input
+ * u = [u_is, u_psi]; @p h holds T x k_zoh_inv_n (observer_model.h_T) */
+static void advance_with(const model_matrix *pa, real_t T, const real_t h[3], const real_t x[4], const real_t u[4],
+                         real_t x_next[4])
 {
     const model_matrix a = *pa;
 
     /* y = A x + u, the derivative at the period start */
-    real_t y[4], w[4], aw[4];
-    model_apply(&a, x, y);
-    y[0] += u_is[0];
-    y[1] += u_is[1];
-    y[2] += u_psi[0];
-    y[3] += u_psi[1];
+    real_t y[4], w[4];
+    model_apply_add(&a, x, u, y);
 
     /* x+ = x + T (y + T/2 A (y + T/3 A (y + T/4 A y))): the ZOH step of the
      * matrix exponential to fourth order, evaluated with four A products. */
-    for (int i = 0; i < 4; i++)
-        w[i] = y[i];
-    for (int n = 0; n < 3; n++) {
-        model_apply(&a, w, aw);
-        for (int i = 0; i < 4; i++)
-            w[i] = num_mac(h[n], aw[i], y[i]);
-    }
+    zoh_stage(&a, h[0], y, y, w);
+    zoh_stage(&a, h[1], y, w, w);
+    zoh_stage(&a, h[2], y, w, w);
     for (int i = 0; i < 4; i++)
         x_next[i] = num_mac(T, w[i], x[i]);
 }
@@ -252,9 +256,12 @@ static void advance_with(const model_matrix *pa, real_t T, const real_t h[3], co
 void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega_e, const real_t x[4],
                             const real_t u_is[2], const real_t u_psi[2], real_t x_next[4])
 {
+    rs_terms t;
+    rs_terms_at(m, rs_ohm, &t);
     model_matrix a;
-    model_matrix_at(m, rs_ohm, omega_e, &a);
-    advance_with(&a, m->period_s, m->h_T, x, u_is, u_psi, x_next);
+    model_matrix_with(m, t.a11, omega_e, &a);
+    const real_t u[4] = {u_is[0], u_is[1], u_psi[0], u_psi[1]};
+    advance_with(&a, m->period_s, m->h_T, x, u, x_next);
 }
 
 /* restrict as ctl_step: state, configuration, inputs and outputs are distinct objects. */
@@ -263,29 +270,34 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
 {
     const observer_model *m = &cfg->m;
     real_t T = m->period_s;
+    const real_t p0 = s->psi_r_Wb[0], p1 = s->psi_r_Wb[1];
 
     /* current error at t_k */
     real_t e[2] = {is_meas[0] - s->is_A[0], is_meas[1] - s->is_A[1]};
+    real_t te = num_mul(m->kt, ccross(s->psi_r_Wb, is_meas));
 
     /* speed adaptation: PI on e x psi_r_hat (a Lyapunov-derived law) */
     real_t er[2];
-    rotate_for_regeneration(cfg, s->omega_e_rad_s, num_mul(m->kt, ccross(s->psi_r_Wb, is_meas)), s->te_cmd_Nm, s->regen_low_flux, e, er);
-    real_t eps = num_mul(er[0], s->psi_r_Wb[1]) - num_mul(er[1], s->psi_r_Wb[0]);
+    rotate_for_regeneration(cfg, s->omega_e_rad_s, te, s->te_cmd_Nm, s->regen_low_flux, e, er);
+    real_t eps = num_mac(er[0], p1, -num_mul(er[1], p0));
     s->omega_int_rad_s = num_limit(num_mac(m->ki_speed_T, eps, s->omega_int_rad_s), m->omega_max_rad_s);
-    s->omega_e_rad_s = num_limit(num_mac(cfg->kp_speed, eps, s->omega_int_rad_s), m->omega_max_rad_s);
+    real_t omega_e = num_limit(num_mac(cfg->kp_speed, eps, s->omega_int_rad_s), m->omega_max_rad_s);
+    s->omega_e_rad_s = omega_e;
 
     /* Rs adaptation: a winding hotter than modelled makes |is| smaller than |is_hat| */
     if (cfg->ki_rs > R(0.0)) {
-        real_t ei = num_mul(e[0], s->is_A[0]) + num_mul(e[1], s->is_A[1]);
-        s->rs_ohm = num_sat(s->rs_ohm - num_mul(m->ki_rs_T, ei), m->rs_min_ohm, m->rs_max_ohm);
+        real_t ei = num_mac(e[0], s->is_A[0], num_mul(e[1], s->is_A[1]));
+        s->rs_ohm = num_sat(num_mac(-m->ki_rs_T, ei, s->rs_ohm), m->rs_min_ohm, m->rs_max_ohm);
     }
 
     /* estimates at t_k: the measured current is fresher than is_hat */
-    out->psi_s_Wb[0] = num_mac(m->sigma_ls, is_meas[0], num_mul(m->lm_lr, s->psi_r_Wb[0]));
-    out->psi_s_Wb[1] = num_mac(m->sigma_ls, is_meas[1], num_mul(m->lm_lr, s->psi_r_Wb[1]));
-    out->psi_s_abs_Wb = num_sqrt(num_mul(out->psi_s_Wb[0], out->psi_s_Wb[0]) + num_mul(out->psi_s_Wb[1], out->psi_s_Wb[1]));
-    out->te_Nm = num_mul(m->kt, ccross(s->psi_r_Wb, is_meas));
-    out->omega_e_rad_s = s->omega_e_rad_s;
+    real_t ps0 = num_mac(m->sigma_ls, is_meas[0], num_mul(m->lm_lr, p0));
+    real_t ps1 = num_mac(m->sigma_ls, is_meas[1], num_mul(m->lm_lr, p1));
+    out->psi_s_Wb[0] = ps0;
+    out->psi_s_Wb[1] = ps1;
+    out->psi_s_abs_Wb = num_sqrt(num_mac(ps0, ps0, num_mul(ps1, ps1)));
+    out->te_Nm = te;
+    out->omega_e_rad_s = omega_e;
     out->err_A[0] = e[0];
     out->err_A[1] = e[1];
 
@@ -297,25 +309,24 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
         rt.a11 = m->nom_a11;
         rt.g_is0 = m->nom_g_is0;
         rt.g_psi0 = m->nom_g_psi0;
+        rt.kt_a11_tr = m->nom_kt_a11_tr;
     } else {
         rs_terms_at(m, s->rs_ohm, &rt);
     }
-    real_t g_is[2] = {rt.g_is0, num_mul(m->gain_k1, s->omega_e_rad_s)};
-    real_t g_psi[2] = {rt.g_psi0, -num_mul(m->gain_inv_c_k1, s->omega_e_rad_s)};
-    real_t ge[2];
-    real_t u_is[2], u_psi[2];
-    cmul(g_is, e, ge);
-    u_is[0] = num_mul(m->b, v[0]) - ge[0];
-    u_is[1] = num_mul(m->b, v[1]) - ge[1];
-    cmul(g_psi, e, ge);
-    u_psi[0] = -ge[0];
-    u_psi[1] = -ge[1];
+    /* g = g0 + j g1: -g e = (-g0 e0 + g1 e1) + j (-g0 e1 - g1 e0) */
+    real_t g_is1 = num_mul(m->gain_k1, omega_e);
+    real_t g_psi1 = -num_mul(m->gain_inv_c_k1, omega_e);
+    real_t u[4];
+    u[0] = num_mac(-rt.g_is0, e[0], num_mac(g_is1, e[1], num_mul(m->b, v[0])));
+    u[1] = num_mac(-rt.g_is0, e[1], num_mac(-g_is1, e[0], num_mul(m->b, v[1])));
+    u[2] = num_mac(-rt.g_psi0, e[0], num_mul(g_psi1, e[1]));
+    u[3] = num_mac(-rt.g_psi0, e[1], -num_mul(g_psi1, e[0]));
 
-    real_t x[4] = {s->is_A[0], s->is_A[1], s->psi_r_Wb[0], s->psi_r_Wb[1]};
+    real_t x[4] = {s->is_A[0], s->is_A[1], p0, p1};
     real_t xn[4];
-    model_matrix a; /* built once: the step and the slopes use the same speed and Rs */
-    model_matrix_with(m, rt.a11, s->omega_e_rad_s, &a);
-    advance_with(&a, T, m->h_T, x, u_is, u_psi, xn);
+    model_matrix a;
+    model_matrix_with(m, rt.a11, omega_e, &a);
+    advance_with(&a, T, m->h_T, x, u, xn);
     s->is_A[0] = xn[0];
     s->is_A[1] = xn[1];
     s->psi_r_Wb[0] = xn[2];
@@ -328,19 +339,24 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
     out->psi_r_pred_Wb[1] = xn[3];
     out->psi_s_pred_Wb[0] = num_mac(m->sigma_ls, xn[0], num_mul(m->lm_lr, xn[2]));
     out->psi_s_pred_Wb[1] = num_mac(m->sigma_ls, xn[1], num_mul(m->lm_lr, xn[3]));
-    out->te_pred_Nm = num_mul(m->kt, ccross(&xn[2], &xn[0]));
+    real_t cr = ccross(&xn[2], &xn[0]); /* psi_r x is */
+    out->te_pred_Nm = num_mul(m->kt, cr);
 
     /* torque slopes at t_{k+1}: dTe/dt = kt (dpsi_r/dt x is + psi_r x dis/dt),
-     * linear in v: dte0 + dte_dv . v */
-    real_t dx[4];
-    model_apply(&a, xn, dx);
-    out->dte0_Nm_s = num_mul(m->kt, ccross(&dx[2], &xn[0]) + ccross(&xn[2], &dx[0]));
+     * linear in v: dte0 + dte_dv . v. With the model (observer.h) the zero-voltage
+     * part is, in closed form (z = conj(psi_r) is: cr = Im z, psi_r x (a12 psi_r)
+     * = a12i |psi_r|^2, (a22 psi_r) x is = a22r Im z - a22i Re z):
+     *   dte0 = kt ((a11 - 1/Tr) cr - omega (Re z + c |psi_r|^2))
+     *        = kt (a11 - 1/Tr) cr - kt omega (psi_r . (is + c psi_r)) */
+    real_t q0 = num_mac(m->c, xn[2], xn[0]);
+    real_t q1 = num_mac(m->c, xn[3], xn[1]);
+    real_t pq = num_mac(xn[2], q0, num_mul(xn[3], q1));
+    out->dte0_Nm_s = num_mac(rt.kt_a11_tr, cr, -num_mul(num_mul(m->kt, omega_e), pq));
     real_t ktb = m->kt_b;
     out->dte_dv[0] = -num_mul(ktb, xn[3]);
     out->dte_dv[1] = num_mul(ktb, xn[2]);
 
-    /* filtered mechanical speed for the speed loop */
-    real_t omega_m = num_mul(s->omega_e_rad_s, m->inv_pole_pairs);
-    s->omega_m_filt_rad_s = num_mac(m->lpf_alpha, omega_m - s->omega_m_filt_rad_s, s->omega_m_filt_rad_s);
+    /* filtered mechanical speed for the speed loop: (1 - alpha) s + (alpha / p) omega_e */
+    s->omega_m_filt_rad_s = num_mac(m->lpf_alpha_pp, omega_e, num_mul(m->one_minus_lpf_alpha, s->omega_m_filt_rad_s));
     out->omega_m_rad_s = s->omega_m_filt_rad_s;
 }

@@ -51,10 +51,10 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
         return f; /* the current checks run every PLAUS_CHECK_TICKS-th tick (the caller's schedule) */
     const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
 
-    real_t sq = num_mul(i[0], i[0]) + num_mul(i[1], i[1]) + num_mul(i[2], i[2]);
+    real_t sq = num_mac(i[0], i[0], num_mac(i[1], i[1], num_mul(i[2], i[2])));
     real_t mag_A = num_sqrt(num_mul(R(0.6666667), sq)); /* space-vector magnitude */
     real_t sum = i[0] + i[1] + i[2];
-    p->sum_ticks = count(p->sum_ticks, num_abs(sum) > PLAUS_SUM_ABS_A + num_mul(PLAUS_SUM_REL, mag_A));
+    p->sum_ticks = count(p->sum_ticks, num_abs(sum) > num_mac(PLAUS_SUM_REL, mag_A, PLAUS_SUM_ABS_A));
     if (p->sum_ticks >= PLAUS_SUM_TICKS)
         f |= CTL_FAULT_CURRENT_SENSOR;
 

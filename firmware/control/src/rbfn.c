@@ -55,12 +55,16 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
     g->n = n;
 }
 
-void rbfn_basis_grid(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, real_t *z)
+/* The unnormalised terms of rbfn_basis_grid into v (the nearest node 1) and,
+ * with @p w, sum w_k v_k into *wv; returns their sum (>= 1, NaN for NaN x). */
+static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, const real_t *w,
+                                real_t *v_out, real_t *wv)
 {
     if (!(x == x)) {
         for (uint32_t k = 0u; k < n; k++)
-            z[k] = x;
-        return;
+            v_out[k] = x;
+        *wv = x;
+        return x;
     }
     /* nearest node (written so that huge |x| never reaches the integer conversion) */
     real_t t = num_mul(x - centre[0], g->inv_spacing);
@@ -76,24 +80,45 @@ void rbfn_basis_grid(const rbfn_grid *g, const real_t *centre, uint32_t n, real_
     real_t r = num_exp(num_mul(u, g->d) - g->half_d2);
     real_t rho = num_div(g->q, r);
     real_t sum = R(1.0);
-    z[ks] = R(1.0);
+    v_out[ks] = R(1.0);
+    real_t y = w != 0 ? w[ks] : R(0.0);
     real_t v = R(1.0);
     for (uint32_t k = ks + 1u; k < n; k++) {
         v = num_mul(v, r);
         r = num_mul(r, g->q);
-        z[k] = v;
+        v_out[k] = v;
         sum += v;
+        if (w != 0)
+            y = num_mac(w[k], v, y);
     }
     v = R(1.0);
     for (uint32_t k = ks; k-- > 0u;) {
         v = num_mul(v, rho);
         rho = num_mul(rho, g->q);
-        z[k] = v;
+        v_out[k] = v;
         sum += v;
+        if (w != 0)
+            y = num_mac(w[k], v, y);
     }
-    real_t inv = num_div(R(1.0), sum);
+    *wv = y;
+    return sum;
+}
+
+void rbfn_basis_grid(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, real_t *z)
+{
+    real_t wv;
+    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, 0, z, &wv));
     for (uint32_t k = 0u; k < n; k++)
         z[k] = num_mul(z[k], inv);
+}
+
+real_t rbfn_grid_eval(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, const real_t *w, real_t *v,
+                      real_t *scale)
+{
+    real_t wv;
+    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, w, v, &wv));
+    *scale = inv;
+    return num_mul(wv, inv);
 }
 
 real_t rbfn_output(const real_t *w, const real_t *z, uint32_t n)

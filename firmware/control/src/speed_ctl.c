@@ -164,8 +164,8 @@ static void ref_model_step(speed_ctl *s, const speed_cfg *cfg, real_t dt_s, cons
     *model_in = *in;
     real_t wn = cfg->ref_wn_rad_s;
     if (wn > R(0.0)) {
-        real_t acc = num_mul(num_mul(wn, wn), in->omega_ref_rad_s - s->ref_x_rad_s) -
-                     num_mul(R(2.0) * num_mul(cfg->ref_zeta, wn), s->ref_v_rad_s2);
+        real_t acc = num_mac(num_mul(wn, wn), in->omega_ref_rad_s - s->ref_x_rad_s,
+                             -num_mul(R(2.0) * num_mul(cfg->ref_zeta, wn), s->ref_v_rad_s2));
         s->ref_v_rad_s2 = num_mac(acc, dt_s, s->ref_v_rad_s2);
         s->ref_x_rad_s = num_mac(s->ref_v_rad_s2, dt_s, s->ref_x_rad_s);
         model_in->omega_ref_rad_s = s->ref_x_rad_s;

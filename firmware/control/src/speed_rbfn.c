@@ -47,15 +47,18 @@ void speed_rbfn_command(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m
     real_t x = in->omega_est_rad_s;
     real_t e = in->omega_ref_rad_s - x;
 
-    if (cfg->grid.n == n) /* derived for this configuration: one exp() instead of n */
-        rbfn_basis_grid(&cfg->grid, cfg->centre, n, e, s->z);
-    else
+    real_t eps_hat;
+    if (cfg->grid.n == n) { /* derived for this configuration: one exp() instead of n */
+        eps_hat = rbfn_grid_eval(&cfg->grid, cfg->centre, n, e, s->w, s->z, &s->z_scale);
+    } else {
         rbfn_basis(cfg->centre, cfg->width, n, e, s->z);
-    real_t eps_hat = rbfn_output(s->w, s->z, n);
+        s->z_scale = R(1.0);
+        eps_hat = rbfn_output(s->w, s->z, n);
+    }
     real_t robust = num_mul(s->zeta_bar, robust_switch(e, cfg->boundary_rad_s));
 
     /* B_n^-1 [...] = J [...]; -A_n X / B_n = B X. */
-    real_t acc = in->domega_ref_rad_s2 - eps_hat + num_mul(cfg->k, e) + robust; /* rad/s^2 */
+    real_t acc = num_mac(cfg->k, e, in->domega_ref_rad_s2 - eps_hat) + robust; /* rad/s^2 */
     real_t u = num_mac(m->J_kgm2, acc, num_mul(m->B_Nms, x));
     real_t te = num_limit(u, te_max_Nm);
 
@@ -77,7 +80,7 @@ void speed_rbfn_learn(rbfn_state *s, const rbfn_cfg *cfg, real_t dt_s, speed_out
     uint32_t n = node_count(cfg);
     real_t e = s->e_learn;
     if (s->learn == RBFN_LEARN_STEP) {
-        s->w_norm = rbfn_update_projected(s->w, s->z, n, e, num_mul(cfg->gamma_w, dt_s), cfg->m_w);
+        s->w_norm = rbfn_update_projected(s->w, s->z, n, e, num_mul(num_mul(cfg->gamma_w, dt_s), s->z_scale), cfg->m_w);
         real_t excess = num_abs(e) - cfg->zeta_dead_zone_rad_s;
         real_t grow = excess > R(0.0) ? num_mul(cfg->gamma_zeta, excess) : R(0.0);
         real_t zb = s->zeta_bar + num_mul(grow - num_mul(cfg->zeta_leak, s->zeta_bar), dt_s);

@@ -63,6 +63,9 @@ typedef struct {
     real_t wc_T;              /**< wc_rad_s x period, 0..1 */
     real_t w_lpf_n[CTL_GUARD_WINDOW_MAX + 1]; /**< stator-frequency low-pass coefficient (50 Hz) over a window
                                                     of n ticks, 0..1 */
+    real_t window_n_s[CTL_GUARD_WINDOW_MAX + 1]; /**< n x period: a window of n ticks, s */
+    real_t leak_n[CTL_GUARD_WINDOW_MAX + 1];     /**< n x wc_T: the leak over a window of n ticks, 0..4 */
+    real_t two_wc_rad_s;      /**< 2 x wc_rad_s: judged only above this stator frequency, rad/s */
 } ctl_guard_cfg;
 
 /** State of the monitor (part of ctl_state). */
@@ -78,7 +81,7 @@ typedef struct {
     uint32_t n_ticks;         /**< ticks in the window */
 } ctl_guard;
 
-/** Derive wc_T from @p period_s. Context: BG. */
+/** Derive wc_T and the per-window tables from @p period_s (the period ctl_guard_check is given). Context: BG. */
 void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s);
 
 /** Zero the state (at a start). Context: ANY. */

@@ -91,6 +91,9 @@ typedef struct {
     real_t nom_a11;       /**< the model's a11 = -(Rs b + a_r) at rs_nom_ohm, 1/s */
     real_t nom_g_is0;     /**< Re g_is at rs_nom_ohm (observer_gain), 1/s */
     real_t nom_g_psi0;    /**< Re g_psi at rs_nom_ohm (observer_gain), ohm */
+    real_t nom_kt_a11_tr; /**< kt (a11 - 1/Tr) at rs_nom_ohm: the torque slope's part in psi_r x is, N m/(s Wb A) */
+    real_t one_minus_lpf_alpha; /**< 1 - lpf_alpha */
+    real_t lpf_alpha_pp;  /**< lpf_alpha / p: the speed low-pass's input weight on omega_e */
     real_t h_T[3];        /**< T/4, T/3, T/2 (as T x 0.25, 0.333333333, 0.5): the ZOH series' steps, s */
 } observer_model;
 

@@ -67,6 +67,18 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
  */
 void rbfn_basis_grid(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, real_t *z);
 
+/**
+ * rbfn_basis_grid and rbfn_output in one pass, the normalisation left to the
+ * caller: writes the unnormalised terms v (the nearest node 1) and the scale
+ * 1 / sum v, so that Z = v x scale, and returns W^T Z (eq. 9) = (W^T v) x scale.
+ * A NaN input gives NaN (v, scale and the output). Context: ANY.
+ * @param w      weights (n entries), in the unit of the output
+ * @param v      out: unnormalised basis (n entries)
+ * @param scale  out: 1 / sum of v
+ */
+real_t rbfn_grid_eval(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, const real_t *w, real_t *v,
+                      real_t *scale);
+
 /** Network output y = W^T Z (eq. 9), in the unit of the weights (n entries each). */
 real_t rbfn_output(const real_t *w, const real_t *z, uint32_t n);
 
