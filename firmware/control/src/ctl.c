@@ -114,6 +114,9 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->fsw_per_change_hz = cfg->period_s > R(0.0) ? num_div(R(1.0), R(6.0) * cfg->period_s) : R(0.0);
     cfg->fsw_lpf_a = num_sat(R(1.0) - num_exp(-num_div(cfg->period_s, R(0.02))), R(0.0), R(1.0));
     cfg->band_rate_T = num_mul(R(5.0), cfg->period_s);
+    real_t t_sup = num_mul((real_t)CTL_SLOW_SLOTS, cfg->period_s); /* the supervision step */
+    cfg->sup_lpf_a = num_sat(R(1.0) - num_exp(-num_div(t_sup, R(0.02))), R(0.0), R(1.0));
+    cfg->sup_rate_T = num_mul(R(5.0), t_sup);
     cfg->inv_fsw_max_s = cfg->fsw_max_hz > R(0.0) ? num_div(R(1.0), cfg->fsw_max_hz) : R(0.0);
     cfg->fw_v_per_vdc = num_mul(cfg->fw_voltage_frac, NUM_INV_SQRT3);
     cfg->te_limit_Nm_Wb2 = num_mul(cfg->te_pullout_frac, cfg->te_pullout_Nm_Wb2);
@@ -296,6 +299,9 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->band_scale = R(1.0);
     s->te_short_Nm = R(0.0);
     s->fw_trim = R(1.0);
+    s->psi_target_Wb = cfg->dtc.psi_ref_Wb; /* at standstill: rated (supervise() takes over within a slot cycle) */
+    s->te_limit_Nm = cfg->speed.te_max_Nm; /* until supervise_flux() works it out at the flux reached */
+    s->short_sum_Nm = R(0.0);
     gates_off(s); /* the first period after enabling applies OOO */
 }
 
@@ -453,29 +459,40 @@ static real_t regen_flux_factor(ctl_state *s, const ctl_cfg *cfg)
     return num_sqrt(k2 > cfg->regen_k2_min ? k2 : cfg->regen_k2_min);
 }
 
-/* Flux reference: rated, or what the measured DC link allows at the present
- * speed (field weakening), whichever is lower; slew-limited so that
- * magnetising does not trip. Then the torque limit at that flux. */
-static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
+/* Flux target: rated, or what the measured DC link allows at the present
+ * speed (field weakening), whichever is lower; then the torque limit at the
+ * flux reference. One supervision step (CTL_SLOT_SUPERVISE, every
+ * CTL_SLOW_SLOTS ticks): the operating point moves slowly against that. */
+static void supervise_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
 {
     /* Voltage margin: a DTC that keeps falling short of the torque command
      * by more than the band has no voltage left to raise the torque; the
-     * weakening flux is then trimmed down (and recovers when it is not) */
-    real_t short_Nm = num_abs(s->te_ref_Nm) - num_abs(s->obs_out.te_Nm);
-    s->te_short_Nm = num_mac(cfg->fsw_lpf_a, short_Nm - s->te_short_Nm, s->te_short_Nm);
+     * weakening flux is then trimmed down (and recovers when it is not).
+     * The shortfall is the mean of the ticks since the last step. */
+    real_t short_Nm = num_mul(s->short_sum_Nm, R(1.0) / (real_t)CTL_SLOW_SLOTS);
+    s->short_sum_Nm = R(0.0);
+    s->te_short_Nm = num_mac(cfg->sup_lpf_a, short_Nm - s->te_short_Nm, s->te_short_Nm);
     real_t over = num_div(s->te_short_Nm - cfg->dtc.torque_band2_Nm, cfg->speed.te_max_Nm);
-    s->fw_trim = num_sat(s->fw_trim - num_mul(cfg->band_rate_T, over), R(0.85), R(1.0));
+    s->fw_trim = num_sat(s->fw_trim - num_mul(cfg->sup_rate_T, over), R(0.85), R(1.0));
 
     real_t target = num_mul(cfg->dtc.psi_ref_Wb, regen_flux_factor(s, cfg));
     real_t v_max = num_mul(num_mul(cfg->fw_v_per_vdc, s->fw_trim), x->vc1_V + x->vc2_V);
     real_t w = num_abs(s->obs.omega_e_rad_s);
     if (num_mul(target, w) > v_max)
         target = num_div(v_max, w);
-    real_t dpsi = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
-    s->psi_ref_ramped_Wb = num_sat(target, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
+    s->psi_target_Wb = target;
     real_t psi = s->psi_ref_ramped_Wb;
     real_t te_po = num_mul(cfg->te_limit_Nm_Wb2, num_mul(psi, psi));
     s->te_limit_Nm = te_po < cfg->speed.te_max_Nm ? te_po : cfg->speed.te_max_Nm;
+}
+
+/* Every tick: the shortfall summed for supervise_flux(), and the flux
+ * reference slew-limited towards its target so that magnetising does not trip. */
+static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg)
+{
+    s->short_sum_Nm += num_abs(s->te_ref_Nm) - num_abs(s->obs_out.te_Nm);
+    real_t dpsi = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
+    s->psi_ref_ramped_Wb = num_sat(s->psi_target_Wb, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
 }
 
 /* Magnetising: zero torque until premag_s, then RUNNING from the estimated speed. */
@@ -644,17 +661,17 @@ static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8
     s->band_scale = num_sat(num_mac(k, rel, s->band_scale), R(1.0), cfg->band_scale_max);
 }
 
-/* Actuate: the last guard against a P<->N step (the DTC never asks for one),
- * then latch for the next period. */
+/* Actuate: the last guard against a P<->N step (the DTC never asks for
+ * one), then latch for the next period. */
 static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_out *out)
 {
     hal_actuation act;
     /* prev_state was clamped, the DTC's states come from its tables: all 0..26 */
     uint8_t a0 = dtc3l_pn_safe_unchecked(prev_state, s->dtc_out.state[0]);
     uint8_t a1 = dtc3l_pn_safe_unchecked(a0, s->dtc_out.state[1]);
+    act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
     dtc3l_legs_unchecked(a0, &act.vector[0]);
     dtc3l_legs_unchecked(a1, &act.vector[1]);
-    act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
     s->prev_act = s->last_act;
@@ -741,7 +758,10 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
         s->guard_trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
                                         s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
     ctl_guard_accumulate(&s->guard, v_V, is_A);
-    ramp_flux_reference(s, cfg, &in->sample);
+    if (s->slow_slot == CTL_SLOT_SUPERVISE) {
+        supervise_flux(s, cfg, &in->sample);
+    }
+    ramp_flux_reference(s, cfg);
 
     speed_out so;
     memset(&so, 0, sizeof so);

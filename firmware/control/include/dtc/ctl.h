@@ -116,6 +116,9 @@ typedef struct {
     real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */
     real_t fsw_lpf_a;         /**< low-pass coefficient of the measured switching frequency (20 ms), 0..1 */
     real_t band_rate_T;       /**< adaptation step of the band scale per period (5 1/s x T) */
+    real_t sup_lpf_a;         /**< low-pass coefficient (20 ms) of the torque shortfall per supervision step
+                                   (CTL_SLOW_SLOTS periods), 0..1 */
+    real_t sup_rate_T;        /**< step of the field-weakening trim per supervision step (5 1/s x CTL_SLOW_SLOTS T) */
     real_t inv_fsw_max_s;     /**< 1 / fsw_max_hz, s (0 when the regulation is off) */
     real_t fw_v_per_vdc;      /**< fw_voltage_frac / sqrt 3: usable phase voltage per volt of DC link */
     real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
@@ -169,6 +172,12 @@ typedef struct {
 #define CTL_SLOW_SLOTS 4u
 #define CTL_SLOT_GUARD 0u
 #define CTL_SLOT_PLAUS 2u
+/** The supervision of the operating point (ctl.c supervise(): the flux
+ *  target with field weakening and its trim, the lowered flux while
+ *  regenerating near zero stator frequency, the torque limit) steps in this
+ *  slot on what the ticks in between summed; the flux reference ramps to its
+ *  target every tick. */
+#define CTL_SLOT_SUPERVISE 2u
 /** The RBFN speed loop steps every CTL_RBFN_TICKS ticks (a power of 2): its
  *  command in the ticks whose slot is CTL_SLOT_RBFN modulo it (1 and 3, never
  *  with a monitor), that command's weight and bound updates in the next tick
@@ -215,6 +224,8 @@ typedef struct {
     real_t band_scale;        /**< present widening of the torque bands (1..band_scale_max) */
     real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
+    real_t psi_target_Wb;     /**< flux the reference ramps to (supervise()), Wb */
+    real_t short_sum_Nm;      /**< |te_ref| - |te_est| summed since the last supervision step, N m */
     ctl_guard guard;          /**< loss-of-control monitor */
     bool guard_trip;          /**< the monitor's verdict of the last step */
     real_t t_at_limit_s;      /**< time at the torque limit, off speed, in windows whose speed error did not shrink (STALL), s */
