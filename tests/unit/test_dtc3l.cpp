@@ -164,6 +164,16 @@ TEST(Dtc3lVectors, LegsVoltageEqualsStateVoltageBitForBit)
     }
 }
 
+// The packed leg codes (dtc3l_step's output) against the base-3 digits of the
+// state number, and the step's vectors against its states.
+TEST(Dtc3lVectors, PackedLegsAreTheBase3Digits)
+{
+    for (int st = 0; st < 27; ++st) {
+        uint32_t want = uint32_t(st / 9) | uint32_t(st / 3 % 3) << 8 | uint32_t(st % 3) << 16;
+        EXPECT_EQ(dtc3l_state_legs_packed[st], want) << kStateNames[st];
+    }
+}
+
 // The 19 space vectors: magnitude class and direction as documented in dtc3l.h,
 // every redundant state of a vector giving the same voltage (balanced link).
 TEST(Dtc3lVectors, SpaceVectorClassesAndDirections)

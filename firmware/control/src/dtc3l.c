@@ -16,6 +16,13 @@
 #include "dtc/dtc3l.h"
 
 #include <stddef.h>
+#include <string.h>
+
+/* emit writes both vectors' six leg bytes as one word and one half-word */
+_Static_assert(sizeof(hal_vector) == 3u && offsetof(hal_actuation, vector) == 0u, "hal_actuation: six leg bytes first");
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "emit packs the leg codes little-endian"
+#endif
 
 /* Below this flux the radial direction is undefined (start of magnetising), Wb. */
 #define PSI_TINY_WB R(1e-3)
@@ -444,8 +451,14 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, con
 static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out *out)
 {
     s->torque_state = p->after;
-    dtc3l_legs_unchecked(p->st0, &out->act.vector[0]);
-    dtc3l_legs_unchecked(p->st1, &out->act.vector[1]);
+    /* act.vector[0], act.vector[1]: bytes 0..5, from the packed codes
+     * (the same bytes as dtc3l_legs_unchecked for each) */
+    uint32_t w0 = dtc3l_state_legs_packed[p->st0], w1 = dtc3l_state_legs_packed[p->st1];
+    uint32_t lo = w0 | w1 << 24;
+    uint16_t hi = (uint16_t)(w1 >> 8);
+    unsigned char *legs = (unsigned char *)out->act.vector;
+    memcpy(legs, &lo, sizeof lo);
+    memcpy(legs + sizeof lo, &hi, sizeof hi);
     out->act.duty0 = p->st1 == p->st0 ? R(1.0) : p->duty0;
     out->state[0] = p->st0;
     out->state[1] = p->st1;
