@@ -160,9 +160,14 @@ static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab
     v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
 }
 
-/* dtc3l_state_slope for the step's own states (0..26) */
+/* dtc3l_state_slope for the step's own states (0..26). A zero state's
+ * voltage is exactly (0, 0) (its three legs select the same voltage x:
+ * 2x - x - x = 0), so its slope is dte0 as it is: no voltage worked out for
+ * the holds, about every other period (issue 11). */
 static inline real_t state_slope(const tick_geometry *g, const dtc3l_in *in, uint8_t st)
 {
+    if (dtc3l_state_sv_unchecked(st) == 0u)
+        return in->dte0_Nm_s;
     real_t v[2];
     state_voltage(g, st, v);
     return dtc3l_voltage_slope(in, v);
