@@ -712,6 +712,67 @@ TEST(Dtc3lNp, InsideTheBandFewestCommutations)
     }
 }
 
+// A small vector inside the band, exactly (dtc3l_np.c works it out in closed
+// form there): of its two states the ones not a P<->N step away, fewest
+// commutations (the counts never tie: the P-type state is the N-type one a
+// level up in every leg), the NP tie-break of the scoring rule kept in the
+// reference all the same; when both are a P<->N
+// step away, the P-type state with those legs held at O. Every previous
+// state, both signs of the deviation, currents of every sign pattern.
+TEST(Dtc3lNp, InsideTheBandSmallVectorExactly)
+{
+    const float currents[4][3] = {{10.f, -4.f, -6.f}, {-3.f, 8.f, -5.f}, {-2.f, -7.f, 9.f}, {0.5f, 0.25f, -0.75f}};
+    for (const auto &i_abc : currents) {
+        for (float dev : {0.6f, -0.6f, 1.4f, -1.4f}) {
+            for (int prev = 0; prev < 27; ++prev) {
+                for (int sv = 1; sv <= 6; ++sv) {
+                    uint8_t cand[3];
+                    ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), cand), 2);
+                    uint8_t pa[3], c0[3], c1[3];
+                    legs_of(prev, pa);
+                    legs_of(cand[0], c0);
+                    legs_of(cand[1], c1);
+                    int n0 = 0, n1 = 0;
+                    for (int leg = 0; leg < 3; ++leg) {
+                        EXPECT_EQ(c0[leg], c1[leg] + 1) << "P-type = N-type one level up, sv " << sv;
+                        n0 += std::abs(pa[leg] - c0[leg]);
+                        n1 += std::abs(pa[leg] - c1[leg]);
+                    }
+                    EXPECT_EQ(std::abs(n0 - n1) % 2, 1) << "commutation counts never tie";
+                    int want = -1, best_score = 1 << 30;
+                    for (int k = 0; k < 2; ++k) {
+                        if (pn_step(prev, cand[k]))
+                            continue;
+                        uint8_t a[3], b[3];
+                        legs_of(prev, a);
+                        legs_of(cand[k], b);
+                        int changes = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+                        double inp = 0.0; // the phase currents of the legs at O
+                        for (int leg = 0; leg < 3; ++leg)
+                            inp += b[leg] == HAL_LEG_O ? double(i_abc[leg]) : 0.0;
+                        int score = 4 * changes + (inp * dev <= 0.0 ? 0 : 1);
+                        if (score < best_score) {
+                            best_score = score;
+                            want = cand[k];
+                        }
+                    }
+                    if (want < 0) {
+                        uint8_t a[3], b[3];
+                        legs_of(prev, a);
+                        legs_of(cand[0], b);
+                        for (int leg = 0; leg < 3; ++leg)
+                            if (std::abs(a[leg] - b[leg]) == 2)
+                                b[leg] = HAL_LEG_O;
+                        want = b[0] * 9 + b[1] * 3 + b[2];
+                    }
+                    EXPECT_EQ(int(dtc3l_choose_state(uint8_t(sv), uint8_t(prev), dev, 1.5f, i_abc)), want)
+                        << "prev " << kStateNames[prev] << " sv " << sv << " dev " << dev;
+                }
+            }
+        }
+    }
+}
+
 // ---------------------------------------------------------- ripple timing
 
 TEST(Dtc3lRipple, EdgeFraction)

@@ -99,6 +99,18 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
     if (sv == 0u)
         return zero_after[prev_state];
+    if (small && !np_forced) {
+        /* A small vector inside the band: the loop below in closed form. Its
+         * P-type state is its N-type one a level up in every leg, so from any
+         * state their commutation counts differ by an odd number (three legs
+         * of +-1 each): never a tie, and one commutation (4) outweighs the NP
+         * tie-break (1). No NP current is needed here. */
+        uint8_t c0 = st[0], c1 = st[1];
+        bool ok0 = !dtc3l_pn_step_unchecked(prev_state, c0), ok1 = !dtc3l_pn_step_unchecked(prev_state, c1);
+        if (ok0 && ok1)
+            return dtc3l_leg_changes_unchecked(prev_state, c0) < dtc3l_leg_changes_unchecked(prev_state, c1) ? c0 : c1;
+        return ok0 ? c0 : (ok1 ? c1 : dtc3l_pn_safe_unchecked(prev_state, c0));
+    }
     uint8_t best = 0xFFu;
     unsigned best_score = ~0u;
     real_t best_push = R(0.0); /* i_np (vc1 - vc2) of the best so far (small vectors) */
