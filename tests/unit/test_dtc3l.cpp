@@ -773,6 +773,83 @@ TEST(Dtc3lNp, InsideTheBandSmallVectorExactly)
     }
 }
 
+// A small vector outside the band (np_forced), exactly (dtc3l_np.c works it
+// out in closed form): of its states not a P<->N step away the least of
+// 4 x commutations + 100 when its NP current pushes vc1 - vc2 further off;
+// when the one taken pushes further off, the other state with its P<->N legs
+// held at O if that is a small state pulling the link back; when both are a
+// P<->N step away, the P-type state with those legs held at O.
+TEST(Dtc3lNp, OutsideTheBandSmallVectorExactly)
+{
+    const float currents[4][3] = {{10.f, -4.f, -6.f}, {-3.f, 8.f, -5.f}, {-2.f, -7.f, 9.f}, {0.5f, 0.25f, -0.75f}};
+    auto np_current = [](int st, const float i_abc[3]) {
+        uint8_t l[3];
+        legs_of(st, l);
+        double inp = 0.0; // the phase currents of the legs at O
+        for (int leg = 0; leg < 3; ++leg)
+            inp += l[leg] == HAL_LEG_O ? double(i_abc[leg]) : 0.0;
+        return inp;
+    };
+    auto held_at_o = [](int from, int to) {
+        uint8_t a[3], b[3];
+        legs_of(from, a);
+        legs_of(to, b);
+        for (int leg = 0; leg < 3; ++leg)
+            if (std::abs(a[leg] - b[leg]) == 2)
+                b[leg] = HAL_LEG_O;
+        return b[0] * 9 + b[1] * 3 + b[2];
+    };
+    auto is_small = [](int st) { // two adjacent levels among the legs
+        uint8_t l[3];
+        legs_of(st, l);
+        int lo = std::min({l[0], l[1], l[2]}), hi = std::max({l[0], l[1], l[2]});
+        return hi - lo == 1;
+    };
+    int intermediates = 0, unbalancing = 0;
+    for (const auto &i_abc : currents) {
+        for (float dev : {2.0f, -2.0f, 4.5f, -4.5f}) {
+            for (int prev = 0; prev < 27; ++prev) {
+                for (int sv = 1; sv <= 6; ++sv) {
+                    uint8_t cand[3];
+                    ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), cand), 2);
+                    int want = -1, best_score = 1 << 30;
+                    double best_push = 0.0;
+                    for (int k = 0; k < 2; ++k) {
+                        if (pn_step(prev, cand[k]))
+                            continue;
+                        uint8_t a[3], b[3];
+                        legs_of(prev, a);
+                        legs_of(cand[k], b);
+                        int changes = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+                        double push = np_current(cand[k], i_abc) * dev;
+                        int score = 4 * changes + (push <= 0.0 ? 0 : 100);
+                        if (score < best_score) {
+                            best_score = score;
+                            want = cand[k];
+                            best_push = push;
+                        }
+                    }
+                    if (want < 0) {
+                        want = held_at_o(prev, cand[0]);
+                    } else if (best_push > 0.0) {
+                        ++unbalancing;
+                        int other = want == cand[0] ? cand[1] : cand[0];
+                        int m = held_at_o(prev, other);
+                        if (is_small(m) && np_current(m, i_abc) * dev < 0.0) {
+                            want = m;
+                            ++intermediates;
+                        }
+                    }
+                    EXPECT_EQ(int(dtc3l_choose_state(uint8_t(sv), uint8_t(prev), dev, 1.5f, i_abc)), want)
+                        << "prev " << kStateNames[prev] << " sv " << sv << " dev " << dev;
+                }
+            }
+        }
+    }
+    EXPECT_GT(unbalancing, 0);   // the balancing state out of reach was visited
+    EXPECT_GT(intermediates, 0); // and so was its small intermediate
+}
+
 // ---------------------------------------------------------- ripple timing
 
 TEST(Dtc3lRipple, EdgeFraction)
