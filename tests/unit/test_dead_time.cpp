@@ -109,3 +109,33 @@ TEST(DeadTime, ZeroDeadTimeGivesZero)
     for (float x : dv)
         EXPECT_EQ(x, 0.0f);
 }
+
+// The leg bytes are read word-wide (dead_time.c): every edge between any two
+// of the 27 states, at each of the three places in a period (previous vector
+// -> vector[0] -> vector[1]), against the rule worked out leg by leg here.
+TEST(DeadTime, EveryEdgeBetweenAnyTwoStatesLegByLeg)
+{
+    const float i[3] = {7.0f, -3.0f, -4.0f};
+    auto code = [](int st, int leg) { return uint8_t(leg == 0 ? st / 9 : (leg == 1 ? st / 3 % 3 : st % 3)); };
+    auto level = [](uint8_t c) { return c == P ? kVc1 : (c == N ? -kVc2 : 0.0f); };
+    for (int a = 0; a < 27; ++a) {
+        for (int b = 0; b < 27; ++b) {
+            hal_vector va = vec(code(a, 0), code(a, 1), code(a, 2));
+            hal_vector vb = vec(code(b, 0), code(b, 1), code(b, 2));
+            // a at the end of the previous period, b the whole of this one (edge 1);
+            // a then b within this period after a previous a (edge 2)
+            for (int place = 0; place < 2; ++place) {
+                hal_actuation prev = place == 0 ? act(vec(O, O, O), va, 0.5f) : act(va, va, 1.0f);
+                hal_actuation now = place == 0 ? act(vb, vb, 1.0f) : act(va, vb, 0.5f);
+                Out o = run(prev, now, i[0], i[1], i[2]);
+                for (int leg = 0; leg < 3; ++leg) {
+                    uint8_t la = code(a, leg), lb = code(b, leg);
+                    // |i| >= band: fully late when the current flows the way of the step
+                    bool late = la != lb && ((lb > la) == (i[leg] > 0.0f));
+                    float want = late ? -(level(lb) - level(la)) * kDtPerT : 0.0f;
+                    ASSERT_NEAR(o.dv[leg], want, 1e-5f) << a << " -> " << b << " leg " << leg << " place " << place;
+                }
+            }
+        }
+    }
+}

@@ -164,6 +164,16 @@ TEST(Dtc3lVectors, LegsVoltageEqualsStateVoltageBitForBit)
     }
 }
 
+// The packed leg codes (dtc3l_step's output) against the base-3 digits of the
+// state number, and the step's vectors against its states.
+TEST(Dtc3lVectors, PackedLegsAreTheBase3Digits)
+{
+    for (int st = 0; st < 27; ++st) {
+        uint32_t want = uint32_t(st / 9) | uint32_t(st / 3 % 3) << 8 | uint32_t(st % 3) << 16;
+        EXPECT_EQ(dtc3l_state_legs_packed[st], want) << kStateNames[st];
+    }
+}
+
 // The 19 space vectors: magnitude class and direction as documented in dtc3l.h,
 // every redundant state of a vector giving the same voltage (balanced link).
 TEST(Dtc3lVectors, SpaceVectorClassesAndDirections)
@@ -700,6 +710,144 @@ TEST(Dtc3lNp, InsideTheBandFewestCommutations)
                 << "prev " << prev << " sv " << sv;
         }
     }
+}
+
+// A small vector inside the band, exactly (dtc3l_np.c works it out in closed
+// form there): of its two states the ones not a P<->N step away, fewest
+// commutations (the counts never tie: the P-type state is the N-type one a
+// level up in every leg), the NP tie-break of the scoring rule kept in the
+// reference all the same; when both are a P<->N
+// step away, the P-type state with those legs held at O. Every previous
+// state, both signs of the deviation, currents of every sign pattern.
+TEST(Dtc3lNp, InsideTheBandSmallVectorExactly)
+{
+    const float currents[4][3] = {{10.f, -4.f, -6.f}, {-3.f, 8.f, -5.f}, {-2.f, -7.f, 9.f}, {0.5f, 0.25f, -0.75f}};
+    for (const auto &i_abc : currents) {
+        for (float dev : {0.6f, -0.6f, 1.4f, -1.4f}) {
+            for (int prev = 0; prev < 27; ++prev) {
+                for (int sv = 1; sv <= 6; ++sv) {
+                    uint8_t cand[3];
+                    ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), cand), 2);
+                    uint8_t pa[3], c0[3], c1[3];
+                    legs_of(prev, pa);
+                    legs_of(cand[0], c0);
+                    legs_of(cand[1], c1);
+                    int n0 = 0, n1 = 0;
+                    for (int leg = 0; leg < 3; ++leg) {
+                        EXPECT_EQ(c0[leg], c1[leg] + 1) << "P-type = N-type one level up, sv " << sv;
+                        n0 += std::abs(pa[leg] - c0[leg]);
+                        n1 += std::abs(pa[leg] - c1[leg]);
+                    }
+                    EXPECT_EQ(std::abs(n0 - n1) % 2, 1) << "commutation counts never tie";
+                    int want = -1, best_score = 1 << 30;
+                    for (int k = 0; k < 2; ++k) {
+                        if (pn_step(prev, cand[k]))
+                            continue;
+                        uint8_t a[3], b[3];
+                        legs_of(prev, a);
+                        legs_of(cand[k], b);
+                        int changes = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+                        double inp = 0.0; // the phase currents of the legs at O
+                        for (int leg = 0; leg < 3; ++leg)
+                            inp += b[leg] == HAL_LEG_O ? double(i_abc[leg]) : 0.0;
+                        int score = 4 * changes + (inp * dev <= 0.0 ? 0 : 1);
+                        if (score < best_score) {
+                            best_score = score;
+                            want = cand[k];
+                        }
+                    }
+                    if (want < 0) {
+                        uint8_t a[3], b[3];
+                        legs_of(prev, a);
+                        legs_of(cand[0], b);
+                        for (int leg = 0; leg < 3; ++leg)
+                            if (std::abs(a[leg] - b[leg]) == 2)
+                                b[leg] = HAL_LEG_O;
+                        want = b[0] * 9 + b[1] * 3 + b[2];
+                    }
+                    EXPECT_EQ(int(dtc3l_choose_state(uint8_t(sv), uint8_t(prev), dev, 1.5f, i_abc)), want)
+                        << "prev " << kStateNames[prev] << " sv " << sv << " dev " << dev;
+                }
+            }
+        }
+    }
+}
+
+// A small vector outside the band (np_forced), exactly (dtc3l_np.c works it
+// out in closed form): of its states not a P<->N step away the least of
+// 4 x commutations + 100 when its NP current pushes vc1 - vc2 further off;
+// when the one taken pushes further off, the other state with its P<->N legs
+// held at O if that is a small state pulling the link back; when both are a
+// P<->N step away, the P-type state with those legs held at O.
+TEST(Dtc3lNp, OutsideTheBandSmallVectorExactly)
+{
+    const float currents[4][3] = {{10.f, -4.f, -6.f}, {-3.f, 8.f, -5.f}, {-2.f, -7.f, 9.f}, {0.5f, 0.25f, -0.75f}};
+    auto np_current = [](int st, const float i_abc[3]) {
+        uint8_t l[3];
+        legs_of(st, l);
+        double inp = 0.0; // the phase currents of the legs at O
+        for (int leg = 0; leg < 3; ++leg)
+            inp += l[leg] == HAL_LEG_O ? double(i_abc[leg]) : 0.0;
+        return inp;
+    };
+    auto held_at_o = [](int from, int to) {
+        uint8_t a[3], b[3];
+        legs_of(from, a);
+        legs_of(to, b);
+        for (int leg = 0; leg < 3; ++leg)
+            if (std::abs(a[leg] - b[leg]) == 2)
+                b[leg] = HAL_LEG_O;
+        return b[0] * 9 + b[1] * 3 + b[2];
+    };
+    auto is_small = [](int st) { // two adjacent levels among the legs
+        uint8_t l[3];
+        legs_of(st, l);
+        int lo = std::min({l[0], l[1], l[2]}), hi = std::max({l[0], l[1], l[2]});
+        return hi - lo == 1;
+    };
+    int intermediates = 0, unbalancing = 0;
+    for (const auto &i_abc : currents) {
+        for (float dev : {2.0f, -2.0f, 4.5f, -4.5f}) {
+            for (int prev = 0; prev < 27; ++prev) {
+                for (int sv = 1; sv <= 6; ++sv) {
+                    uint8_t cand[3];
+                    ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), cand), 2);
+                    int want = -1, best_score = 1 << 30;
+                    double best_push = 0.0;
+                    for (int k = 0; k < 2; ++k) {
+                        if (pn_step(prev, cand[k]))
+                            continue;
+                        uint8_t a[3], b[3];
+                        legs_of(prev, a);
+                        legs_of(cand[k], b);
+                        int changes = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+                        double push = np_current(cand[k], i_abc) * dev;
+                        int score = 4 * changes + (push <= 0.0 ? 0 : 100);
+                        if (score < best_score) {
+                            best_score = score;
+                            want = cand[k];
+                            best_push = push;
+                        }
+                    }
+                    if (want < 0) {
+                        want = held_at_o(prev, cand[0]);
+                    } else if (best_push > 0.0) {
+                        ++unbalancing;
+                        int other = want == cand[0] ? cand[1] : cand[0];
+                        int m = held_at_o(prev, other);
+                        if (is_small(m) && np_current(m, i_abc) * dev < 0.0) {
+                            want = m;
+                            ++intermediates;
+                        }
+                    }
+                    EXPECT_EQ(int(dtc3l_choose_state(uint8_t(sv), uint8_t(prev), dev, 1.5f, i_abc)), want)
+                        << "prev " << kStateNames[prev] << " sv " << sv << " dev " << dev;
+                }
+            }
+        }
+    }
+    EXPECT_GT(unbalancing, 0);   // the balancing state out of reach was visited
+    EXPECT_GT(intermediates, 0); // and so was its small intermediate
 }
 
 // ---------------------------------------------------------- ripple timing

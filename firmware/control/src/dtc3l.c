@@ -16,6 +16,13 @@
 #include "dtc/dtc3l.h"
 
 #include <stddef.h>
+#include <string.h>
+
+/* emit writes both vectors' six leg bytes as one word and one half-word */
+_Static_assert(sizeof(hal_vector) == 3u && offsetof(hal_actuation, vector) == 0u, "hal_actuation: six leg bytes first");
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "emit packs the leg codes little-endian"
+#endif
 
 /* Below this flux the radial direction is undefined (start of magnetising), Wb. */
 #define PSI_TINY_WB R(1e-3)
@@ -153,9 +160,14 @@ static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab
     v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
 }
 
-/* dtc3l_state_slope for the step's own states (0..26) */
+/* dtc3l_state_slope for the step's own states (0..26). A zero state's
+ * voltage is exactly (0, 0) (its three legs select the same voltage x:
+ * 2x - x - x = 0), so its slope is dte0 as it is: no voltage worked out for
+ * the holds, about every other period (issue 11). */
 static inline real_t state_slope(const tick_geometry *g, const dtc3l_in *in, uint8_t st)
 {
+    if (dtc3l_state_sv_unchecked(st) == 0u)
+        return in->dte0_Nm_s;
     real_t v[2];
     state_voltage(g, st, v);
     return dtc3l_voltage_slope(in, v);
@@ -444,8 +456,14 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, con
 static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out *out)
 {
     s->torque_state = p->after;
-    dtc3l_legs_unchecked(p->st0, &out->act.vector[0]);
-    dtc3l_legs_unchecked(p->st1, &out->act.vector[1]);
+    /* act.vector[0], act.vector[1]: bytes 0..5, from the packed codes
+     * (the same bytes as dtc3l_legs_unchecked for each) */
+    uint32_t w0 = dtc3l_state_legs_packed[p->st0], w1 = dtc3l_state_legs_packed[p->st1];
+    uint32_t lo = w0 | w1 << 24;
+    uint16_t hi = (uint16_t)(w1 >> 8);
+    unsigned char *legs = (unsigned char *)out->act.vector;
+    memcpy(legs, &lo, sizeof lo);
+    memcpy(legs + sizeof lo, &hi, sizeof hi);
     out->act.duty0 = p->st1 == p->st0 ? R(1.0) : p->duty0;
     out->state[0] = p->st0;
     out->state[1] = p->st1;

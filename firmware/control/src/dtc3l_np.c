@@ -99,6 +99,44 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
     if (sv == 0u)
         return zero_after[prev_state];
+    if (small && !np_forced) {
+        /* A small vector inside the band: the loop below in closed form. Its
+         * P-type state is its N-type one a level up in every leg, so from any
+         * state their commutation counts differ by an odd number (three legs
+         * of +-1 each): never a tie, and one commutation (4) outweighs the NP
+         * tie-break (1). No NP current is needed here. */
+        uint8_t c0 = st[0], c1 = st[1];
+        bool ok0 = !dtc3l_pn_step_unchecked(prev_state, c0), ok1 = !dtc3l_pn_step_unchecked(prev_state, c1);
+        if (ok0 && ok1)
+            return dtc3l_leg_changes_unchecked(prev_state, c0) < dtc3l_leg_changes_unchecked(prev_state, c1) ? c0 : c1;
+        return ok0 ? c0 : (ok1 ? c1 : dtc3l_pn_safe_unchecked(prev_state, c0));
+    }
+    if (small) {
+        /* A small vector outside the band (np_forced): the loop and the
+         * intermediate below in closed form. Balancing (100) outweighs any
+         * commutation count (at most 6 x 4), which never ties. */
+        uint8_t c0 = st[0], c1 = st[1];
+        bool ok0 = !dtc3l_pn_step_unchecked(prev_state, c0), ok1 = !dtc3l_pn_step_unchecked(prev_state, c1);
+        if (!(ok0 || ok1))
+            return dtc3l_pn_safe_unchecked(prev_state, c0);
+        real_t push0 = ok0 ? num_mul(dtc3l_np_current_unchecked(c0, i_abc), np_dev_V) : R(0.0);
+        real_t push1 = ok1 ? num_mul(dtc3l_np_current_unchecked(c1, i_abc), np_dev_V) : R(0.0);
+        bool take1 = !ok0;
+        if (ok0 && ok1) {
+            bool toward0 = push0 <= R(0.0), toward1 = push1 <= R(0.0);
+            take1 = toward0 == toward1
+                        ? dtc3l_leg_changes_unchecked(prev_state, c1) < dtc3l_leg_changes_unchecked(prev_state, c0)
+                        : toward1;
+        }
+        uint8_t chosen = take1 ? c1 : c0;
+        if (!((take1 ? push1 : push0) > R(0.0)))
+            return chosen;
+        uint8_t m = dtc3l_pn_safe_unchecked(prev_state, take1 ? c0 : c1); /* the other state, held P<->N-safe */
+        if (dtc3l_sv_class(dtc3l_state_sv_unchecked(m)) == DTC3L_CLASS_SMALL &&
+            num_mul(dtc3l_np_current_unchecked(m, i_abc), np_dev_V) < R(0.0))
+            return m;
+        return chosen;
+    }
     uint8_t best = 0xFFu;
     unsigned best_score = ~0u;
     real_t best_push = R(0.0); /* i_np (vc1 - vc2) of the best so far (small vectors) */

@@ -70,6 +70,16 @@ const hal_vector dtc3l_state_legs[DTC3L_N_STATES] = {
     {{2u, 2u, 1u}}, /* 25 PPO */
     {{2u, 2u, 2u}}, /* 26 PPP */
 };
+/* The same leg codes packed a | b << 8 | c << 16: a state's three bytes in
+ * one load, for the step's output (dtc3l.c emit). */
+#define PACK(a, b, c) ((uint32_t)(a) | (uint32_t)(b) << 8 | (uint32_t)(c) << 16)
+const uint32_t dtc3l_state_legs_packed[DTC3L_N_STATES] = {
+    PACK(0, 0, 0), PACK(0, 0, 1), PACK(0, 0, 2), PACK(0, 1, 0), PACK(0, 1, 1), PACK(0, 1, 2), PACK(0, 2, 0),
+    PACK(0, 2, 1), PACK(0, 2, 2), PACK(1, 0, 0), PACK(1, 0, 1), PACK(1, 0, 2), PACK(1, 1, 0), PACK(1, 1, 1),
+    PACK(1, 1, 2), PACK(1, 2, 0), PACK(1, 2, 1), PACK(1, 2, 2), PACK(2, 0, 0), PACK(2, 0, 1), PACK(2, 0, 2),
+    PACK(2, 1, 0), PACK(2, 1, 1), PACK(2, 1, 2), PACK(2, 2, 0), PACK(2, 2, 1), PACK(2, 2, 2),
+};
+#undef PACK
 const real_t dtc3l_np_legs[DTC3L_N_STATES][3] = {
     {R(0.0), R(0.0), R(0.0)}, /*  0 NNN */
     {R(0.0), R(0.0), R(1.0)}, /*  1 NNO */

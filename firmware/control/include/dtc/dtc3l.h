@@ -158,6 +158,7 @@ typedef struct {
  * model and an independent base-3 decomposition. */
 
 extern const hal_vector dtc3l_state_legs[DTC3L_N_STATES];        /**< leg codes of each state */
+extern const uint32_t dtc3l_state_legs_packed[DTC3L_N_STATES]; /**< the leg codes a | b << 8 | c << 16 */
 extern const real_t dtc3l_np_legs[DTC3L_N_STATES][3];           /**< 1 for a leg at O (its phase current
                                                                      flows from the neutral point), else 0 */
 extern const uint32_t dtc3l_pn_step_mask[DTC3L_N_STATES];       /**< bit `to` set: from -> to steps a leg P<->N */
