@@ -291,3 +291,45 @@ TEST(CtlProtection, BadSampleLosesNothing)
 }
 
 } // namespace
+
+// The operating point's supervision (issue 11: once per slot cycle, not every
+// tick): at the voltage limit the flux target is the DC link's usable phase
+// voltage over the electrical speed, fw_voltage_frac / sqrt(3) x Vdc / |w_e|,
+// worked out only in the supervision slot of the speed mode and held in the
+// ticks between, while the reference ramps towards it every tick.
+TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
+{
+    for (speed_mode mode : {SPEED_MODE_IP, SPEED_MODE_RBFN}) {
+        SCOPED_TRACE(mode);
+        Core c;
+        c.cfg.speed.mode = mode;
+        ctl_cfg_derive(&c.cfg);
+        const unsigned slot = mode == SPEED_MODE_RBFN ? CTL_SLOT_SUPERVISE_RBFN : CTL_SLOT_SUPERVISE;
+        ctl_in in = Core::nominal();
+        c.step(in); // starts magnetising
+        ASSERT_EQ(c.s.run_state, CTL_MAGNETISING);
+        int steps = 0;
+        float psi_prev = c.s.psi_ref_ramped_Wb;
+        for (int k = 0; k < 12; ++k) {
+            const float w_e = 450.0f + 10.0f * (float)k; // a new speed each tick, rad/s electrical (below overspeed)
+            c.s.obs.omega_int_rad_s = w_e;
+            c.s.obs.omega_e_rad_s = w_e;
+            const float target_before = c.s.psi_target_Wb;
+            c.step(in);
+            const double w = std::abs((double)c.s.obs.omega_e_rad_s); // the speed this tick's step used
+            const double expect = (double)c.cfg.fw_voltage_frac / std::sqrt(3.0) * 311.0 / w;
+            if (c.s.slow_slot == slot) {
+                ++steps;
+                EXPECT_NEAR(c.s.psi_target_Wb, expect, 1e-5 * expect) << "tick " << k;
+            } else {
+                EXPECT_EQ(c.s.psi_target_Wb, target_before) << "tick " << k << ": changed outside its slot";
+            }
+            // the reference ramps every tick, by the slew limit at most
+            const double dpsi = (double)c.cfg.psi_ramp_Wb_s * c.cfg.period_s;
+            EXPECT_LE(std::abs((double)c.s.psi_ref_ramped_Wb - psi_prev), dpsi * 1.0001);
+            EXPECT_NE(c.s.psi_ref_ramped_Wb, psi_prev) << "tick " << k << ": the ramp stood still";
+            psi_prev = c.s.psi_ref_ramped_Wb;
+        }
+        EXPECT_EQ(steps, 3);
+    }
+}

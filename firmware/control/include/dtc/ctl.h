@@ -119,6 +119,7 @@ typedef struct {
     real_t sup_lpf_a;         /**< low-pass coefficient (20 ms) of the torque shortfall per supervision step
                                    (CTL_SLOW_SLOTS periods), 0..1 */
     real_t sup_rate_T;        /**< step of the field-weakening trim per supervision step (5 1/s x CTL_SLOW_SLOTS T) */
+    uint8_t supervise_slot;   /**< the slot of supervise_flux() for speed.mode (CTL_SLOT_SUPERVISE(_RBFN)) */
     real_t inv_fsw_max_s;     /**< 1 / fsw_max_hz, s (0 when the regulation is off) */
     real_t fw_v_per_vdc;      /**< fw_voltage_frac / sqrt 3: usable phase voltage per volt of DC link */
     real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
@@ -172,12 +173,16 @@ typedef struct {
 #define CTL_SLOW_SLOTS 4u
 #define CTL_SLOT_GUARD 0u
 #define CTL_SLOT_PLAUS 2u
-/** The supervision of the operating point (ctl.c supervise(): the flux
+/** The supervision of the operating point (ctl.c supervise_flux(): the flux
  *  target with field weakening and its trim, the lowered flux while
- *  regenerating near zero stator frequency, the torque limit) steps in this
- *  slot on what the ticks in between summed; the flux reference ramps to its
- *  target every tick. */
-#define CTL_SLOT_SUPERVISE 2u
+ *  regenerating near zero stator frequency, the torque limit) steps once per
+ *  slot cycle on what the ticks in between summed, in a slot without the
+ *  speed loop's command: CTL_SLOT_SUPERVISE_RBFN with the RBFN (whose command
+ *  takes slots 1 and 3), CTL_SLOT_SUPERVISE with the IP and nominal
+ *  controllers (no slow task in it). The flux reference ramps to its target
+ *  every tick. */
+#define CTL_SLOT_SUPERVISE 1u
+#define CTL_SLOT_SUPERVISE_RBFN 2u
 /** The RBFN speed loop steps every CTL_RBFN_TICKS ticks (a power of 2): its
  *  command in the ticks whose slot is CTL_SLOT_RBFN modulo it (1 and 3, never
  *  with a monitor), that command's weight and bound updates in the next tick
