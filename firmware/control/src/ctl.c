@@ -532,7 +532,7 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
 {
     real_t w = num_abs(s->obs.omega_m_filt_rad_s);
     bool braking = num_mul(s->te_ref_Nm, s->obs.omega_m_filt_rad_s) < R(0.0);
-    if (!(cfg->stall_time_s > R(0.0) && at_limit && braking && w < BRAKE_STALL_SPEED_RAD_S)) {
+    if (!(at_limit && cfg->stall_time_s > R(0.0) && braking && w < BRAKE_STALL_SPEED_RAD_S)) {
         s->t_brake_limit_s = R(0.0);
         return;
     }
