@@ -78,14 +78,15 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
     /* r: z[k + 1] / z[k] going up; rho: z[k - 1] / z[k] going down (r rho = q) */
     real_t r = num_exp(num_mul(u, g->d) - g->half_d2);
-    real_t rho = num_div(g->q, r);
+    const real_t q = g->q; /* held in a register: the stores into v_out could alias it */
+    real_t rho = num_div(q, r);
     real_t sum = R(1.0);
     v_out[ks] = R(1.0);
     real_t y = w != 0 ? w[ks] : R(0.0);
     real_t v = R(1.0);
     for (uint32_t k = ks + 1u; k < n; k++) {
         v = num_mul(v, r);
-        r = num_mul(r, g->q);
+        r = num_mul(r, q);
         v_out[k] = v;
         sum += v;
         if (w != 0)
@@ -94,7 +95,7 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     v = R(1.0);
     for (uint32_t k = ks; k-- > 0u;) {
         v = num_mul(v, rho);
-        rho = num_mul(rho, g->q);
+        rho = num_mul(rho, q);
         v_out[k] = v;
         sum += v;
         if (w != 0)
