@@ -83,23 +83,28 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     real_t sum = R(1.0);
     v_out[ks] = R(1.0);
     real_t y = w != 0 ? w[ks] : R(0.0);
+    /* walked with pointers: no index arithmetic per node */
     real_t v = R(1.0);
-    for (uint32_t k = ks + 1u; k < n; k++) {
+    real_t *vk = v_out + ks;
+    const real_t *wk = w != 0 ? w + ks : 0;
+    for (const real_t *end = v_out + n; ++vk < end;) {
         v = num_mul(v, r);
         r = num_mul(r, q);
-        v_out[k] = v;
+        *vk = v;
         sum += v;
         if (w != 0)
-            y = num_mac(w[k], v, y);
+            y = num_mac(*++wk, v, y);
     }
     v = R(1.0);
-    for (uint32_t k = ks; k-- > 0u;) {
+    vk = v_out + ks;
+    wk = w != 0 ? w + ks : 0;
+    while (vk > v_out) {
         v = num_mul(v, rho);
         rho = num_mul(rho, q);
-        v_out[k] = v;
+        *--vk = v;
         sum += v;
         if (w != 0)
-            y = num_mac(w[k], v, y);
+            y = num_mac(*--wk, v, y);
     }
     *wv = y;
     return sum;
