@@ -143,9 +143,9 @@ real_t rbfn_norm(const real_t *w, uint32_t n)
     return num_sqrt(s);
 }
 
-real_t rbfn_project(real_t *w, uint32_t n, real_t m_w)
+/* rbfn_project with |W| = @p norm already worked out. */
+static real_t project_with_norm(real_t *w, uint32_t n, real_t m_w, real_t norm)
 {
-    real_t norm = rbfn_norm(w, n);
     if (!(m_w > R(0.0))) {
         for (uint32_t q = 0u; q < n; q++)
             w[q] = R(0.0);
@@ -160,16 +160,24 @@ real_t rbfn_project(real_t *w, uint32_t n, real_t m_w)
     return rbfn_norm(w, n);
 }
 
+real_t rbfn_project(real_t *w, uint32_t n, real_t m_w)
+{
+    return project_with_norm(w, n, m_w, rbfn_norm(w, n));
+}
+
 real_t rbfn_update_projected(real_t *w, const real_t *z, uint32_t n, real_t e, real_t gamma_w_dt,
                              real_t m_w)
 {
     /* Euler step of eq. 14. */
     real_t g = -gamma_w_dt * e;
-    for (uint32_t q = 0u; q < n; q++)
+    real_t s2 = R(0.0); /* |W|^2 of the new weights, summed as rbfn_norm does */
+    for (uint32_t q = 0u; q < n; q++) {
         w[q] = num_mac(g, z[q], w[q]);
+        s2 = num_mac(w[q], w[q], s2);
+    }
     /* Eq. 21 in discrete time: a step that leaves the ball loses its outward
      * part, i.e. W is put back on the sphere (the Euclidean projection onto
      * the convex set |W| <= M_w; to first order in the step it is exactly the
      * tangential projection of eq. 21). An inward step is left alone. */
-    return rbfn_project(w, n, m_w);
+    return project_with_norm(w, n, m_w, num_sqrt(s2));
 }
