@@ -295,7 +295,7 @@ TEST(CtlProtection, BadSampleLosesNothing)
 // The operating point's supervision (issue 11: once per slot cycle, not every
 // tick): at the voltage limit the flux target is the DC link's usable phase
 // voltage over the electrical speed, fw_voltage_frac / sqrt(3) x Vdc / |w_e|,
-// worked out only in the supervision slot of the speed mode and held in the
+// worked out only in the supervision slot (every speed mode) and held in the
 // ticks between, while the reference ramps towards it every tick.
 TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
 {
@@ -304,7 +304,7 @@ TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
         Core c;
         c.cfg.speed.mode = mode;
         ctl_cfg_derive(&c.cfg);
-        const unsigned slot = mode == SPEED_MODE_RBFN ? CTL_SLOT_SUPERVISE_RBFN : CTL_SLOT_SUPERVISE;
+        const unsigned slot = CTL_SLOT_SUPERVISE;
         ctl_in in = Core::nominal();
         c.step(in); // starts magnetising
         ASSERT_EQ(c.s.run_state, CTL_MAGNETISING);

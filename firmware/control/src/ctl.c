@@ -117,7 +117,6 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     real_t t_sup = num_mul((real_t)CTL_SLOW_SLOTS, cfg->period_s); /* the supervision step */
     cfg->sup_lpf_a = num_sat(R(1.0) - num_exp(-num_div(t_sup, R(0.02))), R(0.0), R(1.0));
     cfg->sup_rate_T = num_mul(R(5.0), t_sup);
-    cfg->supervise_slot = (uint8_t)(cfg->speed.mode == SPEED_MODE_RBFN ? CTL_SLOT_SUPERVISE_RBFN : CTL_SLOT_SUPERVISE);
     cfg->inv_fsw_max_s = cfg->fsw_max_hz > R(0.0) ? num_div(R(1.0), cfg->fsw_max_hz) : R(0.0);
     cfg->fw_v_per_vdc = num_mul(cfg->fw_voltage_frac, NUM_INV_SQRT3);
     cfg->te_limit_Nm_Wb2 = num_mul(cfg->te_pullout_frac, cfg->te_pullout_Nm_Wb2);
@@ -462,7 +461,7 @@ static real_t regen_flux_factor(ctl_state *s, const ctl_cfg *cfg)
 
 /* Flux target: rated, or what the measured DC link allows at the present
  * speed (field weakening), whichever is lower; then the torque limit at the
- * flux reference. One supervision step (CTL_SLOT_SUPERVISE(_RBFN), every
+ * flux reference. One supervision step (CTL_SLOT_SUPERVISE, every
  * CTL_SLOW_SLOTS ticks): the operating point moves slowly against that. */
 static void supervise_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x)
 {
@@ -754,7 +753,7 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
         s->guard_trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
                                         s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
     ctl_guard_accumulate(&s->guard, v_V, is_A);
-    if (s->slow_slot == cfg->supervise_slot) {
+    if (s->slow_slot == CTL_SLOT_SUPERVISE) {
         supervise_flux(s, cfg, &in->sample);
     }
     ramp_flux_reference(s, cfg);

@@ -119,7 +119,6 @@ typedef struct {
     real_t sup_lpf_a;         /**< low-pass coefficient (20 ms) of the torque shortfall per supervision step
                                    (CTL_SLOW_SLOTS periods), 0..1 */
     real_t sup_rate_T;        /**< step of the field-weakening trim per supervision step (5 1/s x CTL_SLOW_SLOTS T) */
-    uint8_t supervise_slot;   /**< the slot of supervise_flux() for speed.mode (CTL_SLOT_SUPERVISE(_RBFN)) */
     real_t inv_fsw_max_s;     /**< 1 / fsw_max_hz, s (0 when the regulation is off) */
     real_t fw_v_per_vdc;      /**< fw_voltage_frac / sqrt 3: usable phase voltage per volt of DC link */
     real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
@@ -173,23 +172,20 @@ typedef struct {
 #define CTL_SLOW_SLOTS 4u
 #define CTL_SLOT_GUARD 0u
 #define CTL_SLOT_PLAUS 2u
+/** The speed loop steps every CTL_RBFN_TICKS ticks (a power of 2), whatever
+ *  the controller: its command in the ticks whose slot is CTL_SLOT_RBFN modulo
+ *  it (1 and 3, never with a monitor), the RBFN's weight and bound updates of
+ *  that command in the next tick (with a monitor). */
+#define CTL_RBFN_TICKS 2u
+#define CTL_SLOT_RBFN 1u
 /** The supervision of the operating point (ctl.c supervise_flux(): the flux
  *  target with field weakening and its trim, the lowered flux while
  *  regenerating near zero stator frequency, the torque limit) steps once per
  *  slot cycle on what the ticks in between summed, in a slot without the
- *  speed loop's command: CTL_SLOT_SUPERVISE_RBFN with the RBFN (whose command
- *  takes slots 1 and 3), CTL_SLOT_SUPERVISE with the IP and nominal
- *  controllers (no slow task in it). The flux reference ramps to its target
- *  every tick. */
-#define CTL_SLOT_SUPERVISE 1u
-#define CTL_SLOT_SUPERVISE_RBFN 2u
-/** The speed loop steps every CTL_RBFN_TICKS ticks (a power of 2), whatever
- *  the controller: its command in the ticks whose slot is CTL_SLOT_RBFN modulo
- *  it (1 and 3, never with a monitor), the RBFN's weight and bound updates of
- *  that command in the next tick (with a monitor). (The IP's and nominal's
- *  command shares slot 1 with their supervision, CTL_SLOT_SUPERVISE.) */
-#define CTL_RBFN_TICKS 2u
-#define CTL_SLOT_RBFN 1u
+ *  speed loop's command (with the guard's check: of slots 0 and 2 the one
+ *  whose worst tick measured lower, docs/pil.md). The flux reference ramps
+ *  to its target every tick. */
+#define CTL_SLOT_SUPERVISE 0u
 #ifndef __cplusplus
 _Static_assert(CTL_GUARD_WINDOW_MAX == CTL_SLOW_SLOTS && PLAUS_CHECK_TICKS == CTL_SLOW_SLOTS,
                "the slow tasks' own rates are the schedule's");
