@@ -71,6 +71,7 @@
 #include <stdint.h>
 
 #include "dtc/num.h"
+#include "dtc/observer.h"
 #include "hal/hal_types.h"
 
 #ifdef __cplusplus
@@ -121,7 +122,22 @@ typedef struct {
     uint8_t level;            /**< dtc3l_level */
 } dtc3l;
 
-/** Inputs of one DTC step: the observer's prediction for the start of the period being chosen. */
+/** Inputs of one DTC step besides the observer's prediction (dtc3l_step_predicted
+ *  reads that where the observer left it, in its observer_out). */
+typedef struct {
+    real_t te_ref_Nm;         /**< torque command, N m */
+    real_t psi_ref_Wb;        /**< flux command, Wb */
+    real_t rs_ohm;            /**< stator resistance, ohm */
+    real_t omega_e_rad_s;     /**< electrical speed estimate, rad/s (voltage level) */
+    real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
+    real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
+    uint8_t prev_state;       /**< state in force when the chosen period starts (0..26; others count as OOO) */
+    real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
+                                   switching-frequency regulation of ctl.c widens them */
+} dtc3l_cmd;
+
+/** Inputs of one DTC step in one flat struct (dtc3l_step): the observer's
+ *  prediction for the start of the period being chosen and the rest as in dtc3l_cmd. */
 typedef struct {
     real_t te_ref_Nm;         /**< torque command, N m */
     real_t psi_ref_Wb;        /**< flux command, Wb */
@@ -494,6 +510,16 @@ void dtc3l_init(dtc3l *s);
  * @param dt_s control period, s. Context: ISR.
  */
 void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in, dtc3l_out *out);
+
+/**
+ * The same decision with the observer's prediction read where the observer
+ * left it (no copy per tick, issue 11): from @p pred its te_pred_Nm,
+ * psi_s_pred_Wb, is_pred_A, dte0_Nm_s, dte_dv and omega_m_rad_s (the
+ * ripple-reduction range), in place of dtc3l_in's te_Nm, psi_s_Wb, is_A,
+ * dte0_Nm_s, dte_dv and omega_m_rad_s; the rest from @p in. Context: ISR.
+ */
+void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
+                          const observer_out *pred, dtc3l_out *out);
 
 #ifdef __cplusplus
 }
