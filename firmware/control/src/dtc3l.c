@@ -69,12 +69,16 @@ static int8_t torque_comparator(int8_t state, real_t te, real_t te_ref, real_t b
     return 0;
 }
 
-/* dtc3l_select with the sectors already known */
+/* dtc3l_select with the sectors already known (dtc3l_sectors: 0..11 and 0..5,
+ * so the tables are read without dtc3l_table's reduction mod 12 / 6) */
 static uint8_t pick(uint8_t sector, uint8_t sector6, int8_t torque, int8_t flux, uint8_t level)
 {
+    if (torque == 0)
+        return 0u;
+    unsigned j = dtc3l_demand_index(torque, flux);
     if (level == (uint8_t)DTC3L_LEVEL_LOW && (torque == 1 || torque == -1))
-        return dtc3l_table6(sector6, torque, flux);
-    return dtc3l_table(sector, torque, flux, level);
+        return dtc3l_table6_sv[sector6][j];
+    return dtc3l_table12_sv[sector][j];
 }
 
 /* The band edge that ends comparator state @p cur under slope @p s_cur, the

@@ -407,6 +407,21 @@ static inline unsigned dtc3l_demand_offset(int8_t torque, int8_t flux)
     return flux > 0 ? 10u : 8u;
 }
 
+/** Column of the written-out tables for @p torque (> 0 up, else down) and
+ *  @p flux (> 0 raise, else lower): the order of dtc3l_demand_offset's four
+ *  cases (+60, +120, -60, -120 deg). Context: ANY. */
+static inline unsigned dtc3l_demand_index(int8_t torque, int8_t flux)
+{
+    return (torque > 0 ? 0u : 2u) + (flux > 0 ? 0u : 1u);
+}
+
+/** dtc3l_sv_at(sector + dtc3l_demand_offset(...), true) by sector 0..11 and
+ *  dtc3l_demand_index (dtc3l_table.c). */
+extern const uint8_t dtc3l_table12_sv[DTC3L_N_SECTORS][4];
+/** dtc3l_sv_at(2 sector6 + dtc3l_demand_offset(...), false) by sector6 0..5 and
+ *  dtc3l_demand_index (dtc3l_table.c). */
+extern const uint8_t dtc3l_table6_sv[6][4];
+
 /**
  * The 12-sector table of the large and medium vectors: space vector for
  * @p sector (0..11), torque demand @p torque (-2..2; 0 = hold: the zero
@@ -418,7 +433,7 @@ static inline uint8_t dtc3l_table(uint8_t sector, int8_t torque, int8_t flux, ui
     if (torque == 0)
         return 0u;
     (void)level; /* the HIGH level and the strong demands share this table */
-    return dtc3l_sv_at((unsigned)(sector % 12u) + dtc3l_demand_offset(torque, flux), true);
+    return dtc3l_table12_sv[sector % 12u][dtc3l_demand_index(torque, flux)];
 }
 
 /** The 6-sector table of the small vectors (LOW level): space vector for
@@ -427,14 +442,14 @@ static inline uint8_t dtc3l_table6(uint8_t sector6, int8_t torque, int8_t flux)
 {
     if (torque == 0)
         return 0u;
-    return dtc3l_sv_at(2u * (unsigned)(sector6 % 6u) + dtc3l_demand_offset(torque, flux), false);
+    return dtc3l_table6_sv[sector6 % 6u][dtc3l_demand_index(torque, flux)];
 }
 
 /** Flux-holding small vector: the small vector nearest to the flux, whose
  *  tangential part is at most half of it. Context: ANY. */
 static inline uint8_t dtc3l_table_flux_hold(uint8_t sector6)
 {
-    return dtc3l_sv_at(2u * (unsigned)(sector6 % 6u), false);
+    return (uint8_t)(1u + sector6 % 6u); /* dtc3l_sv_at(2 (sector6 mod 6), false) */
 }
 
 /**
