@@ -1,12 +1,13 @@
 /**
  * @file dtc3l_table.c
  * @brief Flux sectors and the switching tables of the three-level DTC: the
- *        rules (the sector and table functions themselves are inline in
- *        dtc3l.h, they run several times per tick) and dtc3l_select.
+ *        rules, the tables written out by them (the sector and table look-up
+ *        functions are inline in dtc3l.h, they run several times per tick)
+ *        and dtc3l_select.
  *
- * The tables are written as their geometric rules rather than as literal
- * entries (tests/unit/test_dtc3l.cpp checks every entry against the plant's
- * machine equations):
+ * The rules (dtc3l_sv_at and dtc3l_demand_offset in dtc3l.h state them; the
+ * entries below follow them, and tests/unit/test_dtc3l.cpp checks every entry
+ * of dtc3l_table and dtc3l_table6 against the plant's machine equations):
  *  - 12-sector table (HIGH level, strong demands): the vector at the sector
  *    centre +60 deg (torque up, flux up), +120 deg (up, down), -60 / -120 deg
  *    (torque down); 45..75 deg (105..135 deg) from the flux over the whole
