@@ -532,7 +532,7 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
 {
     real_t w = num_abs(s->obs.omega_m_filt_rad_s);
     bool braking = num_mul(s->te_ref_Nm, s->obs.omega_m_filt_rad_s) < R(0.0);
-    if (!(cfg->stall_time_s > R(0.0) && at_limit && braking && w < BRAKE_STALL_SPEED_RAD_S)) {
+    if (!(at_limit && cfg->stall_time_s > R(0.0) && braking && w < BRAKE_STALL_SPEED_RAD_S)) {
         s->t_brake_limit_s = R(0.0);
         return;
     }
@@ -548,22 +548,19 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
     s->t_brake_limit_s = R(0.0); /* next window */
 }
 
-/* The RBFN speed loop runs every CTL_RBFN_TICKS-th tick: its command in the
- * slots the monitors leave free, that command's learning in the next tick
- * (ctl.h); between its steps the torque command and the speed controller's
- * outputs hold. The IP and nominal controllers, a few operations each, run
- * every tick. */
+/* The speed loop runs every CTL_RBFN_TICKS-th tick, whatever the controller:
+ * its command in the slots the monitors leave free, the RBFN's learning of that
+ * command in the next tick (ctl.h); between its steps the torque command and the
+ * speed controller's outputs hold. */
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
-    real_t T = cfg->period_s;
+    real_t T = num_mul((real_t)CTL_RBFN_TICKS, cfg->period_s); /* the speed loop's step */
     bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
-    if (rbfn) {
-        T = num_mul((real_t)CTL_RBFN_TICKS, T); /* the speed loop's step */
-        if ((s->slow_slot & (CTL_RBFN_TICKS - 1u)) != CTL_SLOT_RBFN) {
+    if ((s->slow_slot & (CTL_RBFN_TICKS - 1u)) != CTL_SLOT_RBFN) {
+        if (rbfn)
             speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
-            *so = s->speed_held;
-            return;
-        }
+        *so = s->speed_held;
+        return;
     }
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
     target = num_limit(target, cfg->speed_max_rad_s);
@@ -572,16 +569,14 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
     speed_in si;
     si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
     si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_period_per_s);
-    if (rbfn)
-        si.domega_ref_rad_s2 = num_mul(R(1.0) / (real_t)CTL_RBFN_TICKS, si.domega_ref_rad_s2);
+    si.domega_ref_rad_s2 = num_mul(R(1.0) / (real_t)CTL_RBFN_TICKS, si.domega_ref_rad_s2);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
     si.te_limit_Nm = s->te_limit_Nm;
     if (rbfn)
         speed_ctl_command(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
     else
         speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
-    if (rbfn)
-        s->speed_held = *so;
+    s->speed_held = *so;
     s->te_ref_Nm = so->te_ref_Nm;
     /* A command pinned at the limit while the speed stays away from its reference, and does
      * not come nearer, means the loop cannot hold the speed it is asked for (overload,

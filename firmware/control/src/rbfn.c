@@ -78,27 +78,33 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
     /* r: z[k + 1] / z[k] going up; rho: z[k - 1] / z[k] going down (r rho = q) */
     real_t r = num_exp(num_mul(u, g->d) - g->half_d2);
-    real_t rho = num_div(g->q, r);
+    const real_t q = g->q; /* held in a register: the stores into v_out could alias it */
+    real_t rho = num_div(q, r);
     real_t sum = R(1.0);
     v_out[ks] = R(1.0);
     real_t y = w != 0 ? w[ks] : R(0.0);
+    /* walked with pointers: no index arithmetic per node */
     real_t v = R(1.0);
-    for (uint32_t k = ks + 1u; k < n; k++) {
+    real_t *vk = v_out + ks;
+    const real_t *wk = w != 0 ? w + ks : 0;
+    for (const real_t *end = v_out + n; ++vk < end;) {
         v = num_mul(v, r);
-        r = num_mul(r, g->q);
-        v_out[k] = v;
+        r = num_mul(r, q);
+        *vk = v;
         sum += v;
         if (w != 0)
-            y = num_mac(w[k], v, y);
+            y = num_mac(*++wk, v, y);
     }
     v = R(1.0);
-    for (uint32_t k = ks; k-- > 0u;) {
+    vk = v_out + ks;
+    wk = w != 0 ? w + ks : 0;
+    while (vk > v_out) {
         v = num_mul(v, rho);
-        rho = num_mul(rho, g->q);
-        v_out[k] = v;
+        rho = num_mul(rho, q);
+        *--vk = v;
         sum += v;
         if (w != 0)
-            y = num_mac(w[k], v, y);
+            y = num_mac(*--wk, v, y);
     }
     *wv = y;
     return sum;
@@ -137,9 +143,9 @@ real_t rbfn_norm(const real_t *w, uint32_t n)
     return num_sqrt(s);
 }
 
-real_t rbfn_project(real_t *w, uint32_t n, real_t m_w)
+/* rbfn_project with |W| = @p norm already worked out. */
+static real_t project_with_norm(real_t *w, uint32_t n, real_t m_w, real_t norm)
 {
-    real_t norm = rbfn_norm(w, n);
     if (!(m_w > R(0.0))) {
         for (uint32_t q = 0u; q < n; q++)
             w[q] = R(0.0);
@@ -154,16 +160,24 @@ real_t rbfn_project(real_t *w, uint32_t n, real_t m_w)
     return rbfn_norm(w, n);
 }
 
+real_t rbfn_project(real_t *w, uint32_t n, real_t m_w)
+{
+    return project_with_norm(w, n, m_w, rbfn_norm(w, n));
+}
+
 real_t rbfn_update_projected(real_t *w, const real_t *z, uint32_t n, real_t e, real_t gamma_w_dt,
                              real_t m_w)
 {
     /* Euler step of eq. 14. */
     real_t g = -gamma_w_dt * e;
-    for (uint32_t q = 0u; q < n; q++)
+    real_t s2 = R(0.0); /* |W|^2 of the new weights, summed as rbfn_norm does */
+    for (uint32_t q = 0u; q < n; q++) {
         w[q] = num_mac(g, z[q], w[q]);
+        s2 = num_mac(w[q], w[q], s2);
+    }
     /* Eq. 21 in discrete time: a step that leaves the ball loses its outward
      * part, i.e. W is put back on the sphere (the Euclidean projection onto
      * the convex set |W| <= M_w; to first order in the step it is exactly the
      * tangential projection of eq. 21). An inward step is left alone. */
-    return rbfn_project(w, n, m_w);
+    return project_with_norm(w, n, m_w, num_sqrt(s2));
 }

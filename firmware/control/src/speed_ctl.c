@@ -12,11 +12,11 @@
  * 0 only for finite x). */
 static int is_finite(real_t x) { return (x - x) == R(0.0); }
 
-/* All of four finite, in one compare: each x - x is exactly 0 when x is
+/* All of three finite, in one compare: each x - x is exactly 0 when x is
  * finite, and a NaN or an infinity makes the sum NaN. */
-static int all_finite4(real_t a, real_t b, real_t c, real_t d)
+static int all_finite3(real_t a, real_t b, real_t c)
 {
-    return ((a - a) + (b - b) + (c - c) + (d - d)) == R(0.0);
+    return ((a - a) + (b - b) + (c - c)) == R(0.0);
 }
 
 void speed_cfg_default(speed_cfg *cfg, const motor_model *m)
@@ -208,7 +208,7 @@ static void switch_mode(speed_ctl *s, const speed_cfg *cfg, const motor_model *m
 static void speed_ctl_run(speed_ctl *s, const speed_cfg *cfg, const motor_model *m, real_t dt_s,
                           const speed_in *in, speed_out *out, bool defer)
 {
-    if (!all_finite4(in->omega_ref_rad_s, in->domega_ref_rad_s2, in->omega_est_rad_s, R(0.0)) ||
+    if (!all_finite3(in->omega_ref_rad_s, in->domega_ref_rad_s2, in->omega_est_rad_s) ||
         !(dt_s > R(0.0)) || !(m->J_kgm2 > R(0.0))) {
         /* Refuse garbage: zero torque, state kept for when inputs recover. */
         memset(out, 0, sizeof *out);
@@ -223,24 +223,31 @@ static void speed_ctl_run(speed_ctl *s, const speed_cfg *cfg, const motor_model 
     real_t te_max = cfg->te_max_Nm > R(0.0) ? cfg->te_max_Nm : R(0.0);
     if (in->te_limit_Nm > R(0.0) && in->te_limit_Nm < te_max)
         te_max = in->te_limit_Nm;
+    /* The states and outputs screened below: the IP and nominal controllers
+     * set eps_hat to exactly 0, so only the RBFN's is added in. */
+    real_t screen;
     switch (cfg->mode) {
     case SPEED_MODE_IP:
         speed_ip_step(&s->ip, &cfg->ip, m, te_max, dt_s, in, out);
+        screen = R(0.0);
         break;
     case SPEED_MODE_NOMINAL:
         speed_nominal_step(&cfg->nominal, m, te_max, &min, out);
+        screen = R(0.0);
         break;
     case SPEED_MODE_RBFN:
         if (defer)
             speed_rbfn_command(&s->rbfn, &cfg->rbfn, m, te_max, &min, out);
         else
             speed_rbfn_step(&s->rbfn, &cfg->rbfn, m, te_max, dt_s, &min, out);
+        screen = out->eps_hat - out->eps_hat;
         break;
     default: /* every controller above writes all of out */
         memset(out, 0, sizeof *out);
+        screen = R(0.0);
         break;
     }
-    if (!all_finite4(out->te_ref_Nm, out->eps_hat, s->ref_x_rad_s, s->ref_v_rad_s2)) {
+    if (!(all_finite3(out->te_ref_Nm, s->ref_x_rad_s, s->ref_v_rad_s2) && screen == R(0.0))) {
         /* Only a broken configuration (a NaN gain) gets here: give no torque
          * and restart from rest rather than carry NaN in the states. */
         memset(out, 0, sizeof *out);

@@ -24,10 +24,8 @@
 static uint32_t node_count(const rbfn_cfg *cfg)
 {
     uint32_t n = cfg->n_nodes;
-    if (n < 1u)
-        n = 1u;
-    if (n > RBFN_NODES_MAX)
-        n = RBFN_NODES_MAX;
+    if (n - 1u >= RBFN_NODES_MAX) /* 0 wraps round: one compare for 1..RBFN_NODES_MAX */
+        n = n == 0u ? 1u : RBFN_NODES_MAX;
     return n;
 }
 

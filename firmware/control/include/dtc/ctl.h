@@ -183,10 +183,11 @@ typedef struct {
  *  every tick. */
 #define CTL_SLOT_SUPERVISE 1u
 #define CTL_SLOT_SUPERVISE_RBFN 2u
-/** The RBFN speed loop steps every CTL_RBFN_TICKS ticks (a power of 2): its
- *  command in the ticks whose slot is CTL_SLOT_RBFN modulo it (1 and 3, never
- *  with a monitor), that command's weight and bound updates in the next tick
- *  (with a monitor). The IP and nominal controllers step every tick. */
+/** The speed loop steps every CTL_RBFN_TICKS ticks (a power of 2), whatever
+ *  the controller: its command in the ticks whose slot is CTL_SLOT_RBFN modulo
+ *  it (1 and 3, never with a monitor), the RBFN's weight and bound updates of
+ *  that command in the next tick (with a monitor). (The IP's and nominal's
+ *  command shares slot 1 with their supervision, CTL_SLOT_SUPERVISE.) */
 #define CTL_RBFN_TICKS 2u
 #define CTL_SLOT_RBFN 1u
 #ifndef __cplusplus
@@ -239,7 +240,7 @@ typedef struct {
     real_t t_brake_limit_s;   /**< time in the present window braking at the torque limit off speed, s */
     real_t w_brake_start_rad_s; /**< |filtered speed estimate| at the start of that window, rad/s */
     bool brake_stall;         /**< braking at the limit did not slow the machine: STALL */
-    speed_out speed_held;     /**< the speed loop's outputs of its last step (held between the RBFN's steps) */
+    speed_out speed_held;     /**< the speed loop's outputs of its last step (held between its steps) */
     uint8_t slow_slot;        /**< this tick's slot of the slow tasks, 0..CTL_SLOW_SLOTS - 1 (CTL_SLOT_*) */
 } ctl_state;
 
