@@ -608,28 +608,19 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
  * state in force when the chosen period starts. */
 static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V)
 {
-    const observer_out *oo = &s->obs_out;
     uint8_t st1 = s->last_state[1];
-    dtc3l_in di;
+    /* the prediction is read where the observer left it (s->obs_out) */
+    dtc3l_cmd di;
     di.te_ref_Nm = s->te_ref_Nm;
     di.psi_ref_Wb = s->psi_ref_ramped_Wb;
-    di.te_Nm = oo->te_pred_Nm;
-    di.psi_s_Wb[0] = oo->psi_s_pred_Wb[0];
-    di.psi_s_Wb[1] = oo->psi_s_pred_Wb[1];
-    di.is_A[0] = oo->is_pred_A[0];
-    di.is_A[1] = oo->is_pred_A[1];
-    di.dte0_Nm_s = oo->dte0_Nm_s;
-    di.dte_dv[0] = oo->dte_dv[0];
-    di.dte_dv[1] = oo->dte_dv[1];
     di.rs_ohm = s->obs.rs_ohm;
     di.omega_e_rad_s = s->obs.omega_e_rad_s;
-    di.omega_m_rad_s = oo->omega_m_rad_s;
     di.vc1_V = x->vc1_V;
     di.vc2_V = x->vc2_V;
     di.np_dev_V = np_dev_pred_V;
     di.prev_state = st1 < DTC3L_N_STATES ? st1 : (uint8_t)DTC3L_STATE_OOO;
     di.band_scale = s->band_scale;
-    dtc3l_step(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->dtc_out);
+    dtc3l_step_predicted(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->obs_out, &s->dtc_out);
     return di.prev_state;
 }
 

@@ -69,19 +69,23 @@ static int8_t torque_comparator(int8_t state, real_t te, real_t te_ref, real_t b
     return 0;
 }
 
-/* dtc3l_select with the sectors already known */
+/* dtc3l_select with the sectors already known (dtc3l_sectors: 0..11 and 0..5,
+ * so the tables are read without dtc3l_table's reduction mod 12 / 6) */
 static uint8_t pick(uint8_t sector, uint8_t sector6, int8_t torque, int8_t flux, uint8_t level)
 {
+    if (torque == 0)
+        return 0u;
+    unsigned j = dtc3l_demand_index(torque, flux);
     if (level == (uint8_t)DTC3L_LEVEL_LOW && (torque == 1 || torque == -1))
-        return dtc3l_table6(sector6, torque, flux);
-    return dtc3l_table(sector, torque, flux, level);
+        return dtc3l_table6_sv[sector6][j];
+    return dtc3l_table12_sv[sector][j];
 }
 
 /* The band edge that ends comparator state @p cur under slope @p s_cur, the
  * state that follows (@p next = cur when there is none), and the fraction of
  * the period at which the edge is met (> 1: not within the period). */
-static real_t exit_edge(int8_t cur, real_t s_cur, const dtc3l_in *in, real_t b, real_t dt_s, real_t *edge,
-                        int8_t *next)
+static real_t exit_edge(int8_t cur, real_t s_cur, const dtc3l_cmd *in, const observer_out *pr, real_t b,
+                        real_t dt_s, real_t *edge, int8_t *next)
 {
     if (cur > 0) {
         *edge = in->te_ref_Nm + b;
@@ -99,17 +103,17 @@ static real_t exit_edge(int8_t cur, real_t s_cur, const dtc3l_in *in, real_t b, 
         *next = 0;
         return R(2.0);
     }
-    return dtc3l_edge_fraction(in->te_Nm, s_cur, *edge, dt_s);
+    return dtc3l_edge_fraction(pr->te_pred_Nm, s_cur, *edge, dt_s);
 }
 
 /* Rate of change of |psi_s| under the state voltage @p v, Wb/s: psi . (v - Rs is) / |psi|. */
-static real_t flux_rate(const dtc3l_in *in, const real_t v[2], real_t psi_abs)
+static real_t flux_rate(const dtc3l_cmd *in, const observer_out *pr, const real_t v[2], real_t psi_abs)
 {
-    real_t e0 = v[0] - num_mul(in->rs_ohm, in->is_A[0]);
-    real_t e1 = v[1] - num_mul(in->rs_ohm, in->is_A[1]);
+    real_t e0 = v[0] - num_mul(in->rs_ohm, pr->is_pred_A[0]);
+    real_t e1 = v[1] - num_mul(in->rs_ohm, pr->is_pred_A[1]);
     if (psi_abs < PSI_TINY_WB)
         return num_sqrt(num_mul(e0, e0) + num_mul(e1, e1));
-    return num_div(num_mul(in->psi_s_Wb[0], e0) + num_mul(in->psi_s_Wb[1], e1), psi_abs);
+    return num_div(num_mul(pr->psi_s_pred_Wb[0], e0) + num_mul(pr->psi_s_pred_Wb[1], e1), psi_abs);
 }
 
 /* What one tick knows about the predicted state, computed once. */
@@ -134,15 +138,16 @@ typedef struct {
     bool split;
 } tick_plan;
 
-static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_in *in, tick_geometry *g)
+static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const observer_out *pr, tick_geometry *g)
 {
     real_t k = in->band_scale > R(1.0) ? in->band_scale : R(1.0);
     g->b_Nm = num_mul(cfg->torque_band_Nm, k);
     g->b2_Nm = num_mul(cfg->torque_band2_Nm, k);
-    g->psi_Wb = num_sqrt(num_mul(in->psi_s_Wb[0], in->psi_s_Wb[0]) + num_mul(in->psi_s_Wb[1], in->psi_s_Wb[1]));
-    dtc3l_sectors(in->psi_s_Wb[0], in->psi_s_Wb[1], &g->sector, &g->sector6);
-    g->i_abc_A[0] = in->is_A[0];
-    g->i_abc_A[1] = num_mac(R(-0.5), in->is_A[0], num_mul(R(0.866025404), in->is_A[1]));
+    const real_t *psi = pr->psi_s_pred_Wb, *is = pr->is_pred_A;
+    g->psi_Wb = num_sqrt(num_mul(psi[0], psi[0]) + num_mul(psi[1], psi[1]));
+    dtc3l_sectors(psi[0], psi[1], &g->sector, &g->sector6);
+    g->i_abc_A[0] = is[0];
+    g->i_abc_A[1] = num_mac(R(-0.5), is[0], num_mul(R(0.866025404), is[1]));
     g->i_abc_A[2] = -g->i_abc_A[0] - g->i_abc_A[1];
     g->prev_state = in->prev_state < DTC3L_N_STATES ? in->prev_state : (uint8_t)DTC3L_STATE_OOO;
     g->leg_V[HAL_LEG_N] = -in->vc2_V;
@@ -164,17 +169,22 @@ static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab
  * voltage is exactly (0, 0) (its three legs select the same voltage x:
  * 2x - x - x = 0), so its slope is dte0 as it is: no voltage worked out for
  * the holds, about every other period (issue 11). */
-static inline real_t state_slope(const tick_geometry *g, const dtc3l_in *in, uint8_t st)
+static inline real_t voltage_slope(const observer_out *pr, const real_t v[2])
+{
+    return pr->dte0_Nm_s + num_mul(pr->dte_dv[0], v[0]) + num_mul(pr->dte_dv[1], v[1]);
+}
+
+static inline real_t state_slope(const tick_geometry *g, const observer_out *pr, uint8_t st)
 {
     if (dtc3l_state_sv_unchecked(st) == 0u)
-        return in->dte0_Nm_s;
+        return pr->dte0_Nm_s;
     real_t v[2];
     state_voltage(g, st, v);
-    return dtc3l_voltage_slope(in, v);
+    return voltage_slope(pr, v);
 }
 
 /* Voltage level from the back-emf over Vdc/3, with hysteresis. */
-static void decide_voltage_level(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in)
+static void decide_voltage_level(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in)
 {
     real_t vdc = in->vc1_V + in->vc2_V;
     real_t emf_pu = num_div(num_mul(num_abs(in->omega_e_rad_s), in->psi_ref_Wb),
@@ -186,7 +196,7 @@ static void decide_voltage_level(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in 
 }
 
 /* Flux demand: two-level hysteresis on |psi_s|. */
-static void decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in, real_t psi_Wb)
+static void decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, real_t psi_Wb)
 {
     if (psi_Wb < in->psi_ref_Wb - cfg->flux_band_Wb)
         s->flux_state = 1;
@@ -203,7 +213,7 @@ static void decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *i
  * sector, averages out, and the flux comparator still chooses the next
  * medium vectors). The medium vectors are the table's choice only in the odd
  * sectors, where 90 deg is a large-vector direction. */
-static uint8_t np_checked_vector(uint8_t sv, const dtc3l_in *in, const dtc3l_cfg *cfg, const tick_geometry *g,
+static uint8_t np_checked_vector(uint8_t sv, const dtc3l_cmd *in, const dtc3l_cfg *cfg, const tick_geometry *g,
                                  int8_t torque)
 {
     if (dtc3l_sv_class(sv) != DTC3L_CLASS_MEDIUM || torque == 0)
@@ -233,7 +243,7 @@ static uint8_t np_checked_vector(uint8_t sv, const dtc3l_in *in, const dtc3l_cfg
 }
 
 /* The state realising the table's vector for torque demand @p torque. */
-static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g,
+static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g,
                                 int8_t torque, uint8_t prev_state, uint8_t *sv)
 {
     uint8_t v = np_checked_vector(pick(g->sector, g->sector6, torque, s->flux_state, s->level), in, cfg, g, torque);
@@ -246,10 +256,10 @@ static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
  * commutations); the timing then uses the slope of the state actually
  * applied, which may be an NP intermediate rather than the table's vector.
  * The whole period goes to the table's vector for the comparator's demand. */
-static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g,
-                              tick_plan *p)
+static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, const observer_out *pr,
+                              const tick_geometry *g, tick_plan *p)
 {
-    p->cur = torque_comparator(s->torque_state, in->te_Nm, in->te_ref_Nm, g->b_Nm, g->b2_Nm, in->dte0_Nm_s);
+    p->cur = torque_comparator(s->torque_state, pr->te_pred_Nm, in->te_ref_Nm, g->b_Nm, g->b2_Nm, pr->dte0_Nm_s);
     p->after = p->cur;
     p->st0 = state_for_demand(s, cfg, in, g, p->cur, g->prev_state, &p->sv0);
     p->st1 = p->st0;
@@ -260,7 +270,8 @@ static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_
 /* Ripple reduction: place the band-edge crossing inside the period. An edge
  * reached at the very start hands over to the next comparator state, which is
  * then examined in turn (at most twice: up/down -> hold -> up/down). */
-static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
+static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
+                                     const observer_out *pr,
                                      const tick_geometry *g, tick_plan *p)
 {
     real_t b = g->b_Nm;
@@ -268,8 +279,8 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
     real_t s_cur = R(0.0), edge = R(0.0), f = R(2.0);
     int8_t next = p->cur;
     for (int pass = 0; pass < 2; pass++) {
-        s_cur = state_slope(g, in, p->st0);
-        f = exit_edge(p->cur, s_cur, in, b, dt_s, &edge, &next);
+        s_cur = state_slope(g, pr, p->st0);
+        f = exit_edge(p->cur, s_cur, in, pr, b, dt_s, &edge, &next);
         if (!(f < dmin) || next == p->cur)
             break;
         p->cur = next;
@@ -288,12 +299,12 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
      * edge before the period ends, start it later so that the period ends on
      * that edge (two-slope duty: Te_end = Te + s_hold (1 - d) T + s_act d T)
      * and stay in hold */
-    real_t s_next = state_slope(g, in, p->st1);
+    real_t s_next = state_slope(g, pr, p->st1);
     real_t opp = next > 0 ? in->te_ref_Nm + b : in->te_ref_Nm - b;
     real_t gf = dtc3l_edge_fraction(edge, s_next, opp, dt_s);
     if (gf < R(1.0) - f) {
         real_t den = num_mul(s_next - s_cur, dt_s);
-        real_t d_act = num_abs(den) > R(1e-6) ? num_div(opp - in->te_Nm - num_mul(s_cur, dt_s), den) : gf;
+        real_t d_act = num_abs(den) > R(1e-6) ? num_div(opp - pr->te_pred_Nm - num_mul(s_cur, dt_s), den) : gf;
         d_act = num_sat(d_act, dmin, R(1.0) - dmin);
         p->duty0 = R(1.0) - d_act;
         p->after = 0;
@@ -304,7 +315,8 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
  * below its band gets a pulse of the small vector along the flux, long enough
  * to bring |psi| back to the reference, and short enough to keep the torque
  * in its band over the whole period. */
-static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
+static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
+                                const observer_out *pr,
                                 const tick_geometry *g, tick_plan *p)
 {
     real_t b = g->b_Nm;
@@ -316,16 +328,16 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     uint8_t sth = dtc3l_choose_state(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
     real_t v_h[2]; /* the pulse state's voltage, for both its flux rate and its torque slope */
     state_voltage(g, sth, v_h);
-    real_t rate = flux_rate(in, v_h, psi);
+    real_t rate = flux_rate(in, pr, v_h, psi);
     real_t d = rate > R(0.0) ? num_div(in->psi_ref_Wb - psi, num_mul(rate, dt_s)) : R(1.0);
-    real_t s_h = dtc3l_voltage_slope(in, v_h);
-    real_t s_z = in->dte0_Nm_s;
+    real_t s_h = voltage_slope(pr, v_h);
+    real_t s_z = pr->dte0_Nm_s;
     real_t hi = in->te_ref_Nm + b, lo = in->te_ref_Nm - b;
     /* a rising pulse peaks at its end */
     if (s_h > R(0.0))
-        d = num_sat(d, R(0.0), dtc3l_edge_fraction(in->te_Nm, s_h, hi, dt_s));
+        d = num_sat(d, R(0.0), dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s));
     /* the period ends at Te + s_z T + (s_h - s_z) d T, inside the band */
-    real_t end0 = in->te_Nm + num_mul(s_z, dt_s);
+    real_t end0 = pr->te_pred_Nm + num_mul(s_z, dt_s);
     real_t ds = num_mul(s_h - s_z, dt_s);
     if (ds < R(0.0) && end0 > lo)
         d = num_sat(d, R(0.0), num_div(lo - end0, ds));
@@ -349,7 +361,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
  * neutral point back; @p fallback (the state planned before) otherwise: when
  * the balancing state is a P<->N step away, the other one would push the link
  * further off. */
-static uint8_t balancing_or(uint8_t fallback, uint8_t svn, uint8_t from, const dtc3l_cfg *cfg, const dtc3l_in *in,
+static uint8_t balancing_or(uint8_t fallback, uint8_t svn, uint8_t from, const dtc3l_cfg *cfg, const dtc3l_cmd *in,
                             const tick_geometry *g)
 {
     uint8_t c = dtc3l_choose_state(svn, from, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
@@ -365,7 +377,7 @@ static uint8_t balancing_or(uint8_t fallback, uint8_t svn, uint8_t from, const d
  * Its tangential part is at most half of Vdc/3, below the back-emf at
  * this level, so the torque falls much as under a zero state; after a
  * large vector it also costs fewer commutations than OOO. */
-static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g,
+static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g,
                                 tick_plan *p)
 {
     if (!(s->level != (uint8_t)DTC3L_LEVEL_LOW && num_abs(in->np_dev_V) > cfg->np_band_V))
@@ -398,7 +410,7 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
  * state). Kept whole when
  * the link has room: at the voltage limit the medium intermediate is also
  * what keeps the flux round (docs/envelope.md section 5). */
-static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_in *in, const tick_geometry *g, tick_plan *p)
+static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g, tick_plan *p)
 {
     /* without a shortest segment the intermediate could be given no time at all */
     if (p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
@@ -474,18 +486,46 @@ static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out
     out->split = p->split;
 }
 
-void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in, dtc3l_out *out)
+void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
+                          const observer_out *pr, dtc3l_out *out)
 {
     tick_geometry g;
     tick_plan p;
-    tick_geometry_of(cfg, in, &g);
+    tick_geometry_of(cfg, in, pr, &g);
     decide_voltage_level(s, cfg, in);
     decide_flux_demand(s, cfg, in, g.psi_Wb);
-    plan_table_vector(s, cfg, in, &g, &p);
-    if (cfg->ripple_reduction && num_abs(in->omega_m_rad_s) < cfg->ripple_speed_max_rad_s)
-        place_band_edge_crossing(s, cfg, dt_s, in, &g, &p);
-    add_flux_hold_pulse(s, cfg, dt_s, in, &g, &p);
+    plan_table_vector(s, cfg, in, pr, &g, &p);
+    if (cfg->ripple_reduction && num_abs(pr->omega_m_rad_s) < cfg->ripple_speed_max_rad_s)
+        place_band_edge_crossing(s, cfg, dt_s, in, pr, &g, &p);
+    add_flux_hold_pulse(s, cfg, dt_s, in, pr, &g, &p);
     balance_np_in_holds(s, cfg, in, &g, &p);
     cut_intermediate_short(cfg, in, &g, &p);
     emit(s, &g, &p, out);
+}
+
+/* The flat form: its prediction fields where dtc3l_step_predicted reads them
+ * (observer_out's other fields are not read). */
+void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in, dtc3l_out *out)
+{
+    observer_out pr;
+    pr.te_pred_Nm = in->te_Nm;
+    pr.psi_s_pred_Wb[0] = in->psi_s_Wb[0];
+    pr.psi_s_pred_Wb[1] = in->psi_s_Wb[1];
+    pr.is_pred_A[0] = in->is_A[0];
+    pr.is_pred_A[1] = in->is_A[1];
+    pr.dte0_Nm_s = in->dte0_Nm_s;
+    pr.dte_dv[0] = in->dte_dv[0];
+    pr.dte_dv[1] = in->dte_dv[1];
+    pr.omega_m_rad_s = in->omega_m_rad_s;
+    dtc3l_cmd c;
+    c.te_ref_Nm = in->te_ref_Nm;
+    c.psi_ref_Wb = in->psi_ref_Wb;
+    c.rs_ohm = in->rs_ohm;
+    c.omega_e_rad_s = in->omega_e_rad_s;
+    c.vc1_V = in->vc1_V;
+    c.vc2_V = in->vc2_V;
+    c.np_dev_V = in->np_dev_V;
+    c.prev_state = in->prev_state;
+    c.band_scale = in->band_scale;
+    dtc3l_step_predicted(s, cfg, dt_s, &c, &pr, out);
 }

@@ -1,12 +1,13 @@
 /**
  * @file dtc3l_table.c
  * @brief Flux sectors and the switching tables of the three-level DTC: the
- *        rules (the sector and table functions themselves are inline in
- *        dtc3l.h, they run several times per tick) and dtc3l_select.
+ *        rules, the tables written out by them (the sector and table look-up
+ *        functions are inline in dtc3l.h, they run several times per tick)
+ *        and dtc3l_select.
  *
- * The tables are written as their geometric rules rather than as literal
- * entries (tests/unit/test_dtc3l.cpp checks every entry against the plant's
- * machine equations):
+ * The rules (dtc3l_sv_at and dtc3l_demand_offset in dtc3l.h state them; the
+ * entries below follow them, and tests/unit/test_dtc3l.cpp checks every entry
+ * of dtc3l_table and dtc3l_table6 against the plant's machine equations):
  *  - 12-sector table (HIGH level, strong demands): the vector at the sector
  *    centre +60 deg (torque up, flux up), +120 deg (up, down), -60 / -120 deg
  *    (torque down); 45..75 deg (105..135 deg) from the flux over the whole
@@ -20,6 +21,35 @@
  *    an uncontrolled NP current, are left to the strong demands.
  */
 #include "dtc/dtc3l.h"
+
+/* The two tables by the rules above, written out (dtc3l_table and
+ * dtc3l_table6 look them up: the interrupt picks a vector 1..3 times a tick,
+ * issue 11); columns by dtc3l_demand_index: torque up / flux up, up / down,
+ * down / up, down / down. tests/unit/test_dtc3l.cpp checks every entry of
+ * dtc3l_table and dtc3l_table6 against the machine equations. */
+const uint8_t dtc3l_table12_sv[DTC3L_N_SECTORS][4] = {
+    {14u, 15u, 18u, 17u}, /* 0 */
+    {8u, 9u, 12u, 11u}, /* 1 */
+    {15u, 16u, 13u, 18u}, /* 2 */
+    {9u, 10u, 7u, 12u}, /* 3 */
+    {16u, 17u, 14u, 13u}, /* 4 */
+    {10u, 11u, 8u, 7u}, /* 5 */
+    {17u, 18u, 15u, 14u}, /* 6 */
+    {11u, 12u, 9u, 8u}, /* 7 */
+    {18u, 13u, 16u, 15u}, /* 8 */
+    {12u, 7u, 10u, 9u}, /* 9 */
+    {13u, 14u, 17u, 16u}, /* 10 */
+    {7u, 8u, 11u, 10u}, /* 11 */
+};
+
+const uint8_t dtc3l_table6_sv[6][4] = {
+    {2u, 3u, 6u, 5u}, /* 0 */
+    {3u, 4u, 1u, 6u}, /* 1 */
+    {4u, 5u, 2u, 1u}, /* 2 */
+    {5u, 6u, 3u, 2u}, /* 3 */
+    {6u, 1u, 4u, 3u}, /* 4 */
+    {1u, 2u, 5u, 4u}, /* 5 */
+};
 
 uint8_t dtc3l_select(real_t psi_alpha, real_t psi_beta, int8_t torque, int8_t flux, uint8_t level)
 {

@@ -71,6 +71,7 @@
 #include <stdint.h>
 
 #include "dtc/num.h"
+#include "dtc/observer.h"
 #include "hal/hal_types.h"
 
 #ifdef __cplusplus
@@ -121,7 +122,22 @@ typedef struct {
     uint8_t level;            /**< dtc3l_level */
 } dtc3l;
 
-/** Inputs of one DTC step: the observer's prediction for the start of the period being chosen. */
+/** Inputs of one DTC step besides the observer's prediction (dtc3l_step_predicted
+ *  reads that where the observer left it, in its observer_out). */
+typedef struct {
+    real_t te_ref_Nm;         /**< torque command, N m */
+    real_t psi_ref_Wb;        /**< flux command, Wb */
+    real_t rs_ohm;            /**< stator resistance, ohm */
+    real_t omega_e_rad_s;     /**< electrical speed estimate, rad/s (voltage level) */
+    real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
+    real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
+    uint8_t prev_state;       /**< state in force when the chosen period starts (0..26; others count as OOO) */
+    real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
+                                   switching-frequency regulation of ctl.c widens them */
+} dtc3l_cmd;
+
+/** Inputs of one DTC step in one flat struct (dtc3l_step): the observer's
+ *  prediction for the start of the period being chosen and the rest as in dtc3l_cmd. */
 typedef struct {
     real_t te_ref_Nm;         /**< torque command, N m */
     real_t psi_ref_Wb;        /**< flux command, Wb */
@@ -391,6 +407,21 @@ static inline unsigned dtc3l_demand_offset(int8_t torque, int8_t flux)
     return flux > 0 ? 10u : 8u;
 }
 
+/** Column of the written-out tables for @p torque (> 0 up, else down) and
+ *  @p flux (> 0 raise, else lower): the order of dtc3l_demand_offset's four
+ *  cases (+60, +120, -60, -120 deg). Context: ANY. */
+static inline unsigned dtc3l_demand_index(int8_t torque, int8_t flux)
+{
+    return (torque > 0 ? 0u : 2u) + (flux > 0 ? 0u : 1u);
+}
+
+/** dtc3l_sv_at(sector + dtc3l_demand_offset(...), true) by sector 0..11 and
+ *  dtc3l_demand_index (dtc3l_table.c). */
+extern const uint8_t dtc3l_table12_sv[DTC3L_N_SECTORS][4];
+/** dtc3l_sv_at(2 sector6 + dtc3l_demand_offset(...), false) by sector6 0..5 and
+ *  dtc3l_demand_index (dtc3l_table.c). */
+extern const uint8_t dtc3l_table6_sv[6][4];
+
 /**
  * The 12-sector table of the large and medium vectors: space vector for
  * @p sector (0..11), torque demand @p torque (-2..2; 0 = hold: the zero
@@ -402,7 +433,7 @@ static inline uint8_t dtc3l_table(uint8_t sector, int8_t torque, int8_t flux, ui
     if (torque == 0)
         return 0u;
     (void)level; /* the HIGH level and the strong demands share this table */
-    return dtc3l_sv_at((unsigned)(sector % 12u) + dtc3l_demand_offset(torque, flux), true);
+    return dtc3l_table12_sv[sector % 12u][dtc3l_demand_index(torque, flux)];
 }
 
 /** The 6-sector table of the small vectors (LOW level): space vector for
@@ -411,14 +442,14 @@ static inline uint8_t dtc3l_table6(uint8_t sector6, int8_t torque, int8_t flux)
 {
     if (torque == 0)
         return 0u;
-    return dtc3l_sv_at(2u * (unsigned)(sector6 % 6u) + dtc3l_demand_offset(torque, flux), false);
+    return dtc3l_table6_sv[sector6 % 6u][dtc3l_demand_index(torque, flux)];
 }
 
 /** Flux-holding small vector: the small vector nearest to the flux, whose
  *  tangential part is at most half of it. Context: ANY. */
 static inline uint8_t dtc3l_table_flux_hold(uint8_t sector6)
 {
-    return dtc3l_sv_at(2u * (unsigned)(sector6 % 6u), false);
+    return (uint8_t)(1u + sector6 % 6u); /* dtc3l_sv_at(2 (sector6 mod 6), false) */
 }
 
 /**
@@ -494,6 +525,16 @@ void dtc3l_init(dtc3l *s);
  * @param dt_s control period, s. Context: ISR.
  */
 void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in, dtc3l_out *out);
+
+/**
+ * The same decision with the observer's prediction read where the observer
+ * left it (no copy per tick, issue 11): from @p pred its te_pred_Nm,
+ * psi_s_pred_Wb, is_pred_A, dte0_Nm_s, dte_dv and omega_m_rad_s (the
+ * ripple-reduction range), in place of dtc3l_in's te_Nm, psi_s_Wb, is_A,
+ * dte0_Nm_s, dte_dv and omega_m_rad_s; the rest from @p in. Context: ISR.
+ */
+void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
+                          const observer_out *pred, dtc3l_out *out);
 
 #ifdef __cplusplus
 }
