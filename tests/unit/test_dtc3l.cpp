@@ -1004,3 +1004,28 @@ TEST(Dtc3lClosedLoop, RippleReductionKeepsTheTorqueInsideTheBand)
 }
 
 } // namespace
+
+// The switching tables written out in dtc3l_table.c (issue 11: no mod 12 / 6
+// and direction sums per tick) equal the rule they were written from, entry
+// by entry: the vector at the sector's direction plus the demand's offset
+// (+60 / +120 deg up, -60 / -120 deg down; large or medium on 12 sectors,
+// small on 6), and the flux-hold vector is the small one along the sector.
+TEST(Dtc3lTables, WrittenOutTablesEqualTheRule)
+{
+    for (int8_t torque : {1, -1})
+        for (int8_t flux : {1, -1}) {
+            const unsigned j = dtc3l_demand_index(torque, flux);
+            const unsigned off = dtc3l_demand_offset(torque, flux);
+            for (unsigned k = 0; k < DTC3L_N_SECTORS; ++k)
+                EXPECT_EQ(dtc3l_table12_sv[k][j], dtc3l_sv_at(k + off, true)) << "sector " << k << " column " << j;
+            for (unsigned k = 0; k < 6u; ++k)
+                EXPECT_EQ(dtc3l_table6_sv[k][j], dtc3l_sv_at(2u * k + off, false)) << "sector6 " << k << " column " << j;
+        }
+    for (uint8_t k = 0; k < 6u; ++k)
+        EXPECT_EQ(dtc3l_table_flux_hold(k), dtc3l_sv_at(2u * k, false));
+    // the columns are the four demands, each once
+    EXPECT_EQ(dtc3l_demand_index(1, 1), 0u);
+    EXPECT_EQ(dtc3l_demand_index(1, -1), 1u);
+    EXPECT_EQ(dtc3l_demand_index(-1, 1), 2u);
+    EXPECT_EQ(dtc3l_demand_index(-1, -1), 3u);
+}

@@ -13,16 +13,11 @@
  */
 #include "dtc/dtc3l.h"
 
-/* weight of one commutation against the NP preference inside the band */
-#define SCORE_PER_CHANGE 4u
-#define SCORE_NP_TIE 1u
-#define SCORE_NP_FORCED 100u
 /* The zero state looks ahead once |vc1 - vc2| exceeds this fraction of the band. */
 #define NP_LOOKAHEAD_FRACTION R(0.5)
 
 /* The zero state with the fewest commutations from each state, never a P<->N
- * step away, OOO on ties (then NNN before PPP), i.e. the candidate loop below
- * for the zero vector, precomputed; tests/unit/test_dtc3l.cpp checks it. */
+ * step away, OOO on ties (then NNN before PPP), precomputed; tests/unit/test_dtc3l.cpp checks it. */
 static const uint8_t zero_after[DTC3L_N_STATES] = {
     0u, 0u, 13u, 0u, 13u, 13u, 13u, 13u, 13u,    /* NNN..NPP */
     0u, 13u, 13u, 13u, 13u, 13u, 13u, 13u, 26u,  /* ONN..OPP */
@@ -93,18 +88,17 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         return zero_toward[prev_state][num_mul(inp0, np_dev_V) <= R(0.0) ? 0 : 1];
     }
     /* Vectors with a single state (medium, large) and the zero vector
-     * without the NP look-ahead: nothing to score (the loop below would
-     * give the same). */
+     * without the NP look-ahead: nothing to choose. */
     if (n == 1u)
         return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
     if (sv == 0u)
         return zero_after[prev_state];
     if (small && !np_forced) {
-        /* A small vector inside the band: the loop below in closed form. Its
-         * P-type state is its N-type one a level up in every leg, so from any
-         * state their commutation counts differ by an odd number (three legs
-         * of +-1 each): never a tie, and one commutation (4) outweighs the NP
-         * tie-break (1). No NP current is needed here. */
+        /* A small vector inside the band: the state with fewer commutations.
+         * Its P-type state is its N-type one a level up in every leg, so from
+         * any state their commutation counts differ by an odd number (three
+         * legs of +-1 each): never a tie, so the NP preference never decides
+         * inside the band and no NP current is needed here. */
         uint8_t c0 = st[0], c1 = st[1];
         bool ok0 = !dtc3l_pn_step_unchecked(prev_state, c0), ok1 = !dtc3l_pn_step_unchecked(prev_state, c1);
         if (ok0 && ok1)
@@ -112,9 +106,10 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         return ok0 ? c0 : (ok1 ? c1 : dtc3l_pn_safe_unchecked(prev_state, c0));
     }
     if (small) {
-        /* A small vector outside the band (np_forced): the loop and the
-         * intermediate below in closed form. Balancing (100) outweighs any
-         * commutation count (at most 6 x 4), which never ties. */
+        /* A small vector outside the band (np_forced): the balancing state
+         * first, then fewer commutations (never a tie); when the balancing
+         * state is a P<->N step away, the other state held P<->N-safe if that
+         * one balances (below). */
         uint8_t c0 = st[0], c1 = st[1];
         bool ok0 = !dtc3l_pn_step_unchecked(prev_state, c0), ok1 = !dtc3l_pn_step_unchecked(prev_state, c1);
         if (!(ok0 || ok1))
@@ -137,45 +132,7 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
             return m;
         return chosen;
     }
-    uint8_t best = 0xFFu;
-    unsigned best_score = ~0u;
-    real_t best_push = R(0.0); /* i_np (vc1 - vc2) of the best so far (small vectors) */
-
-    for (uint8_t i = 0u; i < n; i++) {
-        uint8_t c = st[i];
-        if (dtc3l_pn_step_unchecked(prev_state, c))
-            continue;
-        unsigned score = SCORE_PER_CHANGE * dtc3l_leg_changes_unchecked(prev_state, c);
-        real_t push = R(0.0);
-        if (small) {
-            push = num_mul(dtc3l_np_current_unchecked(c, i_abc), np_dev_V);
-            bool toward = push <= R(0.0);
-            if (!toward)
-                score += np_forced ? SCORE_NP_FORCED : SCORE_NP_TIE;
-        }
-        if (score < best_score) {
-            best_score = score;
-            best = c;
-            best_push = push;
-        }
-    }
-    /* The balancing state is a P<->N step away (e.g. PPO -> ONN): rather than
-     * push the neutral point the wrong way for a period, go through the
-     * P<->N-safe intermediate (here OON, the other state of the vector just
-     * used) when that one balances. */
-    if (np_forced && best != 0xFFu && best_push > R(0.0)) {
-        for (uint8_t i = 0u; i < n; i++) {
-            if (st[i] == best)
-                continue;
-            uint8_t m = dtc3l_pn_safe_unchecked(prev_state, st[i]);
-            if (dtc3l_sv_class(dtc3l_state_sv_unchecked(m)) == DTC3L_CLASS_SMALL &&
-                num_mul(dtc3l_np_current_unchecked(m, i_abc), np_dev_V) < R(0.0))
-                best = m;
-        }
-    }
-    /* Every state of the wanted vector would step a leg P<->N (a medium or
-     * large vector after its opposite): hold those legs at O for now. */
-    if (best == 0xFFu)
-        best = dtc3l_pn_safe_unchecked(prev_state, st[0]);
-    return best;
+    /* Every vector with more than one state is the zero vector or a small one,
+     * both handled above; this keeps the function total. */
+    return dtc3l_pn_safe_unchecked(prev_state, st[0]);
 }
