@@ -299,7 +299,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->band_scale = R(1.0);
     s->te_short_Nm = R(0.0);
     s->fw_trim = R(1.0);
-    s->psi_target_Wb = cfg->dtc.psi_ref_Wb; /* at standstill: rated (supervise() takes over within a slot cycle) */
+    s->psi_target_Wb = cfg->dtc.psi_ref_Wb; /* at standstill: rated (supervise_flux() takes over within a slot cycle) */
     s->te_limit_Nm = cfg->speed.te_max_Nm; /* until supervise_flux() works it out at the flux reached */
     s->short_sum_Nm = R(0.0);
     gates_off(s); /* the first period after enabling applies OOO */
