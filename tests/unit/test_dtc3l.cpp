@@ -712,6 +712,54 @@ TEST(Dtc3lNp, InsideTheBandFewestCommutations)
     }
 }
 
+// The reference rule of dtc3l_choose_state for a small vector's two states
+// (tests Dtc3lNp.*SmallVectorExactly): the NP current a state draws (the
+// phase currents of its legs at O), a state with the legs that would step
+// P<->N from `from` held at O, and the least of 4 x commutations + np_weight
+// when the state pushes vc1 - vc2 further off (-1: both a P<->N step away).
+double ref_np_current(int st, const float i_abc[3])
+{
+    uint8_t l[3];
+    legs_of(st, l);
+    double inp = 0.0;
+    for (int leg = 0; leg < 3; ++leg)
+        inp += l[leg] == HAL_LEG_O ? double(i_abc[leg]) : 0.0;
+    return inp;
+}
+
+int ref_held_at_o(int from, int to)
+{
+    uint8_t a[3], b[3];
+    legs_of(from, a);
+    legs_of(to, b);
+    for (int leg = 0; leg < 3; ++leg)
+        if (std::abs(a[leg] - b[leg]) == 2)
+            b[leg] = HAL_LEG_O;
+    return b[0] * 9 + b[1] * 3 + b[2];
+}
+
+int ref_least_score(int prev, const uint8_t cand[2], const float i_abc[3], float dev, int np_weight,
+                    double *best_push)
+{
+    int want = -1, best_score = 1 << 30;
+    for (int k = 0; k < 2; ++k) {
+        if (pn_step(prev, cand[k]))
+            continue;
+        uint8_t a[3], b[3];
+        legs_of(prev, a);
+        legs_of(cand[k], b);
+        int changes = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+        double push = ref_np_current(cand[k], i_abc) * dev;
+        int score = 4 * changes + (push <= 0.0 ? 0 : np_weight);
+        if (score < best_score) {
+            best_score = score;
+            want = cand[k];
+            *best_push = push;
+        }
+    }
+    return want;
+}
+
 // A small vector inside the band, exactly (dtc3l_np.c works it out in closed
 // form there): of its two states the ones not a P<->N step away, fewest
 // commutations (the counts never tie: the P-type state is the N-type one a
@@ -739,32 +787,10 @@ TEST(Dtc3lNp, InsideTheBandSmallVectorExactly)
                         n1 += std::abs(pa[leg] - c1[leg]);
                     }
                     EXPECT_EQ(std::abs(n0 - n1) % 2, 1) << "commutation counts never tie";
-                    int want = -1, best_score = 1 << 30;
-                    for (int k = 0; k < 2; ++k) {
-                        if (pn_step(prev, cand[k]))
-                            continue;
-                        uint8_t a[3], b[3];
-                        legs_of(prev, a);
-                        legs_of(cand[k], b);
-                        int changes = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
-                        double inp = 0.0; // the phase currents of the legs at O
-                        for (int leg = 0; leg < 3; ++leg)
-                            inp += b[leg] == HAL_LEG_O ? double(i_abc[leg]) : 0.0;
-                        int score = 4 * changes + (inp * dev <= 0.0 ? 0 : 1);
-                        if (score < best_score) {
-                            best_score = score;
-                            want = cand[k];
-                        }
-                    }
-                    if (want < 0) {
-                        uint8_t a[3], b[3];
-                        legs_of(prev, a);
-                        legs_of(cand[0], b);
-                        for (int leg = 0; leg < 3; ++leg)
-                            if (std::abs(a[leg] - b[leg]) == 2)
-                                b[leg] = HAL_LEG_O;
-                        want = b[0] * 9 + b[1] * 3 + b[2];
-                    }
+                    double push = 0.0;
+                    int want = ref_least_score(prev, cand, i_abc, dev, 1, &push);
+                    if (want < 0)
+                        want = ref_held_at_o(prev, cand[0]);
                     EXPECT_EQ(int(dtc3l_choose_state(uint8_t(sv), uint8_t(prev), dev, 1.5f, i_abc)), want)
                         << "prev " << kStateNames[prev] << " sv " << sv << " dev " << dev;
                 }
@@ -782,23 +808,6 @@ TEST(Dtc3lNp, InsideTheBandSmallVectorExactly)
 TEST(Dtc3lNp, OutsideTheBandSmallVectorExactly)
 {
     const float currents[4][3] = {{10.f, -4.f, -6.f}, {-3.f, 8.f, -5.f}, {-2.f, -7.f, 9.f}, {0.5f, 0.25f, -0.75f}};
-    auto np_current = [](int st, const float i_abc[3]) {
-        uint8_t l[3];
-        legs_of(st, l);
-        double inp = 0.0; // the phase currents of the legs at O
-        for (int leg = 0; leg < 3; ++leg)
-            inp += l[leg] == HAL_LEG_O ? double(i_abc[leg]) : 0.0;
-        return inp;
-    };
-    auto held_at_o = [](int from, int to) {
-        uint8_t a[3], b[3];
-        legs_of(from, a);
-        legs_of(to, b);
-        for (int leg = 0; leg < 3; ++leg)
-            if (std::abs(a[leg] - b[leg]) == 2)
-                b[leg] = HAL_LEG_O;
-        return b[0] * 9 + b[1] * 3 + b[2];
-    };
     auto is_small = [](int st) { // two adjacent levels among the legs
         uint8_t l[3];
         legs_of(st, l);
@@ -812,30 +821,15 @@ TEST(Dtc3lNp, OutsideTheBandSmallVectorExactly)
                 for (int sv = 1; sv <= 6; ++sv) {
                     uint8_t cand[3];
                     ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), cand), 2);
-                    int want = -1, best_score = 1 << 30;
                     double best_push = 0.0;
-                    for (int k = 0; k < 2; ++k) {
-                        if (pn_step(prev, cand[k]))
-                            continue;
-                        uint8_t a[3], b[3];
-                        legs_of(prev, a);
-                        legs_of(cand[k], b);
-                        int changes = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
-                        double push = np_current(cand[k], i_abc) * dev;
-                        int score = 4 * changes + (push <= 0.0 ? 0 : 100);
-                        if (score < best_score) {
-                            best_score = score;
-                            want = cand[k];
-                            best_push = push;
-                        }
-                    }
+                    int want = ref_least_score(prev, cand, i_abc, dev, 100, &best_push);
                     if (want < 0) {
-                        want = held_at_o(prev, cand[0]);
+                        want = ref_held_at_o(prev, cand[0]);
                     } else if (best_push > 0.0) {
                         ++unbalancing;
                         int other = want == cand[0] ? cand[1] : cand[0];
-                        int m = held_at_o(prev, other);
-                        if (is_small(m) && np_current(m, i_abc) * dev < 0.0) {
+                        int m = ref_held_at_o(prev, other);
+                        if (is_small(m) && ref_np_current(m, i_abc) * dev < 0.0) {
                             want = m;
                             ++intermediates;
                         }
