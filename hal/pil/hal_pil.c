@@ -39,10 +39,9 @@ typedef struct {
 
 /* Stand-ins for the six timers' SET/RST/CMP1 registers and the update-disable
  * bits: hal_actuate programs them as the target programs the HRTIM (with the
- * same read-modify-write of the update-disable bits and the fault event ORed
+ * same read-modify-write of the update-disable bits and the fault event in
  * into every reset register), so the bench counts the target's work. */
 #define PIL_UDIS_ALL 0x7Fu           /* HRTIM_CR1 MUDIS, TAUDIS..TFUDIS */
-#define PIL_RST_FAULT_EVENT (1u << 26) /* HRTIM RSTx1R EXTEVNT6: the fault line resets the inner switch */
 static volatile uint32_t g_pil_timer[6][3];
 static volatile uint32_t g_pil_update_disable;
 
@@ -132,23 +131,30 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
     npc_instants instants;
     npc_instants_of(&g_pil.tm, t0, &instants); /* once for the three legs */
+    uint32_t classes = npc_period_classes(&g_pil.tm, &instants);
+    uint32_t t = instants.keep; /* CMP1 of every leg that changes inside the period */
+    uint32_t fixups = 0u;
     g_pil_update_disable |= PIL_UDIS_ALL;
     for (unsigned leg = 0u; leg < 3u; leg++) {
-        npc_leg_plan plan;
-        npc_plan_leg_at(&g_pil.tm, &instants, g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg],
-                        &plan);
-        if (plan.fixups != 0u) {
-            g_pil.pn_fixups += plan.fixups;
-            g_pil.pn_step_seen = true;
-        }
-        for (unsigned k = 0u; k < 2u; k++) {
-            unsigned tim = 2u * leg + k;
-            g_pil_timer[tim][0] = plan.set[k];
-            g_pil_timer[tim][1] = plan.rst[k] | PIL_RST_FAULT_EVENT;
-            if (plan.t != 0u && plan.t != g_pil.tm.per)
-                g_pil_timer[tim][2] = plan.t;
-        }
-        g_pil.last_leg[leg] = plan.end;
+        /* the ready words of the leg's (prev, v0, v1) and class, straight to the timers (issue 11) */
+        const npc_leg_words *w = npc_leg_words_of(g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        uint32_t c = npc_leg_class(w, classes);
+        const uint32_t *reg = w->reg[c];
+        unsigned tim = 2u * leg;
+        g_pil_timer[tim][0] = reg[0];
+        g_pil_timer[tim][1] = reg[1];
+        if (c == (uint32_t)NPC_AT_T)
+            g_pil_timer[tim][2] = t;
+        g_pil_timer[tim + 1u][0] = reg[2];
+        g_pil_timer[tim + 1u][1] = reg[3];
+        if (c == (uint32_t)NPC_AT_T)
+            g_pil_timer[tim + 1u][2] = t;
+        g_pil.last_leg[leg] = w->end[c];
+        fixups += w->fixups;
+    }
+    if (fixups != 0u) { /* one test per period */
+        g_pil.pn_fixups += fixups;
+        g_pil.pn_step_seen = true;
     }
     g_pil_update_disable &= ~PIL_UDIS_ALL;
     return HAL_OK;

@@ -862,6 +862,7 @@ int hal_sample_read(hal_sample *out)
 /* The planner's event bits are the HRTIM's CMP2/CMP1 set/reset bits. */
 _Static_assert(NPC_EV_START == HRTIM_SET_CMP2 && NPC_EV_START == HRTIM_RST_CMP2, "CMP2 event bit");
 _Static_assert(NPC_EV_T == HRTIM_SET_CMP1 && NPC_EV_T == HRTIM_RST_CMP1, "CMP1 event bit");
+_Static_assert(NPC_RST_FAULT_EVENT == HRTIM_RST_EXTEVNT6, "the fault event in every reset word");
 _Static_assert(NPC_P == (unsigned)HAL_LEG_P && NPC_O == (unsigned)HAL_LEG_O && NPC_N == (unsigned)HAL_LEG_N,
                "leg states");
 
@@ -881,27 +882,36 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
     npc_instants instants;
     npc_instants_of(&tm, t0, &instants); /* once for the three legs */
+    uint32_t classes = npc_period_classes(&tm, &instants);
+    uint32_t t = instants.keep; /* CMP1 of every leg that changes inside the period */
+    uint32_t fixups = 0u;
 
     /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
      * while the six programmes are written, so a period never starts with
      * half of them. */
     HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
     for (uint32_t leg = 0u; leg < 3u; leg++) {
-        npc_leg_plan plan;
-        npc_plan_leg_at(&tm, &instants, g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg],
-                        &plan);
-        if (plan.fixups != 0u) {
-            g_board.pn_fixups += plan.fixups;
-            g_board.faults |= BOARD_FAULT_PN_STEP;
-        }
-        for (uint32_t k = 0u; k < 2u; k++) {
-            uint32_t tim = 2u * leg + k; /* A/B: leg a, C/D: leg b, E/F: leg c */
-            HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = plan.set[k];
-            HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = plan.rst[k] | HRTIM_RST_EXTEVNT6; /* inner off on a fault */
-            if (plan.t != 0u && plan.t != tm.per)
-                HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = plan.t;
-        }
-        g_board.last_leg[leg] = plan.end;
+        /* the ready words of the leg's (prev, v0, v1) and class, straight to
+         * the registers (issue 11: no plan struct in between) */
+        const npc_leg_words *w =
+            npc_leg_words_of(g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        uint32_t c = npc_leg_class(w, classes);
+        const uint32_t *reg = w->reg[c];
+        uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
+        HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = reg[0];
+        HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = reg[1]; /* with EXTEVNT6: inner off on a fault */
+        if (c == (uint32_t)NPC_AT_T)
+            HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = t;
+        HRTIM_TIM_REG(tim + 1u, HRTIM_SETx1R_OFS) = reg[2];
+        HRTIM_TIM_REG(tim + 1u, HRTIM_RSTx1R_OFS) = reg[3];
+        if (c == (uint32_t)NPC_AT_T)
+            HRTIM_TIM_REG(tim + 1u, HRTIM_CMP1xR_OFS) = t;
+        g_board.last_leg[leg] = w->end[c];
+        fixups += w->fixups;
+    }
+    if (fixups != 0u) { /* one test per period */
+        g_board.pn_fixups += fixups;
+        g_board.faults |= BOARD_FAULT_PN_STEP;
     }
     HRTIM_CR1 &= ~HRTIM_CR1_UDIS_ALL;
     return HAL_OK;

@@ -37,6 +37,25 @@
 
 const npc_leg_rule npc_leg_rules[27] = {RULES_A(0u), RULES_A(1u), RULES_A(2u)};
 
+/* The same rules as ready register words (npc_leg_words). */
+#define WORDS_C(c, p, a, b)                                                                    \
+    {SET(0u, c, p, a, b), RST(0u, c, p, a, b) | NPC_RST_FAULT_EVENT, SET(1u, c, p, a, b), \
+     RST(1u, c, p, a, b) | NPC_RST_FAULT_EVENT}
+#define END(c, p, a, b) (uint8_t)((c) == NPC_AT_PER ? V0(p, a) : V1(p, a, b))
+/* one state: always the first only; prev -> v1 no P<->N step: may drop v0; else keeps it */
+#define KIND(p, a, b) (uint8_t)(V0(p, a) == V1(p, a, b) ? 0u : (PN(p, V1(p, a, b)) ? 16u : 8u))
+#define WORDS(p, a, b)                                                                                          \
+    {{WORDS_C(NPC_AT_ZERO, p, a, b), WORDS_C(NPC_AT_T, p, a, b), WORDS_C(NPC_AT_PER, p, a, b)},                 \
+     {END(NPC_AT_ZERO, p, a, b), END(NPC_AT_T, p, a, b), END(NPC_AT_PER, p, a, b)},                             \
+     KIND(p, a, b),                                                                                             \
+     (uint8_t)((PN(p, a) ? 1u : 0u) + (PN(V0(p, a), b) ? 1u : 0u)),                                            \
+     {0u}}
+#define WORDS_B(p, a) WORDS(p, a, 0u), WORDS(p, a, 1u), WORDS(p, a, 2u)
+#define WORDS_A(p) WORDS_B(p, 0u), WORDS_B(p, 1u), WORDS_B(p, 2u)
+
+_Static_assert(sizeof(npc_leg_words) == 64u, "one shift per index");
+const npc_leg_words npc_leg_words_table[27] = {WORDS_A(0u), WORDS_A(1u), WORDS_A(2u)};
+
 bool npc_pair_level(unsigned pair, uint8_t leg) { return LVL(pair, leg); }
 
 void npc_plan_leg(const npc_timing *tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0, npc_leg_plan *out)

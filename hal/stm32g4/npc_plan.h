@@ -174,6 +174,60 @@ static inline void npc_plan_leg_at(const npc_timing *tm, const npc_instants *in,
 }
 
 /**
+ * The fault line's reset event ORed into every RSTx1R word (HRTIM RSTx1R
+ * EXTEVNT6: the delayed fault event resets the inner switch; docs/board.md).
+ */
+#define NPC_RST_FAULT_EVENT (1u << 26)
+
+/**
+ * The register words of one leg for one (prev, v0, v1), ready to write
+ * (issue 11: the actuation writes them straight to the timers, no plan struct
+ * in between; npc_plan_leg stays the reference, and a host test requires the
+ * two to agree for every triple and instant).
+ */
+typedef struct {
+    /** per enum npc_instant_class: SETx1R and RSTx1R (with NPC_RST_FAULT_EVENT) of pair 0, then of pair 1 */
+    uint32_t reg[3][4];
+    uint8_t end[3];     /**< leg state at the end of the period, per enum npc_instant_class */
+    uint8_t kind_shift; /**< where its class is in npc_period_classes' word: 0 one state, 8 may drop v0, 16 keeps v0 */
+    uint8_t fixups;     /**< P<->N steps replaced by O (0..2) */
+    uint8_t pad[11];    /**< 64 bytes: the index is one shift */
+} npc_leg_words;
+
+/** Words for every (prev, v0, v1), index 9 prev + 3 v0 + v1 (each 0..NPC_P). */
+extern const npc_leg_words npc_leg_words_table[27];
+
+/** @return the instant class of instant @p t (counts, 0..per) of a period of @p per counts. Context: ANY (pure). */
+static inline uint32_t npc_class_at(uint32_t per, uint32_t t)
+{
+    return t == 0u ? (uint32_t)NPC_AT_ZERO : (t == per ? (uint32_t)NPC_AT_PER : (uint32_t)NPC_AT_T);
+}
+
+/**
+ * The period's instant classes of the three kinds of leg in one word (byte 0:
+ * a leg with one state, always NPC_AT_PER; byte 1: a leg that may drop v0;
+ * byte 2: a leg that keeps v0), indexed by npc_leg_words.kind_shift. A leg
+ * whose class is NPC_AT_T changes at @p in->keep: the drop instant is either
+ * 0 or the keep instant (npc_instants_of). Context: ANY (pure).
+ */
+static inline uint32_t npc_period_classes(const npc_timing *tm, const npc_instants *in)
+{
+    return (uint32_t)NPC_AT_PER | (npc_class_at(tm->per, in->drop) << 8) | (npc_class_at(tm->per, in->keep) << 16);
+}
+
+/** @return the words of leg states @p prev, @p v0, @p v1 (each <= NPC_P, unchecked). Context: ANY (pure). */
+static inline const npc_leg_words *npc_leg_words_of(uint8_t prev, uint8_t v0, uint8_t v1)
+{
+    return &npc_leg_words_table[9u * prev + 3u * v0 + v1];
+}
+
+/** @return the instant class of the leg @p w in a period of classes @p classes (npc_period_classes). Context: ANY (pure). */
+static inline uint32_t npc_leg_class(const npc_leg_words *w, uint32_t classes)
+{
+    return (classes >> w->kind_shift) & 0xFFu;
+}
+
+/**
  * Plan one leg. @p prev is the leg state at the end of the previous period,
  * @p v0 / @p v1 the requested states (each <= NPC_P), @p t0 the requested
  * switching instant in counts (0..per). Context: ANY (pure function).

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 extern "C" {
@@ -172,6 +173,43 @@ TEST(NpcPlan, TableEqualsTheRulesForEveryTripleAndInstant)
                                         tm.per - tm.min_pulse, tm.per - tm.min_pulse + 1u, tm.per, 0xFFFFFFFFu})
                         expect_same_as_reference(tm, prev, v0, v1, t0);
                 }
+}
+
+// The actuation's fast path (npc_leg_words_table, the period's classes, CMP1 = the keep instant) writes
+// exactly what the planner's plan says, for every triple and every instant of three timings.
+TEST(NpcPlan, RegisterWordsEqualThePlanForEveryTripleAndInstant)
+{
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}};
+    for (const npc_timing &tm : tms)
+        for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0++) {
+            npc_instants in;
+            npc_instants_of(&tm, t0, &in);
+            const uint32_t classes = npc_period_classes(&tm, &in);
+            for (uint8_t prev = 0; prev <= NPC_P; prev++)
+                for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+                    for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                        npc_leg_plan p;
+                        npc_plan_leg(&tm, prev, v0, v1, t0, &p);
+                        const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
+                        const uint32_t c = npc_leg_class(w, classes);
+                        ASSERT_LE(c, 2u);
+                        const uint32_t *reg = w->reg[c];
+                        const std::string m = "per " + std::to_string(tm.per) + " t0 " + std::to_string(t0) +
+                                              " prev " + std::to_string(prev) + " v0 " + std::to_string(v0) +
+                                              " v1 " + std::to_string(v1);
+                        for (unsigned k = 0; k < 2u; k++) {
+                            ASSERT_EQ(reg[2u * k], p.set[k]) << m << " pair " << k;
+                            ASSERT_EQ(reg[2u * k + 1u], p.rst[k] | (1u << 26)) << m << " pair " << k; // EXTEVNT6
+                        }
+                        // CMP1 is written exactly when the plan's instant is inside the period, and then it is keep
+                        ASSERT_EQ(c == NPC_AT_T, p.t != 0u && p.t != tm.per) << m;
+                        if (c == NPC_AT_T) {
+                            ASSERT_EQ(in.keep, p.t) << m;
+                        }
+                        ASSERT_EQ(w->end[c], p.end) << m;
+                        ASSERT_EQ(w->fixups, p.fixups) << m;
+                    }
+        }
 }
 
 TEST(NpcPlan, LongRandomSequencesStayContinuous)
