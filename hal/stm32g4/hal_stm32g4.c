@@ -873,7 +873,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     _Static_assert(sizeof(hal_vector) == 3u, "the two vectors: six contiguous leg codes");
     if (!npc_legs_valid((const uint8_t *)act->vector)) /* any leg code above HAL_LEG_P */
         return HAL_EINVAL;
-    if (!(act->duty0 >= 0.0f && act->duty0 <= 1.0f)) /* also refuses NaN */
+    if (!npc_duty_valid(act->duty0)) /* 0..1; also refuses NaN */
         return HAL_EINVAL;
     if (g_board.per_counts == 0u)
         return HAL_OK; /* tick not started: nothing to program */

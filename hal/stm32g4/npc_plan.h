@@ -41,7 +41,9 @@
  * True when each of the six leg codes at @p legs (the two vectors of an
  * actuation, three legs each, contiguous bytes) is a leg state (<= NPC_P).
  * Word-wide (issue 11: one test instead of six compares and branches): a
- * byte is above NPC_P when a bit above bit 1 is set, or both low bits (3).
+ * byte b below 0x80 is above NPC_P exactly when b + 0x7D sets its bit 7; a
+ * byte with bit 7 set fails through the OR with the word itself (only such a
+ * byte carries into the next one, so the carries change nothing).
  * Context: ANY (pure).
  */
 static inline bool npc_legs_valid(const uint8_t legs[6])
@@ -50,8 +52,22 @@ static inline bool npc_legs_valid(const uint8_t legs[6])
     uint16_t h;
     memcpy(&w, legs, sizeof w);
     memcpy(&h, legs + 4, sizeof h);
-    uint32_t bad = (w & 0xFCFCFCFCu) | (w & (w >> 1) & 0x01010101u) | (h & 0xFCFCu) | (h & (h >> 1) & 0x0101u);
+    uint32_t hw = h;
+    uint32_t bad = ((w + 0x7D7D7D7Du) | w | (hw + 0x7D7Du) | hw) & 0x80808080u;
     return bad == 0u;
+}
+
+/**
+ * True when @p duty0 is in [0, 1] (NaN refused): as integers (issue 11: an
+ * unsigned compare of the bits instead of two float compares; +0..1 are the
+ * bits 0..0x3F800000, and -0 is accepted as the float compare accepts it).
+ * Context: ANY (pure).
+ */
+static inline bool npc_duty_valid(float duty0)
+{
+    uint32_t b;
+    memcpy(&b, &duty0, sizeof b);
+    return b <= 0x3F800000u || b == 0x80000000u;
 }
 
 /**

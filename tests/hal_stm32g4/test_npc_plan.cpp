@@ -5,8 +5,10 @@
 // second pulse above its minimum, and otherwise applies what was asked.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -274,6 +276,22 @@ TEST(NpcPlan, LegsValidEqualsTheByteRule)
 // The gates-off repeat (hal_actuate) skips writing when the request is the
 // held one: the comparison must see every leg code and every bit of the duty,
 // and nothing else (the padding after the six codes).
+TEST(NpcPlan, DutyValidEqualsTheFloatRule)
+{
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    std::vector<float> v = {0.0f, -0.0f, 1.0f, 0.5f, std::nextafter(1.0f, 2.0f), std::nextafter(0.0f, -1.0f),
+                            std::nextafter(0.0f, 1.0f), -1.0f, 2.0f, inf, -inf, nan, -nan, 1e-38f, -1e-38f};
+    std::mt19937 rng(7);
+    for (int i = 0; i < 200000; i++) { // every kind of bit pattern: sign, exponent and mantissa at random
+        uint32_t b = uint32_t(rng());
+        float f;
+        std::memcpy(&f, &b, sizeof f);
+        v.push_back(f);
+    }
+    for (float f : v)
+        ASSERT_EQ(npc_duty_valid(f), f >= 0.0f && f <= 1.0f) << f;
+}
+
 TEST(NpcPlan, RequestSameSeesEveryLegAndDutyBit)
 {
     const uint8_t base[8] = {1, 1, 1, 1, 1, 1, 0xAA, 0x55};
