@@ -53,7 +53,7 @@ void scope_arm(scope *s, const scope_src *src, uint8_t n_src)
     s->pos = 0u;
     s->filled = 0u;
     s->remaining = 0u;
-    s->dec_count = 0u;
+    s->dec_left = s->decimation;
     s->start = 0u;
     s->pending = false;
     s->trig_req = false;
@@ -70,7 +70,7 @@ float scope_value(const scope *s, uint32_t ch, uint32_t j)
 {
     if (s->state != SCOPE_DONE || ch >= s->n_ch || j >= SCOPE_SAMPLES)
         return 0.0f;
-    return s->buf[ch][(s->start + j) % SCOPE_SAMPLES];
+    return s->buf[(s->start + j) % SCOPE_SAMPLES][ch];
 }
 
 static inline float read_src(const uint8_t *base, scope_src src)
@@ -116,9 +116,13 @@ void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t fau
                                   (trigger == SCOPE_TRIG_FAULT && faults != 0u && last_faults == 0u))))
             s->pending = true;
     }
-    if (++s->dec_count < s->decimation)
+    /* a count down (issue 11: no compare with the decimation while it runs) */
+    uint16_t dec_left = s->dec_left;
+    if (dec_left > 1u) {
+        s->dec_left = (uint16_t)(dec_left - 1u);
         return;
-    s->dec_count = 0u;
+    }
+    s->dec_left = s->decimation;
 
     const uint8_t *b = (const uint8_t *)base;
     uint16_t pos = s->pos;
@@ -131,14 +135,16 @@ void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t fau
         memcpy(&f1, b + s->src[1].offset, sizeof f1);
         memcpy(&f2, b + s->src[2].offset, sizeof f2);
         memcpy(&f3, b + s->src[3].offset, sizeof f3);
-        s->buf[0][pos] = f0;
-        s->buf[1][pos] = f1;
-        s->buf[2][pos] = f2;
-        s->buf[3][pos] = f3;
+        /* one sample's channels side by side: one address for the four stores */
+        float *row = s->buf[pos];
+        row[0] = f0;
+        row[1] = f1;
+        row[2] = f2;
+        row[3] = f3;
     } else {
         uint32_t n_ch = s->n_ch; /* read once: the stores below are float stores, which cannot change it */
         for (uint32_t ch = 0u; ch < n_ch; ch++) /* at most SCOPE_CHANNELS stores */
-            s->buf[ch][pos] = read_src(b, s->src[ch]);
+            s->buf[pos][ch] = read_src(b, s->src[ch]);
     }
     s->pos = (uint16_t)((pos + 1u) % SCOPE_SAMPLES);
     if (s->filled < SCOPE_SAMPLES)

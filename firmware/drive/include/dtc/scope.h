@@ -84,14 +84,14 @@ typedef struct {
     uint16_t pos;                       /**< next ring index */
     uint16_t filled;                    /**< samples stored since arming (saturates) */
     uint16_t remaining;                 /**< samples still to take after the trigger */
-    uint16_t dec_count;                 /**< ticks since the last stored sample */
+    uint16_t dec_left;                  /**< ticks until the next stored sample (1: this one) */
     uint16_t start;                     /**< ring index of the oldest sample (DONE) */
     bool pending;                       /**< trigger seen, taken at the next stored sample */
     bool primed;                        /**< last_ref/last_faults valid */
     real_t last_ref_rad_s;
     uint32_t last_faults;
     uint32_t trigger_tick;              /**< tick counter at the trigger sample */
-    float buf[SCOPE_CHANNELS][SCOPE_SAMPLES];
+    float buf[SCOPE_SAMPLES][SCOPE_CHANNELS]; /**< ring of samples, the channels of one side by side */
 } scope;
 
 /** Idle, no channels; settings untouched. Context: BG. */
