@@ -128,18 +128,24 @@ static inline void snapshot_derive(drive_snapshot *s, uint32_t which)
         s->vdc_V = s->vc1_V + s->vc2_V;
 }
 
+#define SNAP_SAMPLE_BYTES (6u * sizeof(float))
+#define SNAP_AT(f) (offsetof(drive_snapshot, f) - offsetof(drive_snapshot, ia_A))
+#define SAMPLE_AT(f) (offsetof(hal_sample, f) - offsetof(hal_sample, ia_A))
+_Static_assert(SNAP_AT(ib_A) == SAMPLE_AT(ib_A) && SNAP_AT(ic_A) == SAMPLE_AT(ic_A) &&
+                   SNAP_AT(vc1_V) == SAMPLE_AT(vc1_V) && SNAP_AT(vc2_V) == SAMPLE_AT(vc2_V) &&
+                   SNAP_AT(omega_meas_rad_s) == SAMPLE_AT(speed_meas_rad_s) &&
+                   SAMPLE_AT(speed_meas_rad_s) + sizeof(float) == SNAP_SAMPLE_BYTES,
+               "the snapshot's sample fields are hal_sample's first six floats, in its order");
+
 static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
 {
     drive_snapshot *s = &d->snap;
     s->seq++; /* odd: being written */
     publish_fence();
     s->tel = d->out.tel;
-    s->omega_meas_rad_s = in->sample.speed_meas_rad_s;
-    s->vc1_V = in->sample.vc1_V;
-    s->vc2_V = in->sample.vc2_V;
-    s->ia_A = in->sample.ia_A;
-    s->ib_A = in->sample.ib_A;
-    s->ic_A = in->sample.ic_A;
+    /* ia..speed as one block (issue 11: a load and a store multiple instead
+     * of six of each); the two layouts are the same, checked below */
+    memcpy(&s->ia_A, &in->sample.ia_A, SNAP_SAMPLE_BYTES);
     s->tick = d->tick;
     s->quick_stop_done = quick_stop_done;
     uint32_t which = d->snap_derived;

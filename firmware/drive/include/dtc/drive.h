@@ -59,9 +59,10 @@ typedef struct {
 typedef struct {
     volatile uint32_t seq;
     ctl_telemetry tel;
-    float omega_meas_rad_s;   /**< board speed sensor (diagnostics), rad/s */
-    float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
+    /* the sample's six floats in hal_sample's order (publish_snapshot copies them as one block) */
     float ia_A, ib_A, ic_A;   /**< measured currents, A */
+    float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
+    float omega_meas_rad_s;   /**< board speed sensor (diagnostics), rad/s */
     uint32_t tick;            /**< ISR tick counter */
     float speed_err_rad_s;    /**< tel.speed_ref_rad_s - tel.omega_est_rad_s (the controllers' e_x), rad/s */
     float vdc_diff_V;         /**< vc1_V - vc2_V (neutral-point deviation), V */
