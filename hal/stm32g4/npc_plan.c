@@ -50,11 +50,12 @@ const npc_leg_rule npc_leg_rules[27] = {RULES_A(0u), RULES_A(1u), RULES_A(2u)};
      KIND(p, a, b),                                                                                             \
      (uint8_t)((PN(p, a) ? 1u : 0u) + (PN(V0(p, a), b) ? 1u : 0u)),                                            \
      {0u}}
-#define WORDS_B(p, a) WORDS(p, a, 0u), WORDS(p, a, 1u), WORDS(p, a, 2u)
+#define WORDS_AT(p, a, b) [16u * (p) + 4u * (a) + (b)] = WORDS(p, a, b)
+#define WORDS_B(p, a) WORDS_AT(p, a, 0u), WORDS_AT(p, a, 1u), WORDS_AT(p, a, 2u)
 #define WORDS_A(p) WORDS_B(p, 0u), WORDS_B(p, 1u), WORDS_B(p, 2u)
 
 _Static_assert(sizeof(npc_leg_words) == 64u, "one shift per index");
-const npc_leg_words npc_leg_words_table[27] = {WORDS_A(0u), WORDS_A(1u), WORDS_A(2u)};
+const npc_leg_words npc_leg_words_table[48] = {WORDS_A(0u), WORDS_A(1u), WORDS_A(2u)};
 
 bool npc_pair_level(unsigned pair, uint8_t leg) { return LVL(pair, leg); }
 
