@@ -19,7 +19,10 @@
  * Cost (issue 11): the leg states' part of the plan (P<->N guard, event bits)
  * depends on the 27 triples (prev, v0, v1) only and is a constant table
  * (npc_leg_rules); the switching instant's part on the requested instant only
- * and is worked out once per period for all three legs (npc_instants_of).
+ * and is worked out once per period for all three legs (npc_instants_of). The
+ * actuation writes the same plan as ready register words per triple and
+ * instant class (npc_leg_words_table), no plan struct in between; npc_plan_leg
+ * is the reference the host tests compare both with.
  */
 #ifndef HAL_STM32G4_NPC_PLAN_H
 #define HAL_STM32G4_NPC_PLAN_H

@@ -144,7 +144,7 @@ static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
     publish_fence();
     s->tel = d->out.tel;
     /* ia..speed as one block (issue 11: a load and a store multiple instead
-     * of six of each); the two layouts are the same, checked below */
+     * of six of each); the two layouts are the same, checked above */
     memcpy(&s->ia_A, &in->sample.ia_A, SNAP_SAMPLE_BYTES);
     s->tick = d->tick;
     s->quick_stop_done = quick_stop_done;
