@@ -39,8 +39,8 @@ typedef struct {
 
 /* Stand-ins for the six timers' SET/RST/CMP1 registers and the update-disable
  * bits: hal_actuate programs them as the target programs the HRTIM (with the
- * same read-modify-write of the update-disable bits and the fault event in
- * into every reset register), so the bench counts the target's work. */
+ * same read-modify-write of the update-disable bits and the same words, the
+ * fault event in every reset word), so the bench counts the target's work. */
 #define PIL_UDIS_ALL 0x7Fu           /* HRTIM_CR1 MUDIS, TAUDIS..TFUDIS */
 static volatile uint32_t g_pil_timer[6][3];
 static volatile uint32_t g_pil_update_disable;
