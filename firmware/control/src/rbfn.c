@@ -36,6 +36,7 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
     g->n = 0u;
     g->inv_width = g->inv_spacing = g->d = g->half_d2 = R(0.0);
     g->q = R(1.0);
+    g->last_node = R(0.0);
     if (n < 1u || !(width[0] > R(1e-6)))
         return;
     real_t h = n >= 2u ? centre[1] - centre[0] : R(1.0);
@@ -59,6 +60,7 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
     g->d = d;
     g->half_d2 = num_mul(R(0.5), num_mul(g->d, g->d));
     g->q = num_exp(-num_mul(g->d, g->d));
+    g->last_node = (real_t)(n - 1u);
     g->n = n;
 }
 
@@ -78,7 +80,7 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     uint32_t ks;
     if (!(t > R(0.0)))
         ks = 0u;
-    else if (t >= (real_t)(n - 1u))
+    else if (t >= g->last_node) /* (real_t)(n - 1), n == g->n */
         ks = n - 1u;
     else
         ks = (uint32_t)(t + R(0.5));
