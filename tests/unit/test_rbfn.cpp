@@ -202,6 +202,22 @@ TEST(RbfnBasisGrid, RefusesGridsThatAreNotUniformAndHandlesFarInputs)
     EXPECT_EQ(g.n, 0u);
 }
 
+// Spacing / width d = 1e16: d^2 / 2 = 5e31 would let grid_terms' exp argument
+// u d - d^2 / 2 (|u| <= 1e15) reach inf - inf = NaN, which its exp (without a
+// NaN test) must never see: such a grid takes rbfn_basis. d = 1e15 is a grid.
+TEST(RbfnBasisGrid, RefusesGridsWhoseExpArgumentCouldBeNaN)
+{
+    const float w[3] = {1e-5f, 1e-5f, 1e-5f};
+    const float c16[3] = {-1e11f, 0.0f, 1e11f};
+    rbfn_grid g;
+    rbfn_grid_derive(&g, c16, w, 3u);
+    EXPECT_EQ(g.n, 0u);
+    const float c15[3] = {-1e10f, 0.0f, 1e10f};
+    rbfn_grid_derive(&g, c15, w, 3u);
+    EXPECT_EQ(g.n, 3u);
+    EXPECT_LT(g.half_d2, 1e30f);
+}
+
 // The default configuration is a uniform grid, so the controller takes the
 // one-exp() path, and it gives the same basis as eq. 8.
 TEST(RbfnBasisGrid, DefaultConfigurationUsesTheGrid)

@@ -125,6 +125,12 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     real_t slip_den = num_mul(num_mul(R(1.5), m->pole_pairs), num_mul(psi_r, psi_r));
     cfg->slip_rad_s_per_Nm = slip_den > R(0.0) ? num_div(m->Rr_ohm, slip_den) : R(0.0);
     cfg->regen_k2_min = num_mul(cfg->regen_flux_min_frac, cfg->regen_flux_min_frac);
+    /* per-tick constants of the flux ramp and the speed loop (the same products
+     * the tick worked out before: the same bits) */
+    cfg->psi_ramp_step_Wb = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
+    cfg->speed_T_s = num_mul((real_t)CTL_RBFN_TICKS, cfg->period_s);
+    cfg->speed_ramp_step_rad_s = num_mul(cfg->speed.ramp_rad_s2, cfg->speed_T_s);
+    cfg->inv_speed_T_per_s = num_mul(R(1.0) / (real_t)CTL_RBFN_TICKS, cfg->inv_period_per_s);
 }
 
 int ctl_cfg_check(const ctl_cfg *cfg)
@@ -503,7 +509,7 @@ static void supervise_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x
 static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg)
 {
     s->short_sum_Nm += num_abs(s->te_ref_Nm) - num_abs(s->obs_out.te_Nm);
-    real_t dpsi = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
+    real_t dpsi = cfg->psi_ramp_step_Wb;
     s->psi_ref_ramped_Wb = num_sat(s->psi_target_Wb, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
 }
 
@@ -565,7 +571,7 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
  * speed controller's outputs hold. */
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
-    real_t T = num_mul((real_t)CTL_RBFN_TICKS, cfg->period_s); /* the speed loop's step */
+    real_t T = cfg->speed_T_s; /* the speed loop's step */
     bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
     if ((s->slow_slot & (CTL_RBFN_TICKS - 1u)) != CTL_SLOT_RBFN) {
         if (rbfn)
@@ -576,11 +582,11 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
     target = num_limit(target, cfg->speed_max_rad_s);
     real_t prev = s->speed_ref_ramped_rad_s;
-    s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, num_mul(cfg->speed.ramp_rad_s2, T));
+    s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, cfg->speed_ramp_step_rad_s);
     speed_in si;
     si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
-    si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_period_per_s);
-    si.domega_ref_rad_s2 = num_mul(R(1.0) / (real_t)CTL_RBFN_TICKS, si.domega_ref_rad_s2);
+    /* (d / T_tick) / CTL_RBFN_TICKS in one product: the division by a power of 2 is exact */
+    si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_speed_T_per_s);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
     si.te_limit_Nm = s->te_limit_Nm;
     if (rbfn)

@@ -49,6 +49,11 @@ float num_expf(float x)
 {
     if (x != x)
         return x + x; /* NaN */
+    return num_expf_not_nan(x);
+}
+
+float num_expf_not_nan(float x)
+{
     if (x > EXP_X_MAX)
         return INFINITY;
     if (x < EXP_X_MIN)

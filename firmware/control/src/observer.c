@@ -111,6 +111,13 @@ static inline void model_apply(const model_matrix *a, const real_t x[4], real_t 
 /* With the flux lowered so that the stator frequency opposes the rotation
  * (observer.regen_low_flux): there the full angle pulls the estimate off. */
 #define REGEN_LOW_FLUX_SCALE R(0.25)
+/* cos and sin of the rotation by the series above */
+static inline void rotation_of(real_t phi, real_t *c, real_t *sn)
+{
+    real_t p2 = num_mul(phi, phi);
+    *c = R(1.0) - num_mul(p2, R(0.5) - num_mul(p2, R(0.0416666667)));
+    *sn = num_mul(phi, R(1.0) - num_mul(p2, R(0.166666667) - num_mul(p2, R(0.00833333333))));
+}
 static void rotate_for_regeneration(const observer_cfg *cfg, real_t omega_e, real_t te_Nm, real_t te_cmd_Nm,
                                     bool low_flux, const real_t e[2], real_t er[2])
 {
@@ -124,21 +131,30 @@ static void rotate_for_regeneration(const observer_cfg *cfg, real_t omega_e, rea
     }
     real_t x = num_mul(w, cfg->m.inv_regen_speed);
     real_t shape;
+    bool plateau = false;
     if (x > REGEN_PLATEAU_HI)
         shape = num_mul(R(1.0) - x, REGEN_FALL);
     else {
         shape = num_mac(REGEN_RISE, x, REGEN_SHAPE_AT_ZERO);
-        if (shape > R(1.0))
-            shape = R(1.0);
+        plateau = shape >= R(1.0); /* shape 1 */
     }
-    real_t phi = num_mul(cfg->regen_angle_rad, shape);
-    if (low_flux)
-        phi = num_mul(phi, REGEN_LOW_FLUX_SCALE);
-    if (omega_e < R(0.0))
-        phi = -phi;
-    real_t p2 = num_mul(phi, phi);
-    real_t c = R(1.0) - num_mul(p2, R(0.5) - num_mul(p2, R(0.0416666667)));
-    real_t sn = num_mul(phi, R(1.0) - num_mul(p2, R(0.166666667) - num_mul(p2, R(0.00833333333))));
+    real_t c, sn;
+    if (plateau) {
+        /* on the plateau the angle is the configuration's: its cos and sin were
+         * derived once (observer_cfg_derive, the same operations, so the same bits;
+         * sin(-phi) = -sin(phi) exactly in the series) */
+        c = cfg->m.regen_cos[low_flux];
+        sn = cfg->m.regen_sin[low_flux];
+        if (omega_e < R(0.0))
+            sn = -sn;
+    } else {
+        real_t phi = num_mul(cfg->regen_angle_rad, shape);
+        if (low_flux)
+            phi = num_mul(phi, REGEN_LOW_FLUX_SCALE);
+        if (omega_e < R(0.0))
+            phi = -phi;
+        rotation_of(phi, &c, &sn);
+    }
     er[0] = num_mac(c, e[0], num_mul(sn, e[1]));
     er[1] = num_mac(c, e[1], -num_mul(sn, e[0]));
 }
@@ -196,6 +212,10 @@ void observer_cfg_derive(observer_cfg *cfg, const motor_model *mm, real_t period
     m->nom_g_psi0 = t.g_psi0;
     m->nom_kt_a11_tr = t.kt_a11_tr;
     m->one_minus_lpf_alpha = R(1.0) - m->lpf_alpha;
+    /* the plateau's rotation: phi = angle x 1 (x REGEN_LOW_FLUX_SCALE), as rotate_for_regeneration */
+    real_t phi = num_mul(cfg->regen_angle_rad, R(1.0));
+    rotation_of(phi, &m->regen_cos[0], &m->regen_sin[0]);
+    rotation_of(num_mul(phi, REGEN_LOW_FLUX_SCALE), &m->regen_cos[1], &m->regen_sin[1]);
     m->lpf_alpha_pp = num_mul(m->lpf_alpha, m->inv_pole_pairs);
 }
 

@@ -36,6 +36,7 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
     g->n = 0u;
     g->inv_width = g->inv_spacing = g->d = g->half_d2 = R(0.0);
     g->q = R(1.0);
+    g->last_node = R(0.0);
     if (n < 1u || !(width[0] > R(1e-6)))
         return;
     real_t h = n >= 2u ? centre[1] - centre[0] : R(1.0);
@@ -47,11 +48,19 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
         if (k >= 1u && !(num_abs(centre[k] - centre[k - 1u] - h) <= num_mul(R(1e-5), h)))
             return;
     }
-    g->inv_width = num_div(R(1.0), width[0]);
+    real_t inv_width = num_div(R(1.0), width[0]);
+    real_t d = n >= 2u ? num_mul(h, inv_width) : R(0.0);
+    /* d^2 / 2 below 1e30 keeps grid_terms' exp argument u d - d^2 / 2 (|u| <= 1e15)
+     * finite, never inf - inf = NaN (num_expf_not_nan); a grid that sparse
+     * (d > 1.4e15) has no overlap at all and takes rbfn_basis */
+    if (!(num_mul(d, d) < R(2e30)))
+        return;
+    g->inv_width = inv_width;
     g->inv_spacing = num_div(R(1.0), h);
-    g->d = n >= 2u ? num_mul(h, g->inv_width) : R(0.0);
+    g->d = d;
     g->half_d2 = num_mul(R(0.5), num_mul(g->d, g->d));
     g->q = num_exp(-num_mul(g->d, g->d));
+    g->last_node = (real_t)(n - 1u);
     g->n = n;
 }
 
@@ -71,13 +80,15 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     uint32_t ks;
     if (!(t > R(0.0)))
         ks = 0u;
-    else if (t >= (real_t)(n - 1u))
+    else if (t >= g->last_node) /* (real_t)(n - 1), n == g->n */
         ks = n - 1u;
     else
         ks = (uint32_t)(t + R(0.5));
     real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
     /* r: z[k + 1] / z[k] going up; rho: z[k - 1] / z[k] going down (r rho = q) */
-    real_t r = num_exp(num_mul(u, g->d) - g->half_d2);
+    /* x is not NaN here and u is bounded, so the argument is not NaN (g->d and
+     * g->half_d2 are finite by rbfn_grid_derive): the exp without its NaN test */
+    real_t r = num_expf_not_nan(num_mul(u, g->d) - g->half_d2);
     const real_t q = g->q; /* held in a register: the stores into v_out could alias it */
     real_t rho = num_div(q, r);
     real_t sum = R(1.0);

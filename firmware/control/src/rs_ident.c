@@ -28,6 +28,7 @@ void rs_ident_cfg_derive(rs_ident_cfg *c, const motor_model *m, real_t period_s,
     c->lm_lr = num_div(m->Lm_H, lr);
     c->T_over_tr = num_div(num_mul(period_s, m->Rr_ohm), lr);
     c->period_s = period_s;
+    c->half_period_s = num_mul(R(0.5), period_s);
 }
 
 void rs_ident_reset(rs_ident *s)
@@ -47,7 +48,7 @@ void rs_ident_step(rs_ident *s, const rs_ident_cfg *c, const real_t v_V[2], cons
     s->t_s += c->period_s;
     for (int k = 0; k < 2; k++) {
         /* is(t) piecewise linear between samples: trapezoid; v constant over the period */
-        s->i_int_As[k] += num_mul(num_mul(R(0.5), c->period_s), s->is_A[k] + is_A[k]);
+        s->i_int_As[k] += num_mul(c->half_period_s, s->is_A[k] + is_A[k]);
         s->psi_r_Wb[k] += num_mul(c->T_over_tr, num_mul(c->lm_H, is_A[k]) - s->psi_r_Wb[k]);
         s->is_A[k] = is_A[k];
         s->v_int_Vs[k] += num_mul(c->period_s, v_V[k]);

@@ -124,6 +124,11 @@ typedef struct {
     real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
     real_t slip_rad_s_per_Nm; /**< electrical slip per N m at the rated flux, (rad/s)/(N m) */
     real_t regen_k2_min;      /**< regen_flux_min_frac^2 */
+    real_t psi_ramp_step_Wb;  /**< psi_ramp_Wb_s x period_s: the flux reference's slew per tick, Wb */
+    real_t speed_T_s;         /**< CTL_RBFN_TICKS x period_s: the speed loop's step, s */
+    real_t speed_ramp_step_rad_s; /**< speed.ramp_rad_s2 x speed_T_s: the speed reference's slew per
+                                   speed-loop step, rad/s */
+    real_t inv_speed_T_per_s; /**< inv_period_per_s / CTL_RBFN_TICKS (exact: a power of 2), 1/s */
     rs_ident_cfg rsid;        /**< constants of the Rs identification */
 } ctl_cfg;
 

@@ -95,6 +95,9 @@ typedef struct {
     real_t one_minus_lpf_alpha; /**< 1 - lpf_alpha */
     real_t lpf_alpha_pp;  /**< lpf_alpha / p: the speed low-pass's input weight on omega_e */
     real_t h_T[3];        /**< T/4, T/3, T/2 (as T x 0.25, 0.333333333, 0.5): the ZOH series' steps, s */
+    real_t regen_cos[2];  /**< cos of the regenerating-mode rotation on its plateau (observer.c,
+                               rotate_for_regeneration), [normal, regen_low_flux] */
+    real_t regen_sin[2];  /**< sin of that rotation for omega_e >= 0 (negated below), [normal, regen_low_flux] */
 } observer_model;
 
 typedef struct {

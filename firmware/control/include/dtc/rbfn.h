@@ -46,6 +46,7 @@ typedef struct {
     real_t d;                 /**< h / s */
     real_t half_d2;           /**< d^2 / 2 */
     real_t q;                 /**< exp(-d^2): ratio of successive r_q */
+    real_t last_node;         /**< n - 1 as a real: the nearest-node search's upper end */
 } rbfn_grid;
 
 /**

@@ -52,6 +52,7 @@ typedef struct {
     real_t lm_lr;           /**< Lm / Lr */
     real_t T_over_tr;       /**< period / Tr */
     real_t period_s;        /**< control period, s */
+    real_t half_period_s;   /**< period_s / 2 (the trapezoid's weight), s */
 } rs_ident_cfg;
 
 /** Accumulators of one magnetising interval (caller owned). */
