@@ -175,7 +175,7 @@ TEST(RbfnGridEval, BasisTimesScaleAndOutputMatchTheReference)
 TEST(RbfnBasisGrid, RefusesGridsThatAreNotUniformAndHandlesFarInputs)
 {
     const float c[3] = {-10.0f, 0.0f, 10.0f};
-    const float s[3] = {1.0f, 1.0f, 1.0f};
+    const float s[3] = {1.25f, 1.25f, 1.25f}; // 8 widths apart: the sparsest grid the recurrence takes
     rbfn_grid g;
     rbfn_grid_derive(&g, c, s, 3u);
     ASSERT_EQ(g.n, 3u);
@@ -202,20 +202,48 @@ TEST(RbfnBasisGrid, RefusesGridsThatAreNotUniformAndHandlesFarInputs)
     EXPECT_EQ(g.n, 0u);
 }
 
-// Spacing / width d = 1e16: d^2 / 2 = 5e31 would let grid_terms' exp argument
-// u d - d^2 / 2 (|u| <= 1e15) reach inf - inf = NaN, which its exp (without a
-// NaN test) must never see: such a grid takes rbfn_basis. d = 1e15 is a grid.
-TEST(RbfnBasisGrid, RefusesGridsWhoseExpArgumentCouldBeNaN)
+// The recurrence's ratio q = exp(-d^2) must stay a normal float: with nodes
+// d = 10 widths apart it was 0 and the downward ratio q / r was 0 / 0 = NaN
+// for every node at x = -5 (midway). Such a grid is refused (the caller then
+// takes rbfn_basis); the sparsest accepted ones, d^2 up to RBFN_GRID_D2_MAX,
+// match eq. 8 in double, midway between nodes too. d = 1e16 (whose exp
+// argument could have been inf - inf) is refused as well.
+TEST(RbfnBasisGrid, RefusesGridsTooSparseForTheRecurrence)
 {
-    const float w[3] = {1e-5f, 1e-5f, 1e-5f};
-    const float c16[3] = {-1e11f, 0.0f, 1e11f};
+    const float c[3] = {-10.0f, 0.0f, 10.0f};
     rbfn_grid g;
-    rbfn_grid_derive(&g, c16, w, 3u);
-    EXPECT_EQ(g.n, 0u);
-    const float c15[3] = {-1e10f, 0.0f, 1e10f};
-    rbfn_grid_derive(&g, c15, w, 3u);
-    EXPECT_EQ(g.n, 3u);
-    EXPECT_LT(g.half_d2, 1e30f);
+    const float w10[3] = {1.0f, 1.0f, 1.0f};
+    rbfn_grid_derive(&g, c, w10, 3u);
+    EXPECT_EQ(g.n, 0u) << "d = 10";
+    float z[3];
+    rbfn_basis(c, w10, 3u, -5.0f, z); // what the controller takes instead: finite, the two nodes equal
+    EXPECT_TRUE(std::isfinite(z[0]) && std::isfinite(z[1]) && std::isfinite(z[2]));
+    EXPECT_NEAR(z[0], 0.5f, 1e-6f);
+    EXPECT_NEAR(z[1], 0.5f, 1e-6f);
+    const float w16[3] = {1e-5f, 1e-5f, 1e-5f};
+    const float c16[3] = {-1e11f, 0.0f, 1e11f};
+    rbfn_grid_derive(&g, c16, w16, 3u);
+    EXPECT_EQ(g.n, 0u) << "d = 1e16";
+
+    const float c5[5] = {-20.0f, -10.0f, 0.0f, 10.0f, 20.0f};
+    Vec mc(5), ms(5);
+    for (double d : {4.0, 7.0, 8.9}) {
+        float w[5];
+        for (int q = 0; q < 5; ++q) {
+            w[q] = float(10.0 / d);
+            mc[q] = c5[q];
+            ms[q] = w[q];
+        }
+        rbfn_grid_derive(&g, c5, w, 5u);
+        ASSERT_EQ(g.n, 5u) << "d = " << d;
+        for (float x : {-25.0f, -15.0f, -5.0f, -0.1f, 0.0f, 4.9f, 5.0f, 5.1f, 15.0f, 25.0f}) {
+            float zg[5];
+            rbfn_basis_grid(&g, c5, 5u, x, zg);
+            Vec zr = ref_basis(mc, ms, x);
+            for (int q = 0; q < 5; ++q)
+                EXPECT_NEAR(zg[q], zr[q], 2e-5 * std::max(1.0, zr[q] * 5)) << "d = " << d << ", x = " << x << ", node " << q;
+        }
+    }
 }
 
 // The default configuration is a uniform grid, so the controller takes the

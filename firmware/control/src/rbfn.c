@@ -50,10 +50,14 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
     }
     real_t inv_width = num_div(R(1.0), width[0]);
     real_t d = n >= 2u ? num_mul(h, inv_width) : R(0.0);
-    /* d^2 / 2 below 1e30 keeps grid_terms' exp argument u d - d^2 / 2 (|u| <= 1e15)
-     * finite, never inf - inf = NaN (num_expf_not_nan); a grid that sparse
-     * (d > 1.4e15) has no overlap at all and takes rbfn_basis */
-    if (!(num_mul(d, d) < R(2e30)))
+    /* q = exp(-d^2) must be a normal float: num_exp gives 0 below -87.33, and
+     * then the recurrence's downward ratio rho = q / r is 0 (every node below
+     * the nearest one lost) or, where r is 0 too, 0 / 0 = NaN (d = 10 gave NaN
+     * for every node at x midway between two of them). A grid that sparse
+     * (nodes 9 widths apart) takes rbfn_basis. d^2 <= 80 also keeps
+     * grid_terms' exp argument u d - d^2 / 2 (|u| <= 1e15) finite, never
+     * inf - inf = NaN (num_expf_not_nan). */
+    if (!(num_mul(d, d) <= RBFN_GRID_D2_MAX))
         return;
     g->inv_width = inv_width;
     g->inv_spacing = num_div(R(1.0), h);

@@ -49,10 +49,14 @@ typedef struct {
     real_t last_node;         /**< n - 1 as a real: the nearest-node search's upper end */
 } rbfn_grid;
 
+/** Largest (spacing / width)^2 of a grid: exp(-d^2) stays a normal float (above exp(-87.33)). */
+#define RBFN_GRID_D2_MAX R(80.0)
+
 /**
  * Detect a uniform grid (n >= 1; for n >= 2 equally spaced increasing centres
- * within 1e-5 of the spacing, and equal widths > 1e-6) and precompute its
- * constants; otherwise g->n = 0. Context: BG (calls exp).
+ * within 1e-5 of the spacing, at most sqrt(RBFN_GRID_D2_MAX) = 8.9 widths
+ * apart, and equal widths > 1e-6) and precompute its constants; otherwise
+ * g->n = 0 (the caller uses rbfn_basis). Context: BG (calls exp).
  */
 void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, uint32_t n);
 
