@@ -174,6 +174,27 @@ TEST(Dtc3lVectors, PackedLegsAreTheBase3Digits)
     }
 }
 
+// Both vectors of an actuation written at once: for every pair of states the
+// six leg bytes are each state's base-3 digits (leg a, b, c), and the duty
+// after them is left as it was.
+TEST(Dtc3lVectors, LegsPairWritesBothStatesBase3Digits)
+{
+    for (int s0 = 0; s0 < 27; ++s0)
+        for (int s1 = 0; s1 < 27; ++s1) {
+            hal_actuation a;
+            std::memset(&a, 0xA5, sizeof a);
+            a.duty0 = 0.25f;
+            dtc3l_legs_pair_unchecked(uint8_t(s0), uint8_t(s1), &a);
+            const int st[2] = {s0, s1};
+            for (int v = 0; v < 2; ++v) {
+                EXPECT_EQ(int(a.vector[v].leg[0]), st[v] / 9) << kStateNames[s0] << " " << kStateNames[s1];
+                EXPECT_EQ(int(a.vector[v].leg[1]), st[v] / 3 % 3) << kStateNames[s0] << " " << kStateNames[s1];
+                EXPECT_EQ(int(a.vector[v].leg[2]), st[v] % 3) << kStateNames[s0] << " " << kStateNames[s1];
+            }
+            EXPECT_EQ(a.duty0, 0.25f);
+        }
+}
+
 // The 19 space vectors: magnitude class and direction as documented in dtc3l.h,
 // every redundant state of a vector giving the same voltage (balanced link).
 TEST(Dtc3lVectors, SpaceVectorClassesAndDirections)

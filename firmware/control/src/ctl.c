@@ -656,8 +656,7 @@ static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_ou
     uint8_t a0 = dtc3l_pn_safe_unchecked(prev_state, s->dtc_out.state[0]);
     uint8_t a1 = dtc3l_pn_safe_unchecked(a0, s->dtc_out.state[1]);
     act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
-    dtc3l_legs_unchecked(a0, &act.vector[0]);
-    dtc3l_legs_unchecked(a1, &act.vector[1]);
+    dtc3l_legs_pair_unchecked(a0, a1, &act);
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
     s->prev_act = s->last_act;
