@@ -621,6 +621,7 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
     di.np_dev_V = np_dev_pred_V;
     di.prev_state = st1 < DTC3L_N_STATES ? st1 : (uint8_t)DTC3L_STATE_OOO;
     di.band_scale = s->band_scale;
+    di.decide_level = s->slow_slot == CTL_SLOT_LEVEL;
     dtc3l_step_predicted(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->obs_out, &s->dtc_out);
     return di.prev_state;
 }

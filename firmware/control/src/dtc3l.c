@@ -486,7 +486,8 @@ void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc
     tick_geometry g;
     tick_plan p;
     tick_geometry_of(cfg, in, pr, &g);
-    decide_voltage_level(s, cfg, in);
+    if (in->decide_level)
+        decide_voltage_level(s, cfg, in);
     decide_flux_demand(s, cfg, in, g.psi_Wb);
     plan_table_vector(s, cfg, in, pr, &g, &p);
     if (cfg->ripple_reduction && num_abs(pr->omega_m_rad_s) < cfg->ripple_speed_max_rad_s)
@@ -521,5 +522,6 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
     c.np_dev_V = in->np_dev_V;
     c.prev_state = in->prev_state;
     c.band_scale = in->band_scale;
+    c.decide_level = true;
     dtc3l_step_predicted(s, cfg, dt_s, &c, &pr, out);
 }

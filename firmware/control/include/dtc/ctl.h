@@ -192,6 +192,9 @@ typedef struct {
  *  cycle on their mean, in this slot (issue 11: its float work in one tick of
  *  four). */
 #define CTL_SLOT_FSW 2u
+/** The DTC's voltage level (dtc3l_cmd.decide_level: the back-emf against
+ *  the link voltage, with hysteresis) is decided in this slot. */
+#define CTL_SLOT_LEVEL 3u
 #ifndef __cplusplus
 _Static_assert(CTL_GUARD_WINDOW_MAX == CTL_SLOW_SLOTS && PLAUS_CHECK_TICKS == CTL_SLOW_SLOTS,
                "the slow tasks' own rates are the schedule's");

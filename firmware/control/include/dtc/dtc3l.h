@@ -135,6 +135,9 @@ typedef struct {
     uint8_t prev_state;       /**< state in force when the chosen period starts (0..26; others count as OOO) */
     real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
                                    switching-frequency regulation of ctl.c widens them */
+    bool decide_level;        /**< decide the voltage level in this step (false: keep the last one;
+                                   ctl.c decides it once per slot cycle, CTL_SLOT_LEVEL: the back-emf
+                                   moves little in four periods; issue 11) */
 } dtc3l_cmd;
 
 /** Inputs of one DTC step in one flat struct (dtc3l_step): the observer's
@@ -536,7 +539,8 @@ static inline real_t dtc3l_state_slope(const dtc3l_in *in, uint8_t state)
 void dtc3l_init(dtc3l *s);
 
 /**
- * One DTC decision for the period starting one control period from now.
+ * One DTC decision for the period starting one control period from now
+ * (the voltage level decided in every step).
  * @param dt_s control period, s. Context: ISR.
  */
 void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in, dtc3l_out *out);
