@@ -174,6 +174,27 @@ TEST(Dtc3lVectors, PackedLegsAreTheBase3Digits)
     }
 }
 
+// Both vectors of an actuation written at once: for every pair of states the
+// six leg bytes are each state's base-3 digits (leg a, b, c), and the duty
+// after them is left as it was.
+TEST(Dtc3lVectors, LegsPairWritesBothStatesBase3Digits)
+{
+    for (int s0 = 0; s0 < 27; ++s0)
+        for (int s1 = 0; s1 < 27; ++s1) {
+            hal_actuation a;
+            std::memset(&a, 0xA5, sizeof a);
+            a.duty0 = 0.25f;
+            dtc3l_legs_pair_unchecked(uint8_t(s0), uint8_t(s1), &a);
+            const int st[2] = {s0, s1};
+            for (int v = 0; v < 2; ++v) {
+                EXPECT_EQ(int(a.vector[v].leg[0]), st[v] / 9) << kStateNames[s0] << " " << kStateNames[s1];
+                EXPECT_EQ(int(a.vector[v].leg[1]), st[v] / 3 % 3) << kStateNames[s0] << " " << kStateNames[s1];
+                EXPECT_EQ(int(a.vector[v].leg[2]), st[v] % 3) << kStateNames[s0] << " " << kStateNames[s1];
+            }
+            EXPECT_EQ(a.duty0, 0.25f);
+        }
+}
+
 // The 19 space vectors: magnitude class and direction as documented in dtc3l.h,
 // every redundant state of a vector giving the same voltage (balanced link).
 TEST(Dtc3lVectors, SpaceVectorClassesAndDirections)
@@ -528,6 +549,73 @@ TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
             prev = uint8_t(s1);
         }
     }
+}
+
+// dtc3l_cmd.decide_level (ctl.c sets it once per slot cycle): false keeps the
+// level whatever the back-emf; true decides it by the rule of dtc3l.h, the
+// back-emf |omega_e| psi_ref over Vdc/3 against level_up (from LOW) and
+// level_down (back to LOW), worked out here in double (boundary cases left out).
+TEST(Dtc3lLevel, DecidedOnlyWhenAskedByTheHysteresisRule)
+{
+    ctl_cfg cfg;
+    ctl_cfg_default(&cfg);
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> w(-1400.0, 1400.0);
+    int kept = 0, up = 0, down = 0;
+    for (int k = 0; k < 20000; ++k) {
+        dtc3l_in fl = random_dtc_input(rng);
+        fl.omega_e_rad_s = float(w(rng));
+        observer_out pr{};
+        pr.te_pred_Nm = fl.te_Nm;
+        pr.psi_s_pred_Wb[0] = fl.psi_s_Wb[0];
+        pr.psi_s_pred_Wb[1] = fl.psi_s_Wb[1];
+        pr.is_pred_A[0] = fl.is_A[0];
+        pr.is_pred_A[1] = fl.is_A[1];
+        pr.dte0_Nm_s = fl.dte0_Nm_s;
+        pr.dte_dv[0] = fl.dte_dv[0];
+        pr.dte_dv[1] = fl.dte_dv[1];
+        pr.omega_m_rad_s = fl.omega_m_rad_s;
+        dtc3l_cmd c{};
+        c.te_ref_Nm = fl.te_ref_Nm;
+        c.psi_ref_Wb = fl.psi_ref_Wb;
+        c.rs_ohm = fl.rs_ohm;
+        c.omega_e_rad_s = fl.omega_e_rad_s;
+        c.vc1_V = fl.vc1_V;
+        c.vc2_V = fl.vc2_V;
+        c.np_dev_V = fl.np_dev_V;
+        c.prev_state = uint8_t(k % 27);
+        c.band_scale = 1.0f;
+        double emf = std::abs(double(c.omega_e_rad_s)) * double(c.psi_ref_Wb) / ((double(c.vc1_V) + double(c.vc2_V)) / 3.0);
+        double lu = double(cfg.dtc.level_up), ld = double(cfg.dtc.level_down);
+        if (std::abs(emf - lu) < 1e-4 || std::abs(emf - ld) < 1e-4)
+            continue;
+        for (uint8_t from : {uint8_t(DTC3L_LEVEL_LOW), uint8_t(DTC3L_LEVEL_HIGH)}) {
+            dtc3l s;
+            dtc3l_init(&s);
+            s.level = from;
+            dtc3l_out out;
+            c.decide_level = false;
+            dtc3l_step_predicted(&s, &cfg.dtc, 200e-6f, &c, &pr, &out);
+            ASSERT_EQ(s.level, from) << k;
+            ASSERT_EQ(out.level, from) << k;
+            s.level = from;
+            c.decide_level = true;
+            dtc3l_step_predicted(&s, &cfg.dtc, 200e-6f, &c, &pr, &out);
+            uint8_t want = from;
+            if (from == DTC3L_LEVEL_LOW && emf > lu)
+                want = DTC3L_LEVEL_HIGH;
+            else if (from != DTC3L_LEVEL_LOW && emf < ld)
+                want = DTC3L_LEVEL_LOW;
+            ASSERT_EQ(s.level, want) << k << " emf " << emf;
+            ASSERT_EQ(out.level, want) << k;
+            kept += want == from;
+            up += want == DTC3L_LEVEL_HIGH && from == DTC3L_LEVEL_LOW;
+            down += want == DTC3L_LEVEL_LOW && from == DTC3L_LEVEL_HIGH;
+        }
+    }
+    EXPECT_GT(kept, 1000);
+    EXPECT_GT(up, 1000);
+    EXPECT_GT(down, 1000);
 }
 
 // A prev_state that is not a state (0..26) counts as OOO (dtc3l.h): the same

@@ -112,9 +112,9 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->te_pullout_Nm_Wb2 = den > R(0.0) ? num_div(num_mul(R(1.5) * m->pole_pairs, R(1.0) - sigma), den) : R(0.0);
     cfg->speed_max_rad_s = num_div(cfg->overspeed_rad_s, R(1.1));
     cfg->fsw_per_change_hz = cfg->period_s > R(0.0) ? num_div(R(1.0), R(6.0) * cfg->period_s) : R(0.0);
-    cfg->fsw_lpf_a = num_sat(R(1.0) - num_exp(-num_div(cfg->period_s, R(0.02))), R(0.0), R(1.0));
-    cfg->band_rate_T = num_mul(R(5.0), cfg->period_s);
-    real_t t_sup = num_mul((real_t)CTL_SLOW_SLOTS, cfg->period_s); /* the supervision step */
+    real_t t_sup = num_mul((real_t)CTL_SLOW_SLOTS, cfg->period_s); /* the supervision and regulation step */
+    cfg->fsw_lpf_a = num_sat(R(1.0) - num_exp(-num_div(t_sup, R(0.02))), R(0.0), R(1.0));
+    cfg->band_rate_T = num_mul(R(5.0), t_sup);
     cfg->sup_lpf_a = num_sat(R(1.0) - num_exp(-num_div(t_sup, R(0.02))), R(0.0), R(1.0));
     cfg->sup_rate_T = num_mul(R(5.0), t_sup);
     cfg->inv_fsw_max_s = cfg->fsw_max_hz > R(0.0) ? num_div(R(1.0), cfg->fsw_max_hz) : R(0.0);
@@ -314,6 +314,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     ctl_guard_reset(&s->guard);
     s->guard_trip = false;
     s->fsw_hz = R(0.0);
+    s->fsw_changes = 0u;
     s->band_scale = R(1.0);
     s->te_short_Nm = R(0.0);
     s->fw_trim = R(1.0);
@@ -638,23 +639,31 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
     di.np_dev_V = np_dev_pred_V;
     di.prev_state = st1 < DTC3L_N_STATES ? st1 : (uint8_t)DTC3L_STATE_OOO;
     di.band_scale = s->band_scale;
+    di.decide_level = s->slow_slot == CTL_SLOT_LEVEL;
     dtc3l_step_predicted(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->obs_out, &s->dtc_out);
     return di.prev_state;
 }
 
-/* Switching frequency: the leg changes of the actuation just latched,
- * low-passed as a device switching frequency; above fsw_max_hz the torque
+/* Switching frequency: the leg changes of the actuations latched, summed
+ * every tick and low-passed once per slot cycle (CTL_SLOT_FSW) as a device
+ * switching frequency from their mean; above fsw_max_hz the torque
  * bands widen (integral action on the band scale, clamped to
  * 1..band_scale_max), below it they return to the configured ones. The
  * bands thereby follow speed and load: the torque slopes, and with them the
- * switching rate for a given band, grow with the back-emf and the current. */
+ * switching rate for a given band, grow with the back-emf and the current.
+ * The 20 ms filter and the 5 1/s band rate need no per-tick step (issue 11). */
 static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, uint8_t a0,
                                          uint8_t a1)
 {
-    uint8_t n = dtc3l_leg_changes_unchecked(prev_state, a0); /* all three 0..26 */
+    uint32_t n = s->fsw_changes + dtc3l_leg_changes_unchecked(prev_state, a0); /* all three 0..26 */
     if (a1 != a0)
-        n = (uint8_t)(n + dtc3l_leg_changes_unchecked(a0, a1));
-    real_t f = num_mul((real_t)n, cfg->fsw_per_change_hz);
+        n += dtc3l_leg_changes_unchecked(a0, a1);
+    if (s->slow_slot != CTL_SLOT_FSW) {
+        s->fsw_changes = (uint8_t)n; /* at most 4 x 12 */
+        return;
+    }
+    s->fsw_changes = 0u;
+    real_t f = num_mul(num_mul((real_t)n, cfg->fsw_per_change_hz), R(1.0) / (real_t)CTL_SLOW_SLOTS);
     s->fsw_hz = num_mac(cfg->fsw_lpf_a, f - s->fsw_hz, s->fsw_hz);
     if (!(cfg->fsw_max_hz > R(0.0))) {
         s->band_scale = R(1.0);
@@ -674,8 +683,7 @@ static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_ou
     uint8_t a0 = dtc3l_pn_safe_unchecked(prev_state, s->dtc_out.state[0]);
     uint8_t a1 = dtc3l_pn_safe_unchecked(a0, s->dtc_out.state[1]);
     act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
-    dtc3l_legs_unchecked(a0, &act.vector[0]);
-    dtc3l_legs_unchecked(a1, &act.vector[1]);
+    dtc3l_legs_pair_unchecked(a0, a1, &act);
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
     s->prev_act = s->last_act;

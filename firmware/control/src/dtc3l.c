@@ -18,7 +18,8 @@
 #include <stddef.h>
 #include <string.h>
 
-/* emit writes both vectors' six leg bytes as one word and one half-word */
+/* emit and ctl.c's actuate write both vectors' six leg bytes as one word and
+ * one half-word (dtc3l_legs_pair_unchecked) */
 _Static_assert(sizeof(hal_vector) == 3u && offsetof(hal_actuation, vector) == 0u, "hal_actuation: six leg bytes first");
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
 #error "emit packs the leg codes little-endian"
@@ -468,14 +469,7 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
 static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out *out)
 {
     s->torque_state = p->after;
-    /* act.vector[0], act.vector[1]: bytes 0..5, from the packed codes
-     * (the same bytes as dtc3l_legs_unchecked for each) */
-    uint32_t w0 = dtc3l_state_legs_packed[p->st0], w1 = dtc3l_state_legs_packed[p->st1];
-    uint32_t lo = w0 | w1 << 24;
-    uint16_t hi = (uint16_t)(w1 >> 8);
-    unsigned char *legs = (unsigned char *)out->act.vector;
-    memcpy(legs, &lo, sizeof lo);
-    memcpy(legs + sizeof lo, &hi, sizeof hi);
+    dtc3l_legs_pair_unchecked(p->st0, p->st1, &out->act);
     out->act.duty0 = p->st1 == p->st0 ? R(1.0) : p->duty0;
     out->state[0] = p->st0;
     out->state[1] = p->st1;
@@ -492,7 +486,8 @@ void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc
     tick_geometry g;
     tick_plan p;
     tick_geometry_of(cfg, in, pr, &g);
-    decide_voltage_level(s, cfg, in);
+    if (in->decide_level)
+        decide_voltage_level(s, cfg, in);
     decide_flux_demand(s, cfg, in, g.psi_Wb);
     plan_table_vector(s, cfg, in, pr, &g, &p);
     if (cfg->ripple_reduction && num_abs(pr->omega_m_rad_s) < cfg->ripple_speed_max_rad_s)
@@ -527,5 +522,6 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
     c.np_dev_V = in->np_dev_V;
     c.prev_state = in->prev_state;
     c.band_scale = in->band_scale;
+    c.decide_level = true;
     dtc3l_step_predicted(s, cfg, dt_s, &c, &pr, out);
 }

@@ -114,8 +114,9 @@ typedef struct {
     real_t te_pullout_Nm_Wb2; /**< pull-out torque per Wb^2 of stator flux: 1.5 p (1 - sigma) / (2 sigma Ls) */
     real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
     real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */
-    real_t fsw_lpf_a;         /**< low-pass coefficient of the measured switching frequency (20 ms), 0..1 */
-    real_t band_rate_T;       /**< adaptation step of the band scale per period (5 1/s x T) */
+    real_t fsw_lpf_a;         /**< low-pass coefficient (20 ms) of the measured switching frequency per
+                                   regulation step (CTL_SLOW_SLOTS periods, CTL_SLOT_FSW), 0..1 */
+    real_t band_rate_T;       /**< adaptation step of the band scale per regulation step (5 1/s x CTL_SLOW_SLOTS T) */
     real_t sup_lpf_a;         /**< low-pass coefficient (20 ms) of the torque shortfall per supervision step
                                    (CTL_SLOW_SLOTS periods), 0..1 */
     real_t sup_rate_T;        /**< step of the field-weakening trim per supervision step (5 1/s x CTL_SLOW_SLOTS T) */
@@ -191,6 +192,14 @@ typedef struct {
  *  whose worst tick measured lower, docs/pil.md). The flux reference ramps
  *  to its target every tick. */
 #define CTL_SLOT_SUPERVISE 0u
+/** The switching-frequency regulation (ctl.c regulate_switching_frequency())
+ *  sums the leg changes every tick and steps the band scale once per slot
+ *  cycle on their mean, in this slot (issue 11: its float work in one tick of
+ *  four). */
+#define CTL_SLOT_FSW 2u
+/** The DTC's voltage level (dtc3l_cmd.decide_level: the back-emf against
+ *  the link voltage, with hysteresis) is decided in this slot. */
+#define CTL_SLOT_LEVEL 3u
 #ifndef __cplusplus
 _Static_assert(CTL_GUARD_WINDOW_MAX == CTL_SLOW_SLOTS && PLAUS_CHECK_TICKS == CTL_SLOW_SLOTS,
                "the slow tasks' own rates are the schedule's");
@@ -228,6 +237,7 @@ typedef struct {
     dtc3l_out dtc_out;        /**< DTC outputs of the last step */
     real_t te_limit_Nm;       /**< torque limit of the last step (te_max, field weakening), N m */
     real_t fsw_hz;            /**< low-passed device switching frequency of the actuation, Hz */
+    uint8_t fsw_changes;      /**< leg changes of the actuations since the last regulation step (0..48) */
     real_t band_scale;        /**< present widening of the torque bands (1..band_scale_max) */
     real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */

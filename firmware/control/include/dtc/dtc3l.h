@@ -69,6 +69,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "dtc/num.h"
 #include "dtc/observer.h"
@@ -134,6 +135,9 @@ typedef struct {
     uint8_t prev_state;       /**< state in force when the chosen period starts (0..26; others count as OOO) */
     real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
                                    switching-frequency regulation of ctl.c widens them */
+    bool decide_level;        /**< decide the voltage level in this step (false: keep the last one;
+                                   ctl.c decides it once per slot cycle, CTL_SLOT_LEVEL: the back-emf
+                                   moves little in four periods; issue 11) */
 } dtc3l_cmd;
 
 /** Inputs of one DTC step in one flat struct (dtc3l_step): the observer's
@@ -188,6 +192,20 @@ extern const uint8_t dtc3l_pn_safe_to[DTC3L_N_STATES][DTC3L_N_STATES]; /**< to w
 
 /** dtc3l_legs for @p state 0..26 (unchecked). Context: ANY. */
 static inline void dtc3l_legs_unchecked(uint8_t state, hal_vector *v) { *v = dtc3l_state_legs[state]; }
+
+/** vector[0] and vector[1] of @p a: the leg codes of @p st0 and @p st1 (both
+ *  0..26, unchecked), written as one word and one half-word from
+ *  dtc3l_state_legs_packed (the same six bytes as dtc3l_legs_unchecked for
+ *  each; issue 11: 7 instructions instead of 12). Context: ANY. */
+static inline void dtc3l_legs_pair_unchecked(uint8_t st0, uint8_t st1, hal_actuation *a)
+{
+    uint32_t w0 = dtc3l_state_legs_packed[st0], w1 = dtc3l_state_legs_packed[st1];
+    uint32_t lo = w0 | w1 << 24;
+    uint16_t hi = (uint16_t)(w1 >> 8);
+    unsigned char *legs = (unsigned char *)a->vector;
+    memcpy(legs, &lo, sizeof lo);
+    memcpy(legs + sizeof lo, &hi, sizeof hi);
+}
 
 /** Leg codes of @p state (0..26; others: OOO) into @p v. Context: ANY. */
 static inline void dtc3l_legs(uint8_t state, hal_vector *v)
@@ -521,7 +539,8 @@ static inline real_t dtc3l_state_slope(const dtc3l_in *in, uint8_t state)
 void dtc3l_init(dtc3l *s);
 
 /**
- * One DTC decision for the period starting one control period from now.
+ * One DTC decision for the period starting one control period from now
+ * (the voltage level decided in every step).
  * @param dt_s control period, s. Context: ISR.
  */
 void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in, dtc3l_out *out);
