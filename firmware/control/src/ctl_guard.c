@@ -55,8 +55,10 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
          * the volt-seconds of the window are exact (v is constant over each period) */
         real_t emf_sum = num_mac(-rs_ohm, g->sum_is_A[i], g->sum_v_V[i]);
         g->psi_vm_Wb[i] = num_mac(period_s, emf_sum, num_mac(-a, prev[i], prev[i]));
-        g->sum_v_V[i] = R(0.0);
-        g->sum_is_A[i] = R(0.0);
+        /* -0.0: the next tick's x + -0.0 is x exactly, so the compiler drops the
+         * addition and these stores, overwritten by that accumulate (cycle count) */
+        g->sum_v_V[i] = R(-0.0);
+        g->sum_is_A[i] = R(-0.0);
         /* the same high-pass on the observer's flux: psi - lowpass(psi), sampled at the checks */
         g->psi_obs_lp_Wb[i] = num_mac(a, psi_obs_Wb[i] - g->psi_obs_lp_Wb[i], g->psi_obs_lp_Wb[i]);
         /* both at t_k */
