@@ -66,8 +66,9 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
     }
     g->n_ticks = 0u;
     real_t e2 = num_mac(d[0], d[0], num_mul(d[1], d[1]));
-    /* num_sqrt maps NaN to 0: keep a NaN (a broken voltage or current) as NaN */
-    g->err_Wb = e2 >= R(0.0) ? num_sqrt(e2) : e2;
+    /* a sum of squares, never negative: the bare square root (one instruction; num_sqrt's
+     * clamp would map a NaN, a broken voltage or current, to 0, and NaN must stay NaN) */
+    g->err_Wb = sqrtf(e2);
 
     /* stator frequency of the machine's flux: rotation of psi_vm over the
      * window, low-passed (the PWM ripple of one period is ~10 % of the flux) */
@@ -84,7 +85,7 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
     bool slow = wabs < cfg->two_wc_rad_s;
     if (wabs < cfg->wc_rad_s)
         wabs = cfg->wc_rad_s;
-    real_t is_abs = num_sqrt(num_mac(is_A[0], is_A[0], num_mul(is_A[1], is_A[1])));
+    real_t is_abs = sqrtf(num_mac(is_A[0], is_A[0], num_mul(is_A[1], is_A[1]))); /* as err_Wb */
     /* an error dV of the applied voltage (device drops, dead time: neither is
      * compensated) integrates the same way: at most dV / |omega_s| */
     g->tol_Wb = num_mac(cfg->flux_err_frac, psi_ref_Wb,
