@@ -4,6 +4,8 @@
  */
 #include "dtc/ctl_guard.h"
 
+#include <float.h>
+
 void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s)
 {
     real_t a = num_mul(cfg->wc_rad_s, period_s);
@@ -15,7 +17,12 @@ void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s)
         cfg->w_lpf_n[n] = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), window_s)), R(0.0), R(1.0));
         cfg->window_n_s[n] = window_s;
         cfg->leak_n[n] = num_mul((real_t)n, cfg->wc_T);
+        /* the low-pass coefficient over the window's duration: the frequency's
+         * division by the window folded in (no window, no update) */
+        cfg->w_lpf_per_s_n[n] = n > 0u ? num_div(cfg->w_lpf_n[n], window_s) : R(0.0);
     }
+    /* off (flux_err_frac 0): a time never reached, instead of a test per check */
+    cfg->trip_time_s = cfg->flux_err_frac > R(0.0) ? cfg->time_s : FLT_MAX;
 }
 
 void ctl_guard_reset(ctl_guard *g)
@@ -74,8 +81,8 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
      * window, low-passed (the PWM ripple of one period is ~10 % of the flux) */
     real_t n2 = num_mac(prev[0], prev[0], num_mul(prev[1], prev[1]));
     real_t cr = num_mac(prev[0], g->psi_vm_Wb[1], -num_mul(prev[1], g->psi_vm_Wb[0]));
-    real_t w = n2 > R(1e-4) && n > 0u ? num_div(cr, num_mul(n2, window_s)) : R(0.0);
-    real_t omega_s = num_mac(cfg->w_lpf_n[n], w - g->omega_s_rad_s, g->omega_s_rad_s);
+    real_t w_dt = n2 > R(1e-4) ? num_div(cr, n2) : R(0.0); /* the rotation over the window, rad */
+    real_t omega_s = num_mac(cfg->w_lpf_per_s_n[n], w_dt, num_mac(-cfg->w_lpf_n[n], g->omega_s_rad_s, g->omega_s_rad_s));
     g->omega_s_rad_s = omega_s;
     /* an Rs error dR gives a flux error up to dR |is| / |omega_s| through
      * the integrator (at most dR |is| / wc): allowed for rs_tol_frac of Rs */
@@ -90,15 +97,13 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
      * compensated) integrates the same way: at most dV / |omega_s| */
     g->tol_Wb = num_mac(cfg->flux_err_frac, psi_ref_Wb,
                         num_div(num_mac(num_mul(cfg->rs_tol_frac, rs_ohm), is_abs, cfg->v_tol_V), wabs));
-    bool finite = g->err_Wb == g->err_Wb; /* a NaN error is judged at any frequency */
-    if (!judge || !(cfg->flux_err_frac > R(0.0)) || (slow && finite)) {
+    /* not judged when slow: a level no error reaches, but a NaN error (written so that it
+     * counts as above) is judged at any frequency */
+    real_t level_Wb = slow ? FLT_MAX : g->tol_Wb;
+    if (!judge || g->err_Wb <= level_Wb) {
         g->t_above_s = R(0.0);
         return false;
     }
-    /* written so that a NaN error counts as above; the whole window counts */
-    if (!(g->err_Wb <= g->tol_Wb))
-        g->t_above_s += window_s;
-    else
-        g->t_above_s = R(0.0);
-    return g->t_above_s >= cfg->time_s;
+    g->t_above_s += window_s; /* the whole window counts */
+    return g->t_above_s >= cfg->trip_time_s;
 }

@@ -65,7 +65,9 @@ typedef struct {
                                                     of n ticks, 0..1 */
     real_t window_n_s[CTL_GUARD_WINDOW_MAX + 1]; /**< n x period: a window of n ticks, s */
     real_t leak_n[CTL_GUARD_WINDOW_MAX + 1];     /**< n x wc_T: the leak over a window of n ticks, 0..4 */
+    real_t w_lpf_per_s_n[CTL_GUARD_WINDOW_MAX + 1]; /**< w_lpf_n / window_n_s (0 for n = 0), 1/s */
     real_t two_wc_rad_s;      /**< 2 x wc_rad_s: judged only above this stator frequency, rad/s */
+    real_t trip_time_s;       /**< time_s, or FLT_MAX when off (flux_err_frac 0), s */
 } ctl_guard_cfg;
 
 /** State of the monitor (part of ctl_state). */
