@@ -11,16 +11,13 @@ void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s)
     real_t a = num_mul(cfg->wc_rad_s, period_s);
     cfg->wc_T = num_sat(a, R(0.0), R(1.0));
     cfg->two_wc_rad_s = R(2.0) * cfg->wc_rad_s;
-    /* 1 - exp(-2 pi 50 Hz n T): the stator-frequency low-pass over a window of n ticks */
-    for (uint32_t n = 0u; n <= CTL_GUARD_WINDOW_MAX; n++) {
-        real_t window_s = num_mul((real_t)n, period_s);
-        cfg->w_lpf_n[n] = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), window_s)), R(0.0), R(1.0));
-        cfg->window_n_s[n] = window_s;
-        cfg->leak_n[n] = num_mul((real_t)n, cfg->wc_T);
-        /* the low-pass coefficient over the window's duration: the frequency's
-         * division by the window folded in (no window, no update) */
-        cfg->w_lpf_per_s_n[n] = n > 0u ? num_div(cfg->w_lpf_n[n], window_s) : R(0.0);
-    }
+    real_t window_s = num_mul((real_t)CTL_GUARD_WINDOW_MAX, period_s);
+    cfg->window_s = window_s;
+    cfg->leak = num_mul((real_t)CTL_GUARD_WINDOW_MAX, cfg->wc_T);
+    /* 1 - exp(-2 pi 50 Hz x window): the stator-frequency low-pass per window */
+    cfg->w_lpf = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), window_s)), R(0.0), R(1.0));
+    /* the same over the window's duration: the frequency's division by the window folded in */
+    cfg->w_lpf_per_s = num_div(cfg->w_lpf, window_s);
     /* off (flux_err_frac 0): a time never reached, instead of a test per check */
     cfg->trip_time_s = cfg->flux_err_frac > R(0.0) ? cfg->time_s : FLT_MAX;
 }
@@ -35,7 +32,6 @@ void ctl_guard_reset(ctl_guard *g)
     g->tol_Wb = R(0.0);
     g->sum_v_V[0] = g->sum_v_V[1] = R(0.0);
     g->sum_is_A[0] = g->sum_is_A[1] = R(0.0);
-    g->n_ticks = 0u;
 }
 
 void ctl_guard_accumulate(ctl_guard *g, const real_t v_V[2], const real_t is_A[2])
@@ -44,17 +40,17 @@ void ctl_guard_accumulate(ctl_guard *g, const real_t v_V[2], const real_t is_A[2
     g->sum_v_V[1] += v_V[1];
     g->sum_is_A[0] += is_A[0];
     g->sum_is_A[1] += is_A[1];
-    g->n_ticks++;
 }
 
 bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, const real_t is_A[2], real_t rs_ohm,
                      const real_t psi_obs_Wb[2], real_t psi_ref_Wb, bool judge)
 {
-    /* the window: the ticks since the last check (CTL_GUARD_WINDOW_MAX in the caller's schedule,
-     * fewer in the first window after a reset) */
-    uint32_t n = g->n_ticks < CTL_GUARD_WINDOW_MAX ? g->n_ticks : CTL_GUARD_WINDOW_MAX;
-    real_t a = cfg->leak_n[n]; /* the leak over the window (1 - wc T)^n to first order */
-    real_t window_s = cfg->window_n_s[n];
+    /* the window: CTL_GUARD_WINDOW_MAX ticks in the caller's schedule, taken as such also in
+     * the first window after a reset, which may hold fewer (no tick count kept, cycle count):
+     * psi_vm and the frequency start from zero, so only the observer flux's low-pass takes
+     * up to 3 ticks too many of its 1 Hz corner once (<= 0.4 % of that flux) */
+    real_t a = cfg->leak; /* the leak over the window (1 - wc T)^n to first order */
+    real_t window_s = cfg->window_s;
     real_t prev[2] = {g->psi_vm_Wb[0], g->psi_vm_Wb[1]};
     real_t d[2];
     for (int i = 0; i < 2; i++) {
@@ -63,7 +59,7 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
         real_t emf_sum = num_mac(-rs_ohm, g->sum_is_A[i], g->sum_v_V[i]);
         g->psi_vm_Wb[i] = num_mac(period_s, emf_sum, num_mac(-a, prev[i], prev[i]));
         /* -0.0: the next tick's x + -0.0 is x exactly, so the compiler drops the
-         * addition and these stores, overwritten by that accumulate (cycle count) */
+         * additions of the accumulate that follows in ctl.c (cycle count) */
         g->sum_v_V[i] = R(-0.0);
         g->sum_is_A[i] = R(-0.0);
         /* the same high-pass on the observer's flux: psi - lowpass(psi), sampled at the checks */
@@ -71,7 +67,6 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
         /* both at t_k */
         d[i] = g->psi_vm_Wb[i] - (psi_obs_Wb[i] - g->psi_obs_lp_Wb[i]);
     }
-    g->n_ticks = 0u;
     real_t e2 = num_mac(d[0], d[0], num_mul(d[1], d[1]));
     /* a sum of squares, never negative: the bare square root (one instruction; num_sqrt's
      * clamp would map a NaN, a broken voltage or current, to 0, and NaN must stay NaN) */
@@ -82,7 +77,7 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
     real_t n2 = num_mac(prev[0], prev[0], num_mul(prev[1], prev[1]));
     real_t cr = num_mac(prev[0], g->psi_vm_Wb[1], -num_mul(prev[1], g->psi_vm_Wb[0]));
     real_t w_dt = n2 > R(1e-4) ? num_div(cr, n2) : R(0.0); /* the rotation over the window, rad */
-    real_t omega_s = num_mac(cfg->w_lpf_per_s_n[n], w_dt, num_mac(-cfg->w_lpf_n[n], g->omega_s_rad_s, g->omega_s_rad_s));
+    real_t omega_s = num_mac(cfg->w_lpf_per_s, w_dt, num_mac(-cfg->w_lpf, g->omega_s_rad_s, g->omega_s_rad_s));
     g->omega_s_rad_s = omega_s;
     /* an Rs error dR gives a flux error up to dR |is| / |omega_s| through
      * the integrator (at most dR |is| / wc): allowed for rs_tol_frac of Rs */
