@@ -58,10 +58,6 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
          * the volt-seconds of the window are exact (v is constant over each period) */
         real_t emf_sum = num_mac(-rs_ohm, g->sum_is_A[i], g->sum_v_V[i]);
         g->psi_vm_Wb[i] = num_mac(period_s, emf_sum, num_mac(-a, prev[i], prev[i]));
-        /* -0.0: the next tick's x + -0.0 is x exactly, so the compiler drops the
-         * additions of the accumulate that follows in ctl.c (cycle count) */
-        g->sum_v_V[i] = R(-0.0);
-        g->sum_is_A[i] = R(-0.0);
         /* the same high-pass on the observer's flux: psi - lowpass(psi), sampled at the checks */
         g->psi_obs_lp_Wb[i] = num_mac(a, psi_obs_Wb[i] - g->psi_obs_lp_Wb[i], g->psi_obs_lp_Wb[i]);
         /* both at t_k */
@@ -95,10 +91,17 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
     /* not judged when slow: a level no error reaches, but a NaN error (written so that it
      * counts as above) is judged at any frequency */
     real_t level_Wb = slow ? FLT_MAX : g->tol_Wb;
+    bool trip = false;
     if (!judge || g->err_Wb <= level_Wb) {
         g->t_above_s = R(0.0);
-        return false;
+    } else {
+        g->t_above_s += window_s; /* the whole window counts */
+        trip = g->t_above_s >= cfg->trip_time_s;
     }
-    g->t_above_s += window_s; /* the whole window counts */
-    return g->t_above_s >= cfg->trip_time_s;
+    /* The next window's sums start at -0.0: x + -0.0 is x exactly, so the compiler drops the
+     * additions of the accumulate that follows in ctl.c and, with these stores the last
+     * thing here (no load of cfg after them), these stores too (cycle count). */
+    g->sum_v_V[0] = g->sum_v_V[1] = R(-0.0);
+    g->sum_is_A[0] = g->sum_is_A[1] = R(-0.0);
+    return trip;
 }
