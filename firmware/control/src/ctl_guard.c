@@ -4,18 +4,22 @@
  */
 #include "dtc/ctl_guard.h"
 
+#include <float.h>
+
 void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s)
 {
     real_t a = num_mul(cfg->wc_rad_s, period_s);
     cfg->wc_T = num_sat(a, R(0.0), R(1.0));
     cfg->two_wc_rad_s = R(2.0) * cfg->wc_rad_s;
-    /* 1 - exp(-2 pi 50 Hz n T): the stator-frequency low-pass over a window of n ticks */
-    for (uint32_t n = 0u; n <= CTL_GUARD_WINDOW_MAX; n++) {
-        real_t window_s = num_mul((real_t)n, period_s);
-        cfg->w_lpf_n[n] = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), window_s)), R(0.0), R(1.0));
-        cfg->window_n_s[n] = window_s;
-        cfg->leak_n[n] = num_mul((real_t)n, cfg->wc_T);
-    }
+    real_t window_s = num_mul((real_t)CTL_GUARD_WINDOW_MAX, period_s);
+    cfg->window_s = window_s;
+    cfg->leak = num_mul((real_t)CTL_GUARD_WINDOW_MAX, cfg->wc_T);
+    /* 1 - exp(-2 pi 50 Hz x window): the stator-frequency low-pass per window */
+    cfg->w_lpf = num_sat(R(1.0) - num_exp(-num_mul(R(314.159265), window_s)), R(0.0), R(1.0));
+    /* the same over the window's duration: the frequency's division by the window folded in */
+    cfg->w_lpf_per_s = num_div(cfg->w_lpf, window_s);
+    /* off (flux_err_frac 0): a time never reached, instead of a test per check */
+    cfg->trip_time_s = cfg->flux_err_frac > R(0.0) ? cfg->time_s : FLT_MAX;
 }
 
 void ctl_guard_reset(ctl_guard *g)
@@ -28,7 +32,6 @@ void ctl_guard_reset(ctl_guard *g)
     g->tol_Wb = R(0.0);
     g->sum_v_V[0] = g->sum_v_V[1] = R(0.0);
     g->sum_is_A[0] = g->sum_is_A[1] = R(0.0);
-    g->n_ticks = 0u;
 }
 
 void ctl_guard_accumulate(ctl_guard *g, const real_t v_V[2], const real_t is_A[2])
@@ -37,17 +40,17 @@ void ctl_guard_accumulate(ctl_guard *g, const real_t v_V[2], const real_t is_A[2
     g->sum_v_V[1] += v_V[1];
     g->sum_is_A[0] += is_A[0];
     g->sum_is_A[1] += is_A[1];
-    g->n_ticks++;
 }
 
 bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, const real_t is_A[2], real_t rs_ohm,
                      const real_t psi_obs_Wb[2], real_t psi_ref_Wb, bool judge)
 {
-    /* the window: the ticks since the last check (CTL_GUARD_WINDOW_MAX in the caller's schedule,
-     * fewer in the first window after a reset) */
-    uint32_t n = g->n_ticks < CTL_GUARD_WINDOW_MAX ? g->n_ticks : CTL_GUARD_WINDOW_MAX;
-    real_t a = cfg->leak_n[n]; /* the leak over the window (1 - wc T)^n to first order */
-    real_t window_s = cfg->window_n_s[n];
+    /* the window: CTL_GUARD_WINDOW_MAX ticks in the caller's schedule, taken as such also in
+     * the first window after a reset, which may hold fewer (no tick count kept, cycle count):
+     * psi_vm and the frequency start from zero, so only the observer flux's low-pass takes
+     * up to 3 ticks too many of its 1 Hz corner once (<= 0.4 % of that flux) */
+    real_t a = cfg->leak; /* the leak over the window (1 - wc T)^n to first order */
+    real_t window_s = cfg->window_s;
     real_t prev[2] = {g->psi_vm_Wb[0], g->psi_vm_Wb[1]};
     real_t d[2];
     for (int i = 0; i < 2; i++) {
@@ -55,24 +58,22 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
          * the volt-seconds of the window are exact (v is constant over each period) */
         real_t emf_sum = num_mac(-rs_ohm, g->sum_is_A[i], g->sum_v_V[i]);
         g->psi_vm_Wb[i] = num_mac(period_s, emf_sum, num_mac(-a, prev[i], prev[i]));
-        g->sum_v_V[i] = R(0.0);
-        g->sum_is_A[i] = R(0.0);
         /* the same high-pass on the observer's flux: psi - lowpass(psi), sampled at the checks */
         g->psi_obs_lp_Wb[i] = num_mac(a, psi_obs_Wb[i] - g->psi_obs_lp_Wb[i], g->psi_obs_lp_Wb[i]);
         /* both at t_k */
         d[i] = g->psi_vm_Wb[i] - (psi_obs_Wb[i] - g->psi_obs_lp_Wb[i]);
     }
-    g->n_ticks = 0u;
     real_t e2 = num_mac(d[0], d[0], num_mul(d[1], d[1]));
-    /* num_sqrt maps NaN to 0: keep a NaN (a broken voltage or current) as NaN */
-    g->err_Wb = e2 >= R(0.0) ? num_sqrt(e2) : e2;
+    /* a sum of squares, never negative: the bare square root (one instruction; num_sqrt's
+     * clamp would map a NaN, a broken voltage or current, to 0, and NaN must stay NaN) */
+    g->err_Wb = sqrtf(e2);
 
     /* stator frequency of the machine's flux: rotation of psi_vm over the
      * window, low-passed (the PWM ripple of one period is ~10 % of the flux) */
     real_t n2 = num_mac(prev[0], prev[0], num_mul(prev[1], prev[1]));
     real_t cr = num_mac(prev[0], g->psi_vm_Wb[1], -num_mul(prev[1], g->psi_vm_Wb[0]));
-    real_t w = n2 > R(1e-4) && n > 0u ? num_div(cr, num_mul(n2, window_s)) : R(0.0);
-    real_t omega_s = num_mac(cfg->w_lpf_n[n], w - g->omega_s_rad_s, g->omega_s_rad_s);
+    real_t w_dt = n2 > R(1e-4) ? num_div(cr, n2) : R(0.0); /* the rotation over the window, rad */
+    real_t omega_s = num_mac(cfg->w_lpf_per_s, w_dt, num_mac(-cfg->w_lpf, g->omega_s_rad_s, g->omega_s_rad_s));
     g->omega_s_rad_s = omega_s;
     /* an Rs error dR gives a flux error up to dR |is| / |omega_s| through
      * the integrator (at most dR |is| / wc): allowed for rs_tol_frac of Rs */
@@ -82,20 +83,25 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
     bool slow = wabs < cfg->two_wc_rad_s;
     if (wabs < cfg->wc_rad_s)
         wabs = cfg->wc_rad_s;
-    real_t is_abs = num_sqrt(num_mac(is_A[0], is_A[0], num_mul(is_A[1], is_A[1])));
+    real_t is_abs = sqrtf(num_mac(is_A[0], is_A[0], num_mul(is_A[1], is_A[1]))); /* as err_Wb */
     /* an error dV of the applied voltage (device drops, dead time: neither is
      * compensated) integrates the same way: at most dV / |omega_s| */
     g->tol_Wb = num_mac(cfg->flux_err_frac, psi_ref_Wb,
                         num_div(num_mac(num_mul(cfg->rs_tol_frac, rs_ohm), is_abs, cfg->v_tol_V), wabs));
-    bool finite = g->err_Wb == g->err_Wb; /* a NaN error is judged at any frequency */
-    if (!judge || !(cfg->flux_err_frac > R(0.0)) || (slow && finite)) {
+    /* not judged when slow: a level no error reaches, but a NaN error (written so that it
+     * counts as above) is judged at any frequency */
+    real_t level_Wb = slow ? FLT_MAX : g->tol_Wb;
+    bool trip = false;
+    if (!judge || g->err_Wb <= level_Wb) {
         g->t_above_s = R(0.0);
-        return false;
+    } else {
+        g->t_above_s += window_s; /* the whole window counts */
+        trip = g->t_above_s >= cfg->trip_time_s;
     }
-    /* written so that a NaN error counts as above; the whole window counts */
-    if (!(g->err_Wb <= g->tol_Wb))
-        g->t_above_s += window_s;
-    else
-        g->t_above_s = R(0.0);
-    return g->t_above_s >= cfg->time_s;
+    /* The next window's sums start at -0.0: x + -0.0 is x exactly, so the compiler drops the
+     * additions of the accumulate that follows in ctl.c and, with these stores the last
+     * thing here (no load of cfg after them), these stores too (cycle count). */
+    g->sum_v_V[0] = g->sum_v_V[1] = R(-0.0);
+    g->sum_is_A[0] = g->sum_is_A[1] = R(-0.0);
+    return trip;
 }

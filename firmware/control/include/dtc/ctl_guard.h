@@ -61,11 +61,12 @@ typedef struct {
                                    and dead time, not compensated: adds v_tol_V / max(|omega_s|, wc)) */
     /* derived by ctl_guard_cfg_derive() */
     real_t wc_T;              /**< wc_rad_s x period, 0..1 */
-    real_t w_lpf_n[CTL_GUARD_WINDOW_MAX + 1]; /**< stator-frequency low-pass coefficient (50 Hz) over a window
-                                                    of n ticks, 0..1 */
-    real_t window_n_s[CTL_GUARD_WINDOW_MAX + 1]; /**< n x period: a window of n ticks, s */
-    real_t leak_n[CTL_GUARD_WINDOW_MAX + 1];     /**< n x wc_T: the leak over a window of n ticks, 0..4 */
+    real_t w_lpf;             /**< stator-frequency low-pass coefficient (50 Hz) over a window, 0..1 */
+    real_t window_s;          /**< CTL_GUARD_WINDOW_MAX x period: a window, s */
+    real_t leak;              /**< CTL_GUARD_WINDOW_MAX x wc_T: the leak over a window, 0..4 */
+    real_t w_lpf_per_s;       /**< w_lpf / window_s, 1/s */
     real_t two_wc_rad_s;      /**< 2 x wc_rad_s: judged only above this stator frequency, rad/s */
+    real_t trip_time_s;       /**< time_s, or FLT_MAX when off (flux_err_frac 0), s */
 } ctl_guard_cfg;
 
 /** State of the monitor (part of ctl_state). */
@@ -78,10 +79,9 @@ typedef struct {
     real_t tol_Wb;            /**< trip level of the last check, Wb */
     real_t sum_v_V[2];        /**< sum of the applied voltages of the window's ticks, V */
     real_t sum_is_A[2];       /**< sum of the sampled currents of the window's ticks, A */
-    uint32_t n_ticks;         /**< ticks in the window */
 } ctl_guard;
 
-/** Derive wc_T and the per-window tables from @p period_s (the period ctl_guard_check is given). Context: BG. */
+/** Derive wc_T and the per-window constants from @p period_s (the period ctl_guard_check is given). Context: BG. */
 void ctl_guard_cfg_derive(ctl_guard_cfg *cfg, real_t period_s);
 
 /** Zero the state (at a start). Context: ANY. */
@@ -95,9 +95,10 @@ void ctl_guard_reset(ctl_guard *g);
 void ctl_guard_accumulate(ctl_guard *g, const real_t v_V[2], const real_t is_A[2]);
 
 /**
- * Close the window (the ticks accumulated since the last check, at most
- * CTL_GUARD_WINDOW_MAX; the caller calls this every CTL_GUARD_WINDOW_MAX
- * ticks): integrate its volt-seconds, compare the fluxes at t_k, judge.
+ * Close the window (the ticks accumulated since the last check: the caller
+ * calls this every CTL_GUARD_WINDOW_MAX ticks; the first window after a
+ * reset may hold fewer, the rest of the window's ticks are not counted):
+ * integrate its volt-seconds, compare the fluxes at t_k, judge.
  * Context: ISR.
  * @param period_s  the control period, s
  * @param is_A      stator current sampled at t_k, alpha-beta, A (the trip level's Rs term)
