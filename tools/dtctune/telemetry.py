@@ -263,6 +263,25 @@ class Capture:
             if len(self.latest) == len(self.by_cob):
                 self._seen.set()
 
+    def _drop_received_from(self, until: float) -> None:
+        """Forget the kept frames received at or after `until` (call with the lock held): the
+        capture thread may have read past the window's end before stop() named it (a sender
+        faster than this process, or a caller that stops late). Their counts and first/last
+        times go with them. With keep off the frames are not stored, so the counts cannot be
+        corrected: they may include frames read after `until` before stop()."""
+        if not self.keep or not any(f[0] >= until for f in self.frames):
+            return
+        kept = [f for f in self.frames if f[0] < until]
+        for _, cid, _ in (f for f in self.frames if f[0] >= until):
+            self.counts[cid] -= 1
+        self.frames = kept
+        self.first.clear()
+        self.last.clear()
+        for ts, cid, _ in kept:
+            self.first.setdefault(cid, ts)
+            self.last[cid] = ts
+        self._reached_until = True
+
     def start(self) -> None:
         if self._factory is None:
             raise ValueError("Capture needs a source_factory (e.g. open_source)")
@@ -305,6 +324,8 @@ class Capture:
         still holds from before that instant."""
         with self._lock:
             self._t_until = until
+            if until is not None:
+                self._drop_received_from(until)
         if self._source is not None:
             self._drops = getattr(self._source, "kernel_drops", 0)
         if self._source is None:

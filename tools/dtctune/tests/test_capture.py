@@ -58,3 +58,38 @@ def test_flooding_source_still_delivers_and_stops():
     assert min(ts) >= t_from and max(ts) < t_until
     # The backlog was read up to the end of the window: all 3000 frames of that second.
     assert len(ts) == 3000
+
+
+def test_frames_read_past_the_window_before_stop_are_dropped():
+    """The capture thread may read beyond the window's end before stop(until=...) names it
+    (the CI failure of the test above under load: a frame at +1.09 s in a 1 s window); the
+    frames, counts and first/last times must then be those of the window only."""
+    t0 = 2000.0
+    src = FloodSource([0x181, 0x281, 0x381], t0)
+    cap = telemetry.Capture(link=None, tpdos=[_Tpdo(c) for c in (0x181, 0x281, 0x381)],
+                            source_factory=lambda ids: src, poll_s=0.001)
+    cap.STOP_DRAIN_S = 2.0
+    cap.start()
+    assert cap.wait_all_seen(2.0)
+    with src.lock:
+        k_from = src.k + 300
+        t_from = t0 + k_from / 3000.0
+        cap.window_from(t_from)
+    t_until = t0 + (k_from + 2999.5) / 3000.0
+    deadline = time.monotonic() + 5.0
+    while time.monotonic() < deadline:  # let the capture run well past the window's end
+        with cap._lock:
+            if cap.frames and cap.frames[-1][0] > t_until + 0.5:
+                break
+        time.sleep(0.001)
+    else:
+        raise AssertionError("the flood never passed the window's end")
+    cap.stop(until=t_until)
+    ts = [f[0] for f in cap.frames]
+    assert len(ts) == 3000 and min(ts) >= t_from and max(ts) < t_until
+    assert sum(cap.counts.values()) == 3000
+    for cob in (0x181, 0x281, 0x381):
+        mine = [f[0] for f in cap.frames if f[1] == cob]
+        assert cap.counts[cob] == len(mine) == 1000
+        assert cap.first[cob] == mine[0] and cap.last[cob] == mine[-1]
+        assert abs(cap.rate_hz(cob) - 1000.0) < 1e-6
