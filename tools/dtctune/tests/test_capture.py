@@ -34,22 +34,31 @@ class _Tpdo:
         self.cob_id = cob
 
 
-def test_flooding_source_still_delivers_and_stops():
-    t0 = 1000.0
-    src = FloodSource([0x181, 0x281, 0x381], t0)
-    cap = telemetry.Capture(link=None, tpdos=[_Tpdo(c) for c in (0x181, 0x281, 0x381)],
+COBS = (0x181, 0x281, 0x381)
+
+
+def flooded_capture(t0, frames_ahead):
+    """A capture of a FloodSource stamped from t0, every TPDO seen, and a 1 s window
+    (3000 frames) opened `frames_ahead` frames ahead of the source, holding it still
+    meanwhile so the flood cannot run past the window's start before the window is set.
+    Returns (capture, window start, window end); the end is half a frame before the next
+    frame's stamp: no rounding edge."""
+    src = FloodSource(COBS, t0)
+    cap = telemetry.Capture(link=None, tpdos=[_Tpdo(c) for c in COBS],
                             source_factory=lambda ids: src, poll_s=0.001)
     cap.STOP_DRAIN_S = 2.0
     cap.start()
     # An unbounded drain would never return here, and nothing would ever be seen.
     assert cap.wait_all_seen(2.0)
-    # Open the window 1 s (3000 frames) ahead of the source, holding it still meanwhile,
-    # so the flood cannot run past the window's start before the window is set.
     with src.lock:
-        k_from = src.k + 3000
+        k_from = src.k + frames_ahead
         t_from = t0 + k_from / 3000.0
         cap.window_from(t_from)
-    t_until = t0 + (k_from + 2999.5) / 3000.0   # half a frame before the next one: no rounding edge
+    return cap, t_from, t0 + (k_from + 2999.5) / 3000.0
+
+
+def test_flooding_source_still_delivers_and_stops():
+    cap, t_from, t_until = flooded_capture(1000.0, 3000)
     started = time.monotonic()
     cap.stop(until=t_until)
     assert time.monotonic() - started < cap.STOP_DRAIN_S + 2.5
@@ -64,18 +73,7 @@ def test_frames_read_past_the_window_before_stop_are_dropped():
     """The capture thread may read beyond the window's end before stop(until=...) names it
     (the CI failure of the test above under load: a frame at +1.09 s in a 1 s window); the
     frames, counts and first/last times must then be those of the window only."""
-    t0 = 2000.0
-    src = FloodSource([0x181, 0x281, 0x381], t0)
-    cap = telemetry.Capture(link=None, tpdos=[_Tpdo(c) for c in (0x181, 0x281, 0x381)],
-                            source_factory=lambda ids: src, poll_s=0.001)
-    cap.STOP_DRAIN_S = 2.0
-    cap.start()
-    assert cap.wait_all_seen(2.0)
-    with src.lock:
-        k_from = src.k + 300
-        t_from = t0 + k_from / 3000.0
-        cap.window_from(t_from)
-    t_until = t0 + (k_from + 2999.5) / 3000.0
+    cap, t_from, t_until = flooded_capture(2000.0, 300)
     deadline = time.monotonic() + 5.0
     while time.monotonic() < deadline:  # let the capture run well past the window's end
         with cap._lock:
@@ -88,7 +86,7 @@ def test_frames_read_past_the_window_before_stop_are_dropped():
     ts = [f[0] for f in cap.frames]
     assert len(ts) == 3000 and min(ts) >= t_from and max(ts) < t_until
     assert sum(cap.counts.values()) == 3000
-    for cob in (0x181, 0x281, 0x381):
+    for cob in COBS:
         mine = [f[0] for f in cap.frames if f[1] == cob]
         assert cap.counts[cob] == len(mine) == 1000
         assert cap.first[cob] == mine[0] and cap.last[cob] == mine[-1]
