@@ -682,7 +682,9 @@ static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_ou
     /* prev_state was clamped, the DTC's states come from its tables: all 0..26 */
     uint8_t a0 = dtc3l_pn_safe_unchecked(prev_state, s->dtc_out.state[0]);
     uint8_t a1 = dtc3l_pn_safe_unchecked(a0, s->dtc_out.state[1]);
-    act.duty0 = num_sat(s->dtc_out.act.duty0, R(0.0), R(1.0));
+    /* in 0..1 by construction (dtc3l.h; duty_min is 0..0.45 by ctl_cfg_check),
+     * and a clamp would not catch a NaN either: no compare (issue 11) */
+    act.duty0 = s->dtc_out.act.duty0;
     dtc3l_legs_pair_unchecked(a0, a1, &act);
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 

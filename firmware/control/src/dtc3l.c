@@ -141,16 +141,15 @@ typedef struct {
 
 static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const observer_out *pr, tick_geometry *g)
 {
-    real_t k = in->band_scale > R(1.0) ? in->band_scale : R(1.0);
-    g->b_Nm = num_mul(cfg->torque_band_Nm, k);
-    g->b2_Nm = num_mul(cfg->torque_band2_Nm, k);
+    g->b_Nm = num_mul(cfg->torque_band_Nm, in->band_scale); /* >= 1: the caller's clamp */
+    g->b2_Nm = num_mul(cfg->torque_band2_Nm, in->band_scale);
     const real_t *psi = pr->psi_s_pred_Wb, *is = pr->is_pred_A;
     g->psi_Wb = num_sqrt(num_mul(psi[0], psi[0]) + num_mul(psi[1], psi[1]));
     dtc3l_sectors(psi[0], psi[1], &g->sector, &g->sector6);
     g->i_abc_A[0] = is[0];
     g->i_abc_A[1] = num_mac(R(-0.5), is[0], num_mul(R(0.866025404), is[1]));
     g->i_abc_A[2] = -g->i_abc_A[0] - g->i_abc_A[1];
-    g->prev_state = in->prev_state < DTC3L_N_STATES ? in->prev_state : (uint8_t)DTC3L_STATE_OOO;
+    g->prev_state = in->prev_state; /* 0..26: the caller's clamp */
     g->leg_V[HAL_LEG_N] = -in->vc2_V;
     g->leg_V[HAL_LEG_O] = R(0.0);
     g->leg_V[HAL_LEG_P] = in->vc1_V;
@@ -217,7 +216,7 @@ static void decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *
 static uint8_t np_checked_vector(uint8_t sv, const dtc3l_cmd *in, const dtc3l_cfg *cfg, const tick_geometry *g,
                                  int8_t torque)
 {
-    if (dtc3l_sv_class(sv) != DTC3L_CLASS_MEDIUM || torque == 0)
+    if (dtc3l_sv_class_unchecked(sv) != DTC3L_CLASS_MEDIUM || torque == 0)
         return sv;
     /* a strong demand gets the most tangential voltage there is: the large
      * vector at 90 deg (>= 0.97 x 2 Vdc / 3) rather than the medium one at
@@ -230,9 +229,7 @@ static uint8_t np_checked_vector(uint8_t sv, const dtc3l_cmd *in, const dtc3l_cf
          * (at the band itself the 90-deg vector is taken so often that the
          * flux, and with it the speed, ripples more near the voltage limit:
          * docs/envelope.md section 5) */
-        uint8_t st[3];
-        (void)dtc3l_sv_states(sv, st);
-        real_t inp = dtc3l_np_current_unchecked(st[0], g->i_abc_A);
+        real_t inp = dtc3l_np_current_unchecked(dtc3l_sv_state_list[sv][0], g->i_abc_A); /* its one state */
         real_t np_next = num_mac(cfg->np_V_per_A, inp, in->np_dev_V);
         if (!(num_abs(np_next) > R(2.0) * cfg->np_band_V && num_abs(np_next) > num_abs(in->np_dev_V)))
             return sv;
@@ -250,7 +247,7 @@ static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
     uint8_t v = np_checked_vector(pick(g->sector, g->sector6, torque, s->flux_state, s->level), in, cfg, g, torque);
     if (sv)
         *sv = v;
-    return dtc3l_choose_state(v, prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+    return dtc3l_choose_state_unchecked(v, prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
 }
 
 /* The states are chosen first (P<->N-free, NP-balancing, fewest
@@ -326,7 +323,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     if (!(!p->split && p->sv0 == 0u && s->level == (uint8_t)DTC3L_LEVEL_LOW && psi < in->psi_ref_Wb - cfg->flux_band_Wb))
         return;
     uint8_t svh = dtc3l_table_flux_hold(g->sector6);
-    uint8_t sth = dtc3l_choose_state(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+    uint8_t sth = dtc3l_choose_state_unchecked(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
     real_t v_h[2]; /* the pulse state's voltage, for both its flux rate and its torque slope */
     state_voltage(g, sth, v_h);
     real_t rate = flux_rate(in, pr, v_h, psi);
@@ -348,7 +345,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         return;
     p->st0 = sth;
     if (d < R(1.0) - dmin) {
-        p->st1 = dtc3l_choose_state(0u, sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+        p->st1 = dtc3l_choose_state_unchecked(0u, sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
         p->duty0 = d;
         p->split = true;
     } else {
@@ -365,7 +362,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
 static uint8_t balancing_or(uint8_t fallback, uint8_t svn, uint8_t from, const dtc3l_cfg *cfg, const dtc3l_cmd *in,
                             const tick_geometry *g)
 {
-    uint8_t c = dtc3l_choose_state(svn, from, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+    uint8_t c = dtc3l_choose_state_unchecked(svn, from, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
     if (!(num_mul(dtc3l_np_current_unchecked(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
         return fallback;
     return c;
@@ -391,10 +388,10 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
     if (full)
         p->st1 = p->st0;
     else if (sv_b == 0u) /* the second state follows the (possibly new) first one */
-        p->st1 = balancing_or(dtc3l_choose_state(0u, p->st0, in->np_dev_V, cfg->np_band_V, g->i_abc_A), svn, p->st0,
+        p->st1 = balancing_or(dtc3l_choose_state_unchecked(0u, p->st0, in->np_dev_V, cfg->np_band_V, g->i_abc_A), svn, p->st0,
                               cfg, in, g);
     else
-        p->st1 = dtc3l_choose_state(sv_b, p->st0, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+        p->st1 = dtc3l_choose_state_unchecked(sv_b, p->st0, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
 }
 
 /* The P<->N rule forces an intermediate state when the wanted state is a
@@ -416,9 +413,8 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
     /* without a shortest segment the intermediate could be given no time at all */
     if (p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
         return;
-    dtc3l_class cls = dtc3l_sv_class(p->sv0);
-    uint8_t st[3];
-    (void)dtc3l_sv_states(p->sv0, st);
+    dtc3l_class cls = dtc3l_sv_class_unchecked(p->sv0);
+    const uint8_t *st = dtc3l_sv_state_list[p->sv0]; /* read in place (issue 11) */
     uint8_t target = st[0];
     bool small = cls == DTC3L_CLASS_SMALL;
     if (small) {
@@ -469,7 +465,6 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
 static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out *out)
 {
     s->torque_state = p->after;
-    dtc3l_legs_pair_unchecked(p->st0, p->st1, &out->act);
     out->act.duty0 = p->st1 == p->st0 ? R(1.0) : p->duty0;
     out->state[0] = p->st0;
     out->state[1] = p->st1;
@@ -520,8 +515,9 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
     c.vc1_V = in->vc1_V;
     c.vc2_V = in->vc2_V;
     c.np_dev_V = in->np_dev_V;
-    c.prev_state = in->prev_state;
-    c.band_scale = in->band_scale;
+    c.prev_state = in->prev_state < DTC3L_N_STATES ? in->prev_state : (uint8_t)DTC3L_STATE_OOO;
+    c.band_scale = in->band_scale > R(1.0) ? in->band_scale : R(1.0);
     c.decide_level = true;
     dtc3l_step_predicted(s, cfg, dt_s, &c, &pr, out);
+    dtc3l_legs_pair_unchecked(out->state[0], out->state[1], &out->act); /* both 0..26 */
 }

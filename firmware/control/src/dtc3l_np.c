@@ -65,14 +65,20 @@ static const uint8_t zero_toward[DTC3L_N_STATES][2] = {
 uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                            const real_t i_abc[3])
 {
-    uint8_t st[3];
-    uint8_t n = dtc3l_sv_states(sv, st);
-    bool small = dtc3l_sv_class(sv) == DTC3L_CLASS_SMALL;
+    /* from here on every vector is 0..18 and every state 0..26: the unchecked look-ups */
+    return dtc3l_choose_state_unchecked(sv < DTC3L_N_VECTORS ? sv : 0u,
+                                        prev_state < DTC3L_N_STATES ? prev_state : (uint8_t)DTC3L_STATE_OOO,
+                                        np_dev_V, np_band_V, i_abc);
+}
+
+uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                                     const real_t i_abc[3])
+{
+    const uint8_t *st = dtc3l_sv_state_list[sv]; /* read in place: no copy (issue 11) */
+    dtc3l_class cls = dtc3l_sv_class_unchecked(sv);
+    bool small = cls == DTC3L_CLASS_SMALL;
     bool np_out = num_abs(np_dev_V) > np_band_V;
     bool np_forced = small && np_out;
-
-    if (prev_state >= DTC3L_N_STATES)
-        prev_state = DTC3L_STATE_OOO; /* from here on every state is 0..26: the unchecked look-ups */
 
     /* Zero vector: from NNN (PPP) the P-type (N-type) small states are a
      * P<->N step away. When the neutral point needs attention, pick the zero
@@ -80,16 +86,15 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
      * (the likely next one), so that state stays reachable. */
     if (sv == 0u && num_abs(np_dev_V) > num_mul(NP_LOOKAHEAD_FRACTION, np_band_V)) {
         uint8_t prev_sv = dtc3l_state_sv_unchecked(prev_state);
-        if (dtc3l_sv_class(prev_sv) != DTC3L_CLASS_SMALL)
+        if (dtc3l_sv_class_unchecked(prev_sv) != DTC3L_CLASS_SMALL)
             return np_out ? (uint8_t)DTC3L_STATE_OOO : zero_after[prev_state];
-        uint8_t pair[3];
-        (void)dtc3l_sv_states(prev_sv, pair);
+        const uint8_t *pair = dtc3l_sv_state_list[prev_sv];
         real_t inp0 = dtc3l_np_current_unchecked(pair[0], i_abc);
         return zero_toward[prev_state][num_mul(inp0, np_dev_V) <= R(0.0) ? 0 : 1];
     }
     /* Vectors with a single state (medium, large) and the zero vector
      * without the NP look-ahead: nothing to choose. */
-    if (n == 1u)
+    if (cls == DTC3L_CLASS_MEDIUM || cls == DTC3L_CLASS_LARGE)
         return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
     if (sv == 0u)
         return zero_after[prev_state];
@@ -127,7 +132,7 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
         if (!((take1 ? push1 : push0) > R(0.0)))
             return chosen;
         uint8_t m = dtc3l_pn_safe_unchecked(prev_state, take1 ? c0 : c1); /* the other state, held P<->N-safe */
-        if (dtc3l_sv_class(dtc3l_state_sv_unchecked(m)) == DTC3L_CLASS_SMALL &&
+        if (dtc3l_sv_class_unchecked(dtc3l_state_sv_unchecked(m)) == DTC3L_CLASS_SMALL &&
             num_mul(dtc3l_np_current_unchecked(m, i_abc), np_dev_V) < R(0.0))
             return m;
         return chosen;

@@ -34,6 +34,17 @@ const uint8_t dtc3l_sv_state_list[DTC3L_N_VECTORS][3] = {
     {8u, 0xFFu, 0xFFu}, {2u, 0xFFu, 0xFFu}, {20u, 0xFFu, 0xFFu},     /* large 180, 240, 300 */
 };
 
+/* Class of each space vector: zero, six small, six medium, six large. */
+const uint8_t dtc3l_sv_class_of[DTC3L_N_VECTORS] = {
+    (uint8_t)DTC3L_CLASS_ZERO,
+    (uint8_t)DTC3L_CLASS_SMALL,  (uint8_t)DTC3L_CLASS_SMALL,  (uint8_t)DTC3L_CLASS_SMALL,
+    (uint8_t)DTC3L_CLASS_SMALL,  (uint8_t)DTC3L_CLASS_SMALL,  (uint8_t)DTC3L_CLASS_SMALL,
+    (uint8_t)DTC3L_CLASS_MEDIUM, (uint8_t)DTC3L_CLASS_MEDIUM, (uint8_t)DTC3L_CLASS_MEDIUM,
+    (uint8_t)DTC3L_CLASS_MEDIUM, (uint8_t)DTC3L_CLASS_MEDIUM, (uint8_t)DTC3L_CLASS_MEDIUM,
+    (uint8_t)DTC3L_CLASS_LARGE,  (uint8_t)DTC3L_CLASS_LARGE,  (uint8_t)DTC3L_CLASS_LARGE,
+    (uint8_t)DTC3L_CLASS_LARGE,  (uint8_t)DTC3L_CLASS_LARGE,  (uint8_t)DTC3L_CLASS_LARGE,
+};
+
 /* ------------------------------------------------------------ state tables
  * Generated once from the NPC topology (leg codes N = 0, O = 1, P = 2; a leg
  * at O draws its phase current from the neutral point; commutations = sum of

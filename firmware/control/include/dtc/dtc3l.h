@@ -132,9 +132,11 @@ typedef struct {
     real_t omega_e_rad_s;     /**< electrical speed estimate, rad/s (voltage level) */
     real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
     real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
-    uint8_t prev_state;       /**< state in force when the chosen period starts (0..26; others count as OOO) */
-    real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
-                                   switching-frequency regulation of ctl.c widens them */
+    uint8_t prev_state;       /**< state in force when the chosen period starts, 0..26 (the caller
+                                   clamps: ctl.c counts others as OOO, as dtc3l_step does) */
+    real_t band_scale;        /**< both torque bands are cfg x this, >= 1 (the caller clamps: the
+                                   switching-frequency regulation of ctl.c keeps it in
+                                   1..band_scale_max; dtc3l_step takes 0 or less as 1) */
     bool decide_level;        /**< decide the voltage level in this step (false: keep the last one;
                                    ctl.c decides it once per slot cycle, CTL_SLOT_LEVEL: the back-emf
                                    moves little in four periods; issue 11) */
@@ -161,7 +163,8 @@ typedef struct {
 } dtc3l_in;
 
 typedef struct {
-    hal_actuation act;        /**< the two vectors and the duty of the first */
+    hal_actuation act;        /**< the two vectors and the duty of the first (dtc3l_step_predicted
+                                   writes only duty0, in 0..1: the vectors are state[]'s leg codes) */
     uint8_t state[2];         /**< the same as state numbers */
     uint8_t sector;           /**< 0..11 */
     int8_t torque_cmp;        /**< comparator output used for the first vector, -2..2 */
@@ -232,6 +235,12 @@ static inline uint8_t dtc3l_state_sv(uint8_t state)
 {
     return state < DTC3L_N_STATES ? dtc3l_state_sv_unchecked(state) : 0u;
 }
+
+extern const uint8_t dtc3l_sv_class_of[DTC3L_N_VECTORS];          /**< dtc3l_class of each sv */
+
+/** dtc3l_sv_class for @p sv 0..18 (unchecked): one load instead of three
+ *  compares (issue 11; the step asks it several times a tick). Context: ANY. */
+static inline dtc3l_class dtc3l_sv_class_unchecked(uint8_t sv) { return (dtc3l_class)dtc3l_sv_class_of[sv]; }
 
 /** Class of space vector @p sv. Context: ANY. */
 static inline dtc3l_class dtc3l_sv_class(uint8_t sv)
@@ -493,6 +502,11 @@ uint8_t dtc3l_select(real_t psi_alpha, real_t psi_beta, int8_t torque, int8_t fl
 uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                            const real_t i_abc[3]);
 
+/** dtc3l_choose_state for @p sv 0..18 and @p prev_state 0..26 (unchecked; the
+ *  step's own vectors and states). Context: ANY. */
+uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                                     const real_t i_abc[3]);
+
 /* ------------------------------------------------------- ripple reduction
  * Over one period the torque under a fixed vector is close to a straight line
  * whose slope is dTe/dt = dte0 + dte_dv . v (linear in the stator voltage,
@@ -550,7 +564,9 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
  * left it (no copy per tick, issue 11): from @p pred its te_pred_Nm,
  * psi_s_pred_Wb, is_pred_A, dte0_Nm_s, dte_dv and omega_m_rad_s (the
  * ripple-reduction range), in place of dtc3l_in's te_Nm, psi_s_Wb, is_A,
- * dte0_Nm_s, dte_dv and omega_m_rad_s; the rest from @p in. Context: ISR.
+ * dte0_Nm_s, dte_dv and omega_m_rad_s; the rest from @p in. Writes @p out except
+ * out->act.vector (its caller, ctl.c, actuates state[] through its own P<->N
+ * guard and writes the leg codes there; issue 11). Context: ISR.
  */
 void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
                           const observer_out *pred, dtc3l_out *out);
