@@ -53,10 +53,8 @@ void dtc3l_init(dtc3l *s)
 static int8_t torque_comparator(int8_t state, real_t te, real_t te_ref, real_t b, real_t b2, real_t s_hold)
 {
     real_t err = te_ref - te;
-    if (err > b2)
-        return 2;
-    if (err < -b2)
-        return -2;
+    if (num_abs(err) > b2) /* b2 >= 0: one compare for both strong demands (issue 11) */
+        return err > R(0.0) ? 2 : -2;
     if (state > 0)
         return te >= te_ref + b ? 0 : 1;
     if (state < 0)
@@ -411,9 +409,10 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
 static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g, tick_plan *p)
 {
     /* without a shortest segment the intermediate could be given no time at all */
-    if (p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
-        return;
     dtc3l_class cls = dtc3l_sv_class_unchecked(p->sv0);
+    /* the holds (about every other period) leave on the integer tests, before the float one */
+    if (cls == DTC3L_CLASS_ZERO || p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
+        return;
     const uint8_t *st = dtc3l_sv_state_list[p->sv0]; /* read in place (issue 11) */
     uint8_t target = st[0];
     bool small = cls == DTC3L_CLASS_SMALL;
