@@ -516,7 +516,7 @@ uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_d
 /**
  * Fraction of the period @p period_s after which a torque starting at
  * @p te_Nm with slope @p slope_Nm_s reaches @p edge_Nm: in 0..1 (0 when it is
- * on the edge), or 2 when it does not get there within the period, stands
+ * on the edge; below 1 otherwise), or 2 when it does not get there within the period, stands
  * still or moves away from the edge. Context: ANY.
  */
 static inline real_t dtc3l_edge_fraction(real_t te_Nm, real_t slope_Nm_s, real_t edge_Nm, real_t period_s)
@@ -527,10 +527,12 @@ static inline real_t dtc3l_edge_fraction(real_t te_Nm, real_t slope_Nm_s, real_t
     if (gap == R(0.0))
         return R(0.0);
     /* standing still, moving away (or already beyond it), or not getting there
-     * within the period; the comparator deals with a torque beyond an edge */
-    if (num_mul(gap, reach) <= R(0.0) || num_abs(gap) >= num_abs(reach))
-        return R(2.0);
-    return num_div(gap, reach);
+     * within the period: the quotient is not in (0, 1) (a zero slope gives
+     * +-inf); the comparator deals with a torque beyond an edge. Two compares
+     * on the quotient instead of three on gap and reach (issue 11; a quotient
+     * that rounds up to 1 now counts as not within the period) */
+    real_t f = num_div(gap, reach);
+    return f > R(0.0) && f < R(1.0) ? f : R(2.0);
 }
 
 /** dTe/dt under the stator voltage @p v (alpha, beta), N m/s (dte0 + dte_dv . v). Context: ANY. */
