@@ -30,7 +30,7 @@ typedef struct {
     bool tick_missed;
     uint32_t millis;
     npc_timing tm;            /* timer counts of the period, keep-out and minimum pulse */
-    uint8_t last_leg[3];      /* leg states at the end of the programmed period */
+    uint8_t last_leg[3];      /* leg states at the end of the programmed period (with NPC_LEG_HELD: the timers hold its one-state words) */
     uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
     bool pn_step_seen;        /* as the target's BOARD_FAULT_PN_STEP */
     bool idle_held;           /* gates off: the registers hold idle_req's programme, which repeats itself */
@@ -139,6 +139,8 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         /* the ready words of the leg's (prev, v0, v1) and class, straight to the timers (issue 11) */
         const npc_leg_words *w = npc_leg_words_of(g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
         uint32_t c = npc_leg_class(w, classes);
+        if (c == NPC_HELD)
+            continue; /* one state again: the timers hold its words, the leg stays */
         const uint32_t *reg = w->reg[c];
         unsigned tim = 2u * leg;
         g_pil_timer[tim][0] = reg[0];

@@ -147,7 +147,7 @@ typedef struct {
     uint32_t per_counts;
     uint32_t keepout_counts;
     uint32_t min_pulse_counts;
-    uint8_t last_leg[3];      /* leg state at the end of the last latched period */
+    uint8_t last_leg[3];      /* leg state at the end of the last latched period (with NPC_LEG_HELD: the timers hold its one-state words) */
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     bool idle_held;           /* gates off: the preloaded registers hold idle_req's programme, which repeats itself */
     npc_request idle_req;     /* the last request programmed with the gates off */
@@ -896,6 +896,8 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         const npc_leg_words *w =
             npc_leg_words_of(g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
         uint32_t c = npc_leg_class(w, classes);
+        if (c == NPC_HELD)
+            continue; /* one state again: the timers hold its words, the leg stays */
         const uint32_t *reg = w->reg[c];
         uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
         HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = reg[0];
