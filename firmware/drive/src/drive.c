@@ -137,12 +137,25 @@ _Static_assert(SNAP_AT(ib_A) == SAMPLE_AT(ib_A) && SNAP_AT(ic_A) == SAMPLE_AT(ic
                    SAMPLE_AT(speed_meas_rad_s) + sizeof(float) == SNAP_SAMPLE_BYTES,
                "the snapshot's sample fields are hal_sample's first six floats, in its order");
 
+_Static_assert(offsetof(drive, out) == offsetof(drive, snap) + offsetof(drive_snapshot, out) &&
+                   offsetof(drive_snapshot, tel) == offsetof(drive_snapshot, out) + offsetof(ctl_out, tel) &&
+                   offsetof(drive_snapshot, out_act_) == offsetof(drive_snapshot, out) + offsetof(ctl_out, act) &&
+                   offsetof(drive_snapshot, out_gate_enable_) ==
+                       offsetof(drive_snapshot, out) + offsetof(ctl_out, gate_enable),
+               "d->out is d->snap.out, and snap.tel its telemetry");
+
+/* The snapshot is being written (odd): from before ctl_step, which writes
+ * its telemetry in place (d->out is d->snap.out). */
+static inline void snapshot_open(drive_snapshot *s)
+{
+    s->seq++;
+    publish_fence();
+}
+
+/* The rest of the snapshot, then even: consistent (the telemetry is in place). */
 static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
 {
     drive_snapshot *s = &d->snap;
-    s->seq++; /* odd: being written */
-    publish_fence();
-    s->tel = d->out.tel;
     /* ia..speed as one block (issue 11: a load and a store multiple instead
      * of six of each); the two layouts are the same, checked above */
     memcpy(&s->ia_A, &in->sample.ia_A, SNAP_SAMPLE_BYTES);
@@ -179,6 +192,7 @@ void drive_isr(void *ctx)
     in.fault_input = hal_fault_input_active();
     in.overrun = d->tick_missed;
 
+    snapshot_open(&d->snap);
     ctl_step(&d->ctl, cfg, &in, &d->out);
 
     /* Protection acts in the same tick: gates off before anything else. */
