@@ -69,10 +69,18 @@ typedef struct {
             ctl_telemetry tel;       /**< the control core's telemetry (out.tel) */
         };
     };
-    /* the sample's six floats in hal_sample's order (publish_snapshot copies them as one block) */
-    float ia_A, ib_A, ic_A;   /**< measured currents, A */
-    float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
-    float omega_meas_rad_s;   /**< board speed sensor (diagnostics), rad/s */
+    /* The control core's inputs of the tick, set in place (issue 11: the
+     * sample is read once, straight into the snapshot, not read and then
+     * copied); the six fields below are in.sample's first six under their
+     * snapshot names. */
+    union {
+        ctl_in in;
+        struct {
+            float ia_A, ib_A, ic_A;   /**< measured currents, A */
+            float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
+            float omega_meas_rad_s;   /**< board speed sensor (diagnostics), rad/s */
+        };
+    };
     uint32_t tick;            /**< ISR tick counter */
     float speed_err_rad_s;    /**< tel.speed_ref_rad_s - tel.omega_est_rad_s (the controllers' e_x), rad/s */
     float vdc_diff_V;         /**< vc1_V - vc2_V (neutral-point deviation), V */
