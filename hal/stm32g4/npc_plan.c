@@ -54,6 +54,7 @@ const npc_leg_rule npc_leg_rules[27] = {RULES_A(0u), RULES_A(1u), RULES_A(2u)};
      {END(NPC_AT_ZERO, p, a, b), END(NPC_AT_T, p, a, b), END(NPC_AT_PER, p, a, b)},                             \
      KIND(h, p, a, b),                                                                                          \
      (uint8_t)((PN(p, a) ? 1u : 0u) + (PN(V0(p, a), b) ? 1u : 0u)),                                            \
+     (uint8_t)(ONE_STATE(p, a, b) ? 0u : 1u),                                                                   \
      {0u}}
 #define WORDS_AT(h, p, a, b) [16u * ((p) | ((h) ? NPC_LEG_HELD : 0u)) + 4u * (a) + (b)] = WORDS(h, p, a, b)
 #define WORDS_B(h, p, a) WORDS_AT(h, p, a, 0u), WORDS_AT(h, p, a, 1u), WORDS_AT(h, p, a, 2u)

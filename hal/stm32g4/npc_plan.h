@@ -212,7 +212,8 @@ typedef struct {
     uint8_t kind_shift; /**< where its class is in npc_period_classes' word: 0 one state, 8 may drop v0,
                              16 keeps v0, 24 the timers already hold these words (NPC_HELD) */
     uint8_t fixups;     /**< P<->N steps replaced by O (0..2) */
-    uint8_t pad[11];    /**< 64 bytes: the index is one shift */
+    uint8_t timed;      /**< 1: two states (kind_shift 8 or 16), its class depends on the period's instants */
+    uint8_t pad[10];    /**< 64 bytes: the index is one shift */
 } npc_leg_words;
 
 /**
@@ -261,6 +262,14 @@ static inline uint32_t npc_period_classes(const npc_timing *tm, const npc_instan
     return (uint32_t)NPC_AT_PER | (npc_class_at(tm->per, in->drop) << 8) | (npc_class_at(tm->per, in->keep) << 16) |
            ((uint32_t)NPC_HELD << 24);
 }
+
+/**
+ * The instant classes of a period none of whose legs has two states (no
+ * npc_leg_words.timed): every such leg's class is NPC_AT_PER or NPC_HELD
+ * whatever the instants, so the actuation need not work them out (issue 11:
+ * three periods in four apply one vector for the whole period).
+ */
+#define NPC_UNTIMED_CLASSES ((uint32_t)NPC_AT_PER | ((uint32_t)NPC_HELD << 24))
 
 /** @return the words of leg states @p prev (<= NPC_P, optionally | NPC_LEG_HELD), @p v0, @p v1 (each <= NPC_P, unchecked). Context: ANY (pure). */
 static inline const npc_leg_words *npc_leg_words_of(uint8_t prev, uint8_t v0, uint8_t v1)

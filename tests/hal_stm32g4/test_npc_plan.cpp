@@ -212,15 +212,23 @@ TEST(NpcPlan, RegisterWordsEqualThePlanForEveryTripleAndInstant)
                         // the held flag exactly after a period of one state
                         ASSERT_EQ((w->end[c] & NPC_LEG_HELD) != 0u, p.v0 == p.v1) << m;
                         ASSERT_EQ(w->fixups, p.fixups) << m;
+                        // a leg without two states has the same class whatever the instants
+                        ASSERT_EQ(w->timed != 0u, p.v0 != p.v1) << m;
+                        if (w->timed == 0u) {
+                            ASSERT_EQ(npc_leg_class(w, NPC_UNTIMED_CLASSES), c) << m;
+                        }
                         // the same row with the held flag on prev: the same words, but for the leg that
                         // stays in its held state alone, which writes nothing
                         const npc_leg_words *h = npc_leg_words_of(uint8_t(prev | NPC_LEG_HELD), v0, v1);
                         const uint32_t hc = npc_leg_class(h, classes);
                         if (v0 == prev && v1 == prev) {
                             ASSERT_EQ(hc, NPC_HELD) << m;
+                            ASSERT_EQ(h->timed, 0u) << m;
+                            ASSERT_EQ(npc_leg_class(h, NPC_UNTIMED_CLASSES), uint32_t(NPC_HELD)) << m;
                             continue;
                         }
                         ASSERT_EQ(hc, c) << m;
+                        ASSERT_EQ(h->timed, w->timed) << m;
                         for (unsigned k = 0; k < 4u; k++)
                             ASSERT_EQ(h->reg[hc][k], reg[k]) << m << " word " << k;
                         ASSERT_EQ(h->end[hc], w->end[c]) << m;
