@@ -30,7 +30,7 @@ typedef struct {
     bool tick_missed;
     uint32_t millis;
     npc_timing tm;            /* timer counts of the period, keep-out and minimum pulse */
-    uint8_t last_leg[3];      /* leg states at the end of the programmed period */
+    uint8_t last_leg[3];      /* leg states at the end of the programmed period (with NPC_LEG_HELD: the timers hold its one-state words) */
     uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
     bool pn_step_seen;        /* as the target's BOARD_FAULT_PN_STEP */
     bool idle_held;           /* gates off: the registers hold idle_req's programme, which repeats itself */
@@ -128,17 +128,30 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         return HAL_EINVAL;
     if (g_pil.tm.per == 0u)
         return HAL_OK; /* tick not started: nothing to program */
-    uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
-    npc_instants instants;
-    npc_instants_of(&g_pil.tm, t0, &instants); /* once for the three legs */
-    uint32_t classes = npc_period_classes(&g_pil.tm, &instants);
-    uint32_t t = instants.keep; /* CMP1 of every leg that changes inside the period */
+    /* the legs' words first: the instants only when a leg has two states */
+    const npc_leg_words *w3[3];
+    uint32_t timed = 0u;
+    for (uint32_t leg = 0u; leg < 3u; leg++) {
+        w3[leg] = npc_leg_words_of(g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        timed |= w3[leg]->timed;
+    }
+    uint32_t classes = NPC_UNTIMED_CLASSES;
+    uint32_t t = 0u; /* CMP1 of every leg that changes inside the period (none without a timed leg) */
+    if (timed != 0u) {
+        uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
+        npc_instants instants;
+        npc_instants_of(&g_pil.tm, t0, &instants); /* once for the three legs */
+        classes = npc_period_classes(&g_pil.tm, &instants);
+        t = instants.keep;
+    }
     uint32_t fixups = 0u;
     g_pil_update_disable |= PIL_UDIS_ALL;
     for (unsigned leg = 0u; leg < 3u; leg++) {
         /* the ready words of the leg's (prev, v0, v1) and class, straight to the timers (issue 11) */
-        const npc_leg_words *w = npc_leg_words_of(g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        const npc_leg_words *w = w3[leg];
         uint32_t c = npc_leg_class(w, classes);
+        if (c == NPC_HELD)
+            continue; /* one state again: the timers hold its words, the leg stays */
         const uint32_t *reg = w->reg[c];
         unsigned tim = 2u * leg;
         g_pil_timer[tim][0] = reg[0];

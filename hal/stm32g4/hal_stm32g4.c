@@ -147,7 +147,7 @@ typedef struct {
     uint32_t per_counts;
     uint32_t keepout_counts;
     uint32_t min_pulse_counts;
-    uint8_t last_leg[3];      /* leg state at the end of the last latched period */
+    uint8_t last_leg[3];      /* leg state at the end of the last latched period (with NPC_LEG_HELD: the timers hold its one-state words) */
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     bool idle_held;           /* gates off: the preloaded registers hold idle_req's programme, which repeats itself */
     npc_request idle_req;     /* the last request programmed with the gates off */
@@ -879,11 +879,22 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         return HAL_OK; /* tick not started: nothing to program */
 
     const npc_timing tm = {g_board.per_counts, g_board.keepout_counts, g_board.min_pulse_counts};
-    uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
-    npc_instants instants;
-    npc_instants_of(&tm, t0, &instants); /* once for the three legs */
-    uint32_t classes = npc_period_classes(&tm, &instants);
-    uint32_t t = instants.keep; /* CMP1 of every leg that changes inside the period */
+    /* the legs' words first: the instants only when a leg has two states */
+    const npc_leg_words *w3[3];
+    uint32_t timed = 0u;
+    for (uint32_t leg = 0u; leg < 3u; leg++) {
+        w3[leg] = npc_leg_words_of(g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        timed |= w3[leg]->timed;
+    }
+    uint32_t classes = NPC_UNTIMED_CLASSES;
+    uint32_t t = 0u; /* CMP1 of every leg that changes inside the period (none without a timed leg) */
+    if (timed != 0u) {
+        uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
+        npc_instants instants;
+        npc_instants_of(&tm, t0, &instants); /* once for the three legs */
+        classes = npc_period_classes(&tm, &instants);
+        t = instants.keep;
+    }
     uint32_t fixups = 0u;
 
     /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
@@ -893,9 +904,10 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     for (uint32_t leg = 0u; leg < 3u; leg++) {
         /* the ready words of the leg's (prev, v0, v1) and class, straight to
          * the registers (issue 11: no plan struct in between) */
-        const npc_leg_words *w =
-            npc_leg_words_of(g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        const npc_leg_words *w = w3[leg];
         uint32_t c = npc_leg_class(w, classes);
+        if (c == NPC_HELD)
+            continue; /* one state again: the timers hold its words, the leg stays */
         const uint32_t *reg = w->reg[c];
         uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
         HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = reg[0];

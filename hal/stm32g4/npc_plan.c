@@ -41,21 +41,28 @@ const npc_leg_rule npc_leg_rules[27] = {RULES_A(0u), RULES_A(1u), RULES_A(2u)};
 #define WORDS_C(c, p, a, b)                                                                    \
     {SET(0u, c, p, a, b), RST(0u, c, p, a, b) | NPC_RST_FAULT_EVENT, SET(1u, c, p, a, b), \
      RST(1u, c, p, a, b) | NPC_RST_FAULT_EVENT}
-#define END(c, p, a, b) (uint8_t)((c) == NPC_AT_PER ? V0(p, a) : V1(p, a, b))
-/* one state: always the first only; prev -> v1 no P<->N step: may drop v0; else keeps it */
-#define KIND(p, a, b) (uint8_t)(V0(p, a) == V1(p, a, b) ? 0u : (PN(p, V1(p, a, b)) ? 16u : 8u))
-#define WORDS(p, a, b)                                                                                          \
+/* a leg with one state (kind 0) leaves its timers holding that state's words: NPC_LEG_HELD on its end */
+#define ONE_STATE(p, a, b) (V0(p, a) == V1(p, a, b))
+#define END(c, p, a, b) \
+    (uint8_t)(((c) == NPC_AT_PER ? V0(p, a) : V1(p, a, b)) | (ONE_STATE(p, a, b) ? NPC_LEG_HELD : 0u))
+/* one state: always the first only; prev -> v1 no P<->N step: may drop v0; else keeps it;
+ * h: the timers hold prev's one-state words, and the leg stays in prev: nothing to write */
+#define KIND(h, p, a, b) \
+    (uint8_t)((h) && (a) == (p) && (b) == (p) ? 24u : (ONE_STATE(p, a, b) ? 0u : (PN(p, V1(p, a, b)) ? 16u : 8u)))
+#define WORDS(h, p, a, b)                                                                                       \
     {{WORDS_C(NPC_AT_ZERO, p, a, b), WORDS_C(NPC_AT_T, p, a, b), WORDS_C(NPC_AT_PER, p, a, b)},                 \
      {END(NPC_AT_ZERO, p, a, b), END(NPC_AT_T, p, a, b), END(NPC_AT_PER, p, a, b)},                             \
-     KIND(p, a, b),                                                                                             \
+     KIND(h, p, a, b),                                                                                          \
      (uint8_t)((PN(p, a) ? 1u : 0u) + (PN(V0(p, a), b) ? 1u : 0u)),                                            \
+     (uint8_t)(ONE_STATE(p, a, b) ? 0u : 1u),                                                                   \
      {0u}}
-#define WORDS_AT(p, a, b) [16u * (p) + 4u * (a) + (b)] = WORDS(p, a, b)
-#define WORDS_B(p, a) WORDS_AT(p, a, 0u), WORDS_AT(p, a, 1u), WORDS_AT(p, a, 2u)
-#define WORDS_A(p) WORDS_B(p, 0u), WORDS_B(p, 1u), WORDS_B(p, 2u)
+#define WORDS_AT(h, p, a, b) [16u * ((p) | ((h) ? NPC_LEG_HELD : 0u)) + 4u * (a) + (b)] = WORDS(h, p, a, b)
+#define WORDS_B(h, p, a) WORDS_AT(h, p, a, 0u), WORDS_AT(h, p, a, 1u), WORDS_AT(h, p, a, 2u)
+#define WORDS_A(h, p) WORDS_B(h, p, 0u), WORDS_B(h, p, 1u), WORDS_B(h, p, 2u)
 
 _Static_assert(sizeof(npc_leg_words) == 64u, "one shift per index");
-const npc_leg_words npc_leg_words_table[48] = {WORDS_A(0u), WORDS_A(1u), WORDS_A(2u)};
+const npc_leg_words npc_leg_words_table[NPC_LEG_WORDS_ENTRIES] = {
+    WORDS_A(0, 0u), WORDS_A(0, 1u), WORDS_A(0, 2u), WORDS_A(1, 0u), WORDS_A(1, 1u), WORDS_A(1, 2u)};
 
 bool npc_pair_level(unsigned pair, uint8_t leg) { return LVL(pair, leg); }
 

@@ -207,18 +207,41 @@ static inline void npc_plan_leg_at(const npc_timing *tm, const npc_instants *in,
 typedef struct {
     /** per enum npc_instant_class: SETx1R and RSTx1R (with NPC_RST_FAULT_EVENT) of pair 0, then of pair 1 */
     uint32_t reg[3][4];
-    uint8_t end[3];     /**< leg state at the end of the period, per enum npc_instant_class */
-    uint8_t kind_shift; /**< where its class is in npc_period_classes' word: 0 one state, 8 may drop v0, 16 keeps v0 */
+    uint8_t end[3];     /**< leg state at the end of the period, per enum npc_instant_class, with
+                             NPC_LEG_HELD when the words are that state's one-state words */
+    uint8_t kind_shift; /**< where its class is in npc_period_classes' word: 0 one state, 8 may drop v0,
+                             16 keeps v0, 24 the timers already hold these words (NPC_HELD) */
     uint8_t fixups;     /**< P<->N steps replaced by O (0..2) */
-    uint8_t pad[11];    /**< 64 bytes: the index is one shift */
+    uint8_t timed;      /**< 1: two states (kind_shift 8 or 16), its class depends on the period's instants */
+    uint8_t pad[10];    /**< 64 bytes: the index is one shift */
 } npc_leg_words;
 
 /**
- * Words for every (prev, v0, v1), index 16 prev + 4 v0 + v1 (each 0..NPC_P):
- * the index is two ORs of shifted states (issue 11; two fewer instructions
- * per leg than 9 prev + 3 v0 + v1), the 21 indices with a 3 are never used.
+ * A flag on a leg's recorded state (the actuation's prev): the leg's timers
+ * hold the one-state words of that state (written when the leg last had one
+ * state for a whole period). A period asking for that state again, alone,
+ * writes nothing: the preloaded registers hold what it would write (RM0440
+ * HRTIM preload; issue 11: about three legs in five in the bench's runs).
+ * The words table has a row for each flagged state too; npc_leg_words.end
+ * sets the flag after a one-state period. The state is (prev & NPC_LEG_STATE).
  */
-extern const npc_leg_words npc_leg_words_table[48];
+#define NPC_LEG_HELD 4u
+#define NPC_LEG_STATE 3u
+
+/** The instant class of a leg whose timers hold its words already: nothing to write. */
+#define NPC_HELD 3u
+
+/** Entries of npc_leg_words_table: prev up to NPC_P | NPC_LEG_HELD. */
+#define NPC_LEG_WORDS_ENTRIES (16u * (NPC_P | NPC_LEG_HELD) + 4u * NPC_P + NPC_P + 1u)
+
+/**
+ * Words for every (prev, v0, v1), index 16 prev + 4 v0 + v1 (v0, v1 0..NPC_P;
+ * prev 0..NPC_P, optionally with NPC_LEG_HELD): the index is two ORs of
+ * shifted states (issue 11; two fewer instructions per leg than 9 prev + 3 v0
+ * + v1), the indices with a 3 are never used. A flagged prev's row equals the
+ * plain one, but for (prev, prev, prev), whose class is always NPC_HELD.
+ */
+extern const npc_leg_words npc_leg_words_table[NPC_LEG_WORDS_ENTRIES];
 
 /** @return the instant class of instant @p t (counts, 0..per) of a period of @p per counts. Context: ANY (pure). */
 static inline uint32_t npc_class_at(uint32_t per, uint32_t t)
@@ -229,16 +252,26 @@ static inline uint32_t npc_class_at(uint32_t per, uint32_t t)
 /**
  * The period's instant classes of the three kinds of leg in one word (byte 0:
  * a leg with one state, always NPC_AT_PER; byte 1: a leg that may drop v0;
- * byte 2: a leg that keeps v0), indexed by npc_leg_words.kind_shift. A leg
+ * byte 2: a leg that keeps v0; byte 3: a leg whose timers hold its words,
+ * NPC_HELD), indexed by npc_leg_words.kind_shift. A leg
  * whose class is NPC_AT_T changes at @p in->keep: the drop instant is either
  * 0 or the keep instant (npc_instants_of). Context: ANY (pure).
  */
 static inline uint32_t npc_period_classes(const npc_timing *tm, const npc_instants *in)
 {
-    return (uint32_t)NPC_AT_PER | (npc_class_at(tm->per, in->drop) << 8) | (npc_class_at(tm->per, in->keep) << 16);
+    return (uint32_t)NPC_AT_PER | (npc_class_at(tm->per, in->drop) << 8) | (npc_class_at(tm->per, in->keep) << 16) |
+           ((uint32_t)NPC_HELD << 24);
 }
 
-/** @return the words of leg states @p prev, @p v0, @p v1 (each <= NPC_P, unchecked). Context: ANY (pure). */
+/**
+ * The instant classes of a period none of whose legs has two states (no
+ * npc_leg_words.timed): every such leg's class is NPC_AT_PER or NPC_HELD
+ * whatever the instants, so the actuation need not work them out (issue 11:
+ * three periods in four apply one vector for the whole period).
+ */
+#define NPC_UNTIMED_CLASSES ((uint32_t)NPC_AT_PER | ((uint32_t)NPC_HELD << 24))
+
+/** @return the words of leg states @p prev (<= NPC_P, optionally | NPC_LEG_HELD), @p v0, @p v1 (each <= NPC_P, unchecked). Context: ANY (pure). */
 static inline const npc_leg_words *npc_leg_words_of(uint8_t prev, uint8_t v0, uint8_t v1)
 {
     return &npc_leg_words_table[((uint32_t)prev << 4) | ((uint32_t)v0 << 2) | v1];

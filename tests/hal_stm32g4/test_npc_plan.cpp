@@ -208,9 +208,68 @@ TEST(NpcPlan, RegisterWordsEqualThePlanForEveryTripleAndInstant)
                         if (c == NPC_AT_T) {
                             ASSERT_EQ(in.keep, p.t) << m;
                         }
-                        ASSERT_EQ(w->end[c], p.end) << m;
+                        ASSERT_EQ(w->end[c] & NPC_LEG_STATE, p.end) << m;
+                        // the held flag exactly after a period of one state
+                        ASSERT_EQ((w->end[c] & NPC_LEG_HELD) != 0u, p.v0 == p.v1) << m;
                         ASSERT_EQ(w->fixups, p.fixups) << m;
+                        // a leg without two states has the same class whatever the instants
+                        ASSERT_EQ(w->timed != 0u, p.v0 != p.v1) << m;
+                        if (w->timed == 0u) {
+                            ASSERT_EQ(npc_leg_class(w, NPC_UNTIMED_CLASSES), c) << m;
+                        }
+                        // the same row with the held flag on prev: the same words, but for the leg that
+                        // stays in its held state alone, which writes nothing
+                        const npc_leg_words *h = npc_leg_words_of(uint8_t(prev | NPC_LEG_HELD), v0, v1);
+                        const uint32_t hc = npc_leg_class(h, classes);
+                        if (v0 == prev && v1 == prev) {
+                            ASSERT_EQ(hc, NPC_HELD) << m;
+                            ASSERT_EQ(h->timed, 0u) << m;
+                            ASSERT_EQ(npc_leg_class(h, NPC_UNTIMED_CLASSES), uint32_t(NPC_HELD)) << m;
+                            continue;
+                        }
+                        ASSERT_EQ(hc, c) << m;
+                        ASSERT_EQ(h->timed, w->timed) << m;
+                        for (unsigned k = 0; k < 4u; k++)
+                            ASSERT_EQ(h->reg[hc][k], reg[k]) << m << " word " << k;
+                        ASSERT_EQ(h->end[hc], w->end[c]) << m;
+                        ASSERT_EQ(h->fixups, w->fixups) << m;
                     }
+        }
+}
+
+// Writing nothing for a leg that stays in its held state is right: after any period of one state s
+// (whatever the leg came from and whatever the instant), its timers hold exactly the words that
+// (s, s, s) would write, and that period's end carries the held flag.
+TEST(NpcPlan, HeldWordsAreTheOneStateWordsOfTheHeldState)
+{
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}};
+    for (const npc_timing &tm : tms)
+        for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0++) {
+            npc_instants in;
+            npc_instants_of(&tm, t0, &in);
+            const uint32_t classes = npc_period_classes(&tm, &in);
+            for (uint8_t prev = 0; prev <= (NPC_P | NPC_LEG_HELD); prev++) {
+                if ((prev & NPC_LEG_STATE) > NPC_P)
+                    continue;
+                for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+                    for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                        const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
+                        const uint32_t c = npc_leg_class(w, classes);
+                        if (c == NPC_HELD || (w->end[c] & NPC_LEG_HELD) == 0u)
+                            continue;
+                        const uint8_t st = uint8_t(w->end[c] & NPC_LEG_STATE);
+                        npc_leg_plan ref;
+                        npc_plan_leg(&tm, st, st, st, t0, &ref);
+                        const std::string m = "per " + std::to_string(tm.per) + " t0 " + std::to_string(t0) +
+                                              " prev " + std::to_string(prev) + " v0 " + std::to_string(v0) +
+                                              " v1 " + std::to_string(v1);
+                        for (unsigned k = 0; k < 2u; k++) {
+                            ASSERT_EQ(w->reg[c][2u * k], ref.set[k]) << m << " pair " << k;
+                            ASSERT_EQ(w->reg[c][2u * k + 1u], ref.rst[k] | (1u << 26)) << m << " pair " << k;
+                        }
+                        ASSERT_NE(c, uint32_t(NPC_AT_T)) << m; // and no CMP1 to hold
+                    }
+            }
         }
 }
 

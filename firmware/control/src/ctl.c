@@ -167,12 +167,13 @@ int ctl_cfg_check(const ctl_cfg *cfg)
     return CTL_CFG_OK;
 }
 
-static void act_zero(hal_actuation *a)
-{
-    dtc3l_legs(DTC3L_STATE_OOO, &a->vector[0]);
-    dtc3l_legs(DTC3L_STATE_OOO, &a->vector[1]);
-    a->duty0 = R(1.0);
-}
+/* The zero vector (OOO) in both halves for the whole period: a constant
+ * (issue 11: copied as three words instead of two table look-ups). */
+static const hal_actuation k_act_zero = {
+    .vector = {{.leg = {HAL_LEG_O, HAL_LEG_O, HAL_LEG_O}}, {.leg = {HAL_LEG_O, HAL_LEG_O, HAL_LEG_O}}},
+    .duty0 = R(1.0)};
+
+static void act_zero(hal_actuation *a) { *a = k_act_zero; }
 
 /* Gates off: the board then holds the zero vector, which is where the next
  * start continues from (no P<->N step is possible out of OOO). */
@@ -347,7 +348,7 @@ static void fill_telemetry(const ctl_state *s, const speed_out *so, ctl_out *out
 static void output_off(ctl_state *s, ctl_out *out)
 {
     gates_off(s);
-    out->act = s->last_act;
+    act_zero(&out->act); /* = s->last_act, from the constant */
     out->gate_enable = false;
     s->te_ref_Nm = R(0.0);
     fill_telemetry(s, NULL, out);

@@ -128,24 +128,31 @@ static inline void snapshot_derive(drive_snapshot *s, uint32_t which)
         s->vdc_V = s->vc1_V + s->vc2_V;
 }
 
-#define SNAP_SAMPLE_BYTES (6u * sizeof(float))
-#define SNAP_AT(f) (offsetof(drive_snapshot, f) - offsetof(drive_snapshot, ia_A))
-#define SAMPLE_AT(f) (offsetof(hal_sample, f) - offsetof(hal_sample, ia_A))
-_Static_assert(SNAP_AT(ib_A) == SAMPLE_AT(ib_A) && SNAP_AT(ic_A) == SAMPLE_AT(ic_A) &&
-                   SNAP_AT(vc1_V) == SAMPLE_AT(vc1_V) && SNAP_AT(vc2_V) == SAMPLE_AT(vc2_V) &&
-                   SNAP_AT(omega_meas_rad_s) == SAMPLE_AT(speed_meas_rad_s) &&
-                   SAMPLE_AT(speed_meas_rad_s) + sizeof(float) == SNAP_SAMPLE_BYTES,
-               "the snapshot's sample fields are hal_sample's first six floats, in its order");
+#define SNAP_AT(f) offsetof(drive_snapshot, f)
+#define SAMPLE_AT(f) (offsetof(drive_snapshot, in) + offsetof(ctl_in, sample) + offsetof(hal_sample, f))
+_Static_assert(SNAP_AT(ia_A) == SAMPLE_AT(ia_A) && SNAP_AT(ib_A) == SAMPLE_AT(ib_A) &&
+                   SNAP_AT(ic_A) == SAMPLE_AT(ic_A) && SNAP_AT(vc1_V) == SAMPLE_AT(vc1_V) &&
+                   SNAP_AT(vc2_V) == SAMPLE_AT(vc2_V) && SNAP_AT(omega_meas_rad_s) == SAMPLE_AT(speed_meas_rad_s),
+               "the snapshot's sample fields are its in.sample's first six floats");
+_Static_assert(offsetof(drive, out) == offsetof(drive, snap) + offsetof(drive_snapshot, out) &&
+                   offsetof(drive_snapshot, tel) == offsetof(drive_snapshot, out) + offsetof(ctl_out, tel) &&
+                   offsetof(drive_snapshot, out_act_) == offsetof(drive_snapshot, out) + offsetof(ctl_out, act) &&
+                   offsetof(drive_snapshot, out_gate_enable_) ==
+                       offsetof(drive_snapshot, out) + offsetof(ctl_out, gate_enable),
+               "d->out is d->snap.out, and snap.tel its telemetry");
 
-static void publish_snapshot(drive *d, const ctl_in *in, bool quick_stop_done)
+/* The snapshot is being written (odd): from before the sample is read into
+ * it and ctl_step writes its telemetry in place (d->out is d->snap.out). */
+static inline void snapshot_open(drive_snapshot *s)
+{
+    s->seq++;
+    publish_fence();
+}
+
+/* The rest of the snapshot, then even: consistent (the telemetry is in place). */
+static void publish_snapshot(drive *d, bool quick_stop_done)
 {
     drive_snapshot *s = &d->snap;
-    s->seq++; /* odd: being written */
-    publish_fence();
-    s->tel = d->out.tel;
-    /* ia..speed as one block (issue 11: a load and a store multiple instead
-     * of six of each); the two layouts are the same, checked above */
-    memcpy(&s->ia_A, &in->sample.ia_A, SNAP_SAMPLE_BYTES);
     s->tick = d->tick;
     s->quick_stop_done = quick_stop_done;
     uint32_t which = d->snap_derived;
@@ -167,19 +174,22 @@ void drive_isr(void *ctx)
         (void)ctl_clear_faults(&d->ctl);
     }
 
-    /* Every member is set below (no memset of the struct in the tick); a
-     * refused read leaves a zero sample, which the snapshot then shows. */
-    ctl_in in;
-    in.sample_fresh = (hal_sample_read(&in.sample) == HAL_OK);
-    if (!in.sample_fresh)
-        in.sample = (hal_sample){.ia_A = R(0.0)};
-    in.run = d->run;
-    in.speed_ref_rad_s = d->speed_ref_rad_s;
-    bool qs_done = quick_stop_step(d, cfg, &in);
-    in.fault_input = hal_fault_input_active();
-    in.overrun = d->tick_missed;
+    /* The inputs are read in place into the snapshot (d->snap.in), inside
+     * its sequence window. Every member is set below (no memset of the
+     * struct in the tick); a refused read leaves a zero sample, which the
+     * snapshot then shows. */
+    snapshot_open(&d->snap);
+    ctl_in *in = &d->snap.in;
+    in->sample_fresh = (hal_sample_read(&in->sample) == HAL_OK);
+    if (!in->sample_fresh)
+        in->sample = (hal_sample){.ia_A = R(0.0)};
+    in->run = d->run;
+    in->speed_ref_rad_s = d->speed_ref_rad_s;
+    bool qs_done = quick_stop_step(d, cfg, in);
+    in->fault_input = hal_fault_input_active();
+    in->overrun = d->tick_missed;
 
-    ctl_step(&d->ctl, cfg, &in, &d->out);
+    ctl_step(&d->ctl, cfg, in, &d->out);
 
     /* Protection acts in the same tick: gates off before anything else. */
     if (!d->out.gate_enable) {
@@ -191,8 +201,8 @@ void drive_isr(void *ctx)
     (void)hal_actuate(&d->out.act);
 
     d->tick++;
-    publish_snapshot(d, &in, qs_done);
-    scope_sample(&d->scope, &d->snap, in.speed_ref_rad_s, d->out.tel.faults, d->tick);
+    publish_snapshot(d, qs_done);
+    scope_sample(&d->scope, &d->snap, in->speed_ref_rad_s, d->out.tel.faults, d->tick);
 
     /* Judged by the board's timer, so it latches CTL_FAULT_OVERRUN next tick. */
     d->tick_missed = hal_tick_missed();

@@ -51,7 +51,7 @@ void scope_arm(scope *s, const scope_src *src, uint8_t n_src)
     s->pretrigger = s->cfg.pretrigger < SCOPE_SAMPLES ? s->cfg.pretrigger : (uint16_t)(SCOPE_SAMPLES - 1u);
     s->decimation = s->cfg.decimation >= 1u ? s->cfg.decimation : 1u;
     s->pos = 0u;
-    s->filled = 0u;
+    s->pre_left = s->pretrigger;
     s->remaining = 0u;
     s->dec_left = s->decimation;
     s->start = 0u;
@@ -73,97 +73,27 @@ float scope_value(const scope *s, uint32_t ch, uint32_t j)
     return s->buf[(s->start + j) % SCOPE_SAMPLES][ch];
 }
 
-static inline float read_src(const uint8_t *base, scope_src src)
+void scope_publish_done(scope *s)
 {
+    publish_fence(); /* the capture's stores before the state that publishes them */
+    s->state = SCOPE_DONE;
+}
+
+float scope_read_src(const void *base, scope_src src)
+{
+    const uint8_t *b = (const uint8_t *)base;
     switch (src.kind) {
     case SCOPE_SRC_U32: {
         uint32_t u;
-        memcpy(&u, base + src.offset, sizeof u);
+        memcpy(&u, b + src.offset, sizeof u);
         return (float)u;
     }
     case SCOPE_SRC_U8:
-        return (float)base[src.offset];
+        return (float)b[src.offset];
     default: {
         float f;
-        memcpy(&f, base + src.offset, sizeof f);
+        memcpy(&f, b + src.offset, sizeof f);
         return f;
     }
     }
-}
-
-void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t faults, uint32_t tick)
-{
-    /* Trigger events are watched every tick, whatever the state, so that the
-     * first tick after arming compares with a valid previous value: the
-     * previous values are kept every tick, the edges worked out only where a
-     * trigger can be taken. */
-    real_t last_ref_rad_s = s->last_ref_rad_s;
-    uint32_t last_faults = s->last_faults;
-    bool primed = s->primed;
-    s->last_ref_rad_s = ref_cmd_rad_s;
-    s->last_faults = faults;
-    s->primed = true;
-
-    uint8_t st = s->state;
-    if ((uint8_t)(st - (uint8_t)SCOPE_ARMED) > (uint8_t)(SCOPE_TRIGGERED - SCOPE_ARMED))
-        return; /* neither ARMED nor TRIGGERED */
-    if (st == SCOPE_ARMED && s->filled >= s->pretrigger) {
-        bool manual = s->trig_req;
-        if (manual)
-            s->trig_req = false;
-        uint8_t trigger = s->trigger;
-        if (manual || (primed && ((trigger == SCOPE_TRIG_REF && ref_cmd_rad_s != last_ref_rad_s) ||
-                                  (trigger == SCOPE_TRIG_FAULT && faults != 0u && last_faults == 0u))))
-            s->pending = true;
-    }
-    /* a count down (issue 11: no compare with the decimation while it runs) */
-    uint16_t dec_left = s->dec_left;
-    if (dec_left > 1u) {
-        s->dec_left = (uint16_t)(dec_left - 1u);
-        return;
-    }
-    s->dec_left = s->decimation;
-
-    const uint8_t *b = (const uint8_t *)base;
-    uint16_t pos = s->pos;
-    if (s->all_f32) {
-        /* The usual case: the values as they are, every channel (scope_arm
-         * points the unused ones at the base's first word; the reader never
-         * reads their columns), no loop and no conversion to choose. */
-        float f0, f1, f2, f3;
-        memcpy(&f0, b + s->src[0].offset, sizeof f0);
-        memcpy(&f1, b + s->src[1].offset, sizeof f1);
-        memcpy(&f2, b + s->src[2].offset, sizeof f2);
-        memcpy(&f3, b + s->src[3].offset, sizeof f3);
-        /* one sample's channels side by side: one address for the four stores */
-        float *row = s->buf[pos];
-        row[0] = f0;
-        row[1] = f1;
-        row[2] = f2;
-        row[3] = f3;
-    } else {
-        uint32_t n_ch = s->n_ch; /* read once: the stores below are float stores, which cannot change it */
-        for (uint32_t ch = 0u; ch < n_ch; ch++) /* at most SCOPE_CHANNELS stores */
-            s->buf[pos][ch] = read_src(b, s->src[ch]);
-    }
-    s->pos = (uint16_t)((pos + 1u) % SCOPE_SAMPLES);
-    if (s->filled < SCOPE_SAMPLES)
-        s->filled++;
-
-    if (st == SCOPE_ARMED) {
-        if (!s->pending)
-            return;
-        s->pending = false;
-        s->trigger_tick = tick;
-        s->start = (uint16_t)((pos + SCOPE_SAMPLES - s->pretrigger) % SCOPE_SAMPLES);
-        s->remaining = (uint16_t)(SCOPE_SAMPLES - 1u - s->pretrigger);
-        if (s->remaining > 0u) {
-            s->state = SCOPE_TRIGGERED;
-            return;
-        }
-    } else if (--s->remaining > 0u) {
-        return;
-    }
-    publish_fence();
-    s->state = SCOPE_DONE;
 }

@@ -58,11 +58,29 @@ typedef struct {
  */
 typedef struct {
     volatile uint32_t seq;
-    ctl_telemetry tel;
-    /* the sample's six floats in hal_sample's order (publish_snapshot copies them as one block) */
-    float ia_A, ib_A, ic_A;   /**< measured currents, A */
-    float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
-    float omega_meas_rad_s;   /**< board speed sensor (diagnostics), rad/s */
+    /* The control core's outputs of the tick, written by ctl_step in place
+     * (issue 11: the telemetry is filled once, not filled and then copied);
+     * tel is out.tel under its own name. */
+    union {
+        ctl_out out;
+        struct {
+            hal_actuation out_act_;  /* out.act */
+            bool out_gate_enable_;   /* out.gate_enable */
+            ctl_telemetry tel;       /**< the control core's telemetry (out.tel) */
+        };
+    };
+    /* The control core's inputs of the tick, set in place (issue 11: the
+     * sample is read once, straight into the snapshot, not read and then
+     * copied); the six fields below are in.sample's first six under their
+     * snapshot names. */
+    union {
+        ctl_in in;
+        struct {
+            float ia_A, ib_A, ic_A;   /**< measured currents, A */
+            float vc1_V, vc2_V;       /**< measured capacitor voltages, V */
+            float omega_meas_rad_s;   /**< board speed sensor (diagnostics), rad/s */
+        };
+    };
     uint32_t tick;            /**< ISR tick counter */
     float speed_err_rad_s;    /**< tel.speed_ref_rad_s - tel.omega_est_rad_s (the controllers' e_x), rad/s */
     float vdc_diff_V;         /**< vc1_V - vc2_V (neutral-point deviation), V */
@@ -91,7 +109,6 @@ typedef struct drive {
     uint32_t period_cycles[2];      /**< cfg[i].period_s in HAL cycles, derived by drive_cfg_commit
                                          (so the ISR's timing statistic needs no 64-bit division) */
     ctl_state ctl;                  /**< ISR-owned control state */
-    ctl_out out;                    /**< outputs of the last tick */
     volatile float speed_ref_rad_s; /**< command from background (scenario, CAN), rad/s */
     volatile bool run;              /**< run command from background */
     volatile bool clear_faults_req; /**< background asks the ISR to clear faults */
@@ -103,7 +120,14 @@ typedef struct drive {
     uint32_t drive_faults;          /**< DRIVE_FAULT_* bits latched by the background */
     uint32_t tick;                  /**< ISR tick counter */
     bool tick_missed;               /**< the last tick ended after the next one was due */
-    drive_snapshot snap;            /**< published each tick */
+    union {
+        drive_snapshot snap;        /**< published each tick */
+        struct {
+            uint32_t snap_seq_;     /* snap.seq */
+            ctl_out out;            /**< outputs of the last tick: snap.out under its own name (ctl_step
+                                         writes them in place, inside the snapshot's sequence window) */
+        };
+    };
     drive_timing timing;
     scope scope;                    /**< triggered capture, sampled in drive_isr */
     co_dev co;                      /**< CANopen device, run by drive_background (drive_co.c) */

@@ -21,6 +21,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "dtc/num.h"
 
@@ -82,7 +83,7 @@ typedef struct {
 
     /* interrupt-owned */
     uint16_t pos;                       /**< next ring index */
-    uint16_t filled;                    /**< samples stored since arming (saturates) */
+    uint16_t pre_left;                  /**< samples still to store (ARMED) before a trigger may be taken */
     uint16_t remaining;                 /**< samples still to take after the trigger */
     uint16_t dec_left;                  /**< ticks until the next stored sample (1: this one) */
     uint16_t start;                     /**< ring index of the oldest sample (DONE) */
@@ -119,15 +120,101 @@ uint8_t scope_get_state(const scope *s);
  */
 float scope_value(const scope *s, uint32_t ch, uint32_t j);
 
+/** Publish the record: DONE after every store of the capture (once per capture). Context: ISR. */
+void scope_publish_done(scope *s);
+
+/** One source's value as a float (the slow path of scope_sample for integer channels). Context: ISR. */
+float scope_read_src(const void *base, scope_src src);
+
 /**
  * Interrupt part: trigger detection and one store per channel every
  * decimation ticks. Constant time. @p base is the telemetry snapshot the
  * source offsets refer to (at least 4 bytes: with float channels only, the
  * unused channels read its first word), @p ref_cmd_rad_s the commanded (not ramped) speed
  * reference, @p faults the latched fault bits, @p tick the tick counter.
- * Context: ISR.
+ * Inline (issue 11: the interrupt's one call site pays no call, no argument
+ * set-up and no register saves). Context: ISR.
  */
-void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t faults, uint32_t tick);
+static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t faults, uint32_t tick)
+{
+    /* Trigger events are watched every tick, whatever the state, so that the
+     * first tick after arming compares with a valid previous value: the
+     * previous values are kept every tick, the edges worked out only where a
+     * trigger can be taken. */
+    real_t last_ref_rad_s = s->last_ref_rad_s;
+    uint32_t last_faults = s->last_faults;
+    bool primed = s->primed;
+    s->last_ref_rad_s = ref_cmd_rad_s;
+    s->last_faults = faults;
+    s->primed = true;
+
+    uint8_t st = s->state;
+    if (st == (uint8_t)SCOPE_ARMED) {
+        if (s->pre_left == 0u) { /* the pretrigger part is full */
+            bool manual = s->trig_req;
+            if (manual)
+                s->trig_req = false;
+            uint8_t trigger = s->trigger;
+            if (manual || (primed && ((trigger == SCOPE_TRIG_REF && ref_cmd_rad_s != last_ref_rad_s) ||
+                                      (trigger == SCOPE_TRIG_FAULT && faults != 0u && last_faults == 0u))))
+                s->pending = true;
+        }
+    } else if (st != (uint8_t)SCOPE_TRIGGERED) {
+        return;
+    }
+    /* a count down (issue 11: no compare with the decimation while it runs) */
+    uint16_t dec_left = s->dec_left;
+    if (dec_left > 1u) {
+        s->dec_left = (uint16_t)(dec_left - 1u);
+        return;
+    }
+    s->dec_left = s->decimation;
+
+    uint16_t pos = s->pos;
+    float *row = s->buf[pos]; /* one sample's channels side by side: one address for the stores */
+    if (s->all_f32) {
+        /* The usual case: the values as they are, every channel (scope_arm
+         * points the unused ones at the base's first word; the reader never
+         * reads their columns), no loop and no conversion to choose. Copied
+         * as words: a float load and store would do the same. */
+        const uint8_t *b = (const uint8_t *)base;
+        uint32_t w0, w1, w2, w3;
+        memcpy(&w0, b + s->src[0].offset, sizeof w0);
+        memcpy(&w1, b + s->src[1].offset, sizeof w1);
+        memcpy(&w2, b + s->src[2].offset, sizeof w2);
+        memcpy(&w3, b + s->src[3].offset, sizeof w3);
+        memcpy(&row[0], &w0, sizeof w0);
+        memcpy(&row[1], &w1, sizeof w1);
+        memcpy(&row[2], &w2, sizeof w2);
+        memcpy(&row[3], &w3, sizeof w3);
+    } else {
+        uint32_t n_ch = s->n_ch; /* read once: the stores below are float stores, which cannot change it */
+        for (uint32_t ch = 0u; ch < n_ch; ch++) /* at most SCOPE_CHANNELS stores */
+            row[ch] = scope_read_src(base, s->src[ch]);
+    }
+    s->pos = (uint16_t)((pos + 1u) % SCOPE_SAMPLES);
+
+    if (st == (uint8_t)SCOPE_ARMED) {
+        uint16_t pre_left = s->pre_left;
+        if (pre_left != 0u) { /* (no trigger can be pending yet) */
+            s->pre_left = (uint16_t)(pre_left - 1u);
+            return;
+        }
+        if (!s->pending)
+            return;
+        s->pending = false;
+        s->trigger_tick = tick;
+        s->start = (uint16_t)((pos + SCOPE_SAMPLES - s->pretrigger) % SCOPE_SAMPLES);
+        s->remaining = (uint16_t)(SCOPE_SAMPLES - 1u - s->pretrigger);
+        if (s->remaining > 0u) {
+            s->state = SCOPE_TRIGGERED;
+            return;
+        }
+    } else if (--s->remaining > 0u) {
+        return;
+    }
+    scope_publish_done(s);
+}
 
 #ifdef __cplusplus
 }
