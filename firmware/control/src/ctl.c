@@ -290,7 +290,7 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
     /* the slow tasks' slot advances here, once per tick that judges a sample (ctl.h) */
     s->slow_slot = (uint8_t)((s->slow_slot + 1u) & (CTL_SLOW_SLOTS - 1u));
     f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s,
-                     s->slow_slot == CTL_SLOT_PLAUS);
+                     (s->slow_slot & (CTL_MONITOR_SLOTS - 1u)) == CTL_SLOT_PLAUS);
     return f;
 }
 
@@ -567,15 +567,16 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
 }
 
 /* The speed loop runs every CTL_RBFN_TICKS-th tick, whatever the controller:
- * its command in the slots the monitors leave free, the RBFN's learning of that
- * command in the next tick (ctl.h); between its steps the torque command and the
- * speed controller's outputs hold. */
+ * its command in a slot the monitors leave free, the RBFN's learning of that
+ * command in a later slot of its own (ctl.h); between its steps the torque
+ * command and the speed controller's outputs hold. */
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
     real_t T = cfg->speed_T_s; /* the speed loop's step */
     bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
-    if ((s->slow_slot & (CTL_RBFN_TICKS - 1u)) != CTL_SLOT_RBFN) {
-        if (rbfn)
+    unsigned k = s->slow_slot & (CTL_RBFN_TICKS - 1u);
+    if (k != CTL_SLOT_RBFN) {
+        if (rbfn && k == CTL_SLOT_RBFN_LEARN)
             speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
         *so = s->speed_held;
         return;
@@ -766,7 +767,7 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     real_t v_V[2], is_A[2];
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
     observe(s, cfg, &in->sample, np_dev_pred_V, v_V, is_A);
-    if (s->slow_slot == CTL_SLOT_GUARD) { /* its window closes: the check of the ticks before this one */
+    if ((s->slow_slot & (CTL_MONITOR_SLOTS - 1u)) == CTL_SLOT_GUARD) { /* its window closes: the check of the ticks before this one */
         s->guard_trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
                                         s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
         /* in this branch, so that the compiler sees the sums just reset to -0.0: it
