@@ -196,6 +196,10 @@ typedef struct {
 #define CTL_RBFN_TICKS 4u
 #define CTL_SLOT_RBFN 1u
 #define CTL_SLOT_RBFN_LEARN 3u
+/** The stall windows (ctl.c stall_step) step once per speed-loop step, in the
+ *  slots that are this modulo CTL_RBFN_TICKS (2 and 6, with the plausibility
+ *  checks: the lightest slots), on the command held since slot 1 or 5. */
+#define CTL_SLOT_STALL 2u
 /** The supervision of the operating point (ctl.c supervise_flux(): the flux
  *  target with field weakening and its trim, the lowered flux while
  *  regenerating near zero stator frequency, the torque limit) steps once per
@@ -214,7 +218,8 @@ typedef struct {
 #ifndef __cplusplus
 _Static_assert(CTL_GUARD_WINDOW_MAX == CTL_MONITOR_SLOTS && PLAUS_CHECK_TICKS == CTL_MONITOR_SLOTS &&
                    CTL_SLOW_SLOTS % CTL_MONITOR_SLOTS == 0u && CTL_SLOW_SLOTS % CTL_RBFN_TICKS == 0u &&
-                   CTL_SLOT_RBFN < CTL_RBFN_TICKS && CTL_SLOT_RBFN_LEARN < CTL_RBFN_TICKS,
+                   CTL_SLOT_RBFN < CTL_RBFN_TICKS && CTL_SLOT_RBFN_LEARN < CTL_RBFN_TICKS && CTL_SLOT_STALL < CTL_RBFN_TICKS &&
+                   CTL_SLOT_STALL != CTL_SLOT_RBFN && CTL_SLOT_STALL != CTL_SLOT_RBFN_LEARN,
                "the slow tasks' own rates are the schedule's");
 #endif
 
