@@ -126,7 +126,7 @@ typedef struct {
     real_t slip_rad_s_per_Nm; /**< electrical slip per N m at the rated flux, (rad/s)/(N m) */
     real_t regen_k2_min;      /**< regen_flux_min_frac^2 */
     real_t psi_ramp_step_Wb;  /**< psi_ramp_Wb_s x period_s: the flux reference's slew per tick, Wb */
-    real_t speed_T_s;         /**< CTL_RBFN_TICKS x period_s: the speed loop's step, s (1.6 ms) */
+    real_t speed_T_s;         /**< CTL_RBFN_TICKS x period_s: the speed loop's step, s (0.8 ms) */
     real_t speed_ramp_step_rad_s; /**< speed.ramp_rad_s2 x speed_T_s: the speed reference's slew per
                                    speed-loop step, rad/s */
     real_t inv_speed_T_per_s; /**< inv_period_per_s / CTL_RBFN_TICKS (exact: a power of 2), 1/s */
@@ -171,11 +171,12 @@ typedef struct {
 /**
  * The slow tasks take turns (issue 11): tick k has slot k mod CTL_SLOW_SLOTS
  * (an 8-tick cycle, 1.6 ms at 200 us), and each slow task does its heavy part
- * in its own slots only, so no tick carries two of them:
+ * in its own slots only, so no tick carries two heavy ones (the RBFN's learning,
+ * the supervision and the regulation are lighter than the command or a monitor):
  *
- *   slot   0      1        2       3          4      5          6       7
- *          guard  speed    plaus   supervise  guard  RBFN learn plaus   FSW
- *                 command                            + level
+ *   slot   0      1        2        3           4      5        6        7
+ *          guard  speed    plaus    RBFN learn  guard  speed    plaus    RBFN learn
+ *                 command  + stall  + supervise        command  + stall  + FSW + level
  *
  * The loss-of-control monitor checks every CTL_GUARD_WINDOW_MAX (4) ticks,
  * in the slots that are CTL_SLOT_GUARD modulo 4 (ctl_guard.h; it sums its
@@ -187,11 +188,12 @@ typedef struct {
 #define CTL_MONITOR_SLOTS 4u /**< the monitors' cycle: CTL_GUARD_WINDOW_MAX = PLAUS_CHECK_TICKS */
 #define CTL_SLOT_GUARD 0u    /**< modulo CTL_MONITOR_SLOTS: slots 0 and 4 */
 #define CTL_SLOT_PLAUS 2u    /**< modulo CTL_MONITOR_SLOTS: slots 2 and 6 */
-/** The speed loop steps every CTL_RBFN_TICKS ticks (1.6 ms, 625 Hz),
- *  whatever the controller: its command in slot CTL_SLOT_RBFN (never with a
- *  monitor), the RBFN's weight and bound updates of that command in
- *  CTL_SLOT_RBFN_LEARN (before the next command: the same updates wherever
- *  they sit in between; only the telemetry's |W| and zeta_bar wait for it).
+/** The speed loop steps every CTL_RBFN_TICKS ticks (800 us, 1.25 kHz),
+ *  whatever the controller: its command in the slots that are CTL_SLOT_RBFN
+ *  modulo it (1 and 5, never with a monitor), the RBFN's weight and bound
+ *  updates of that command in the slots that are CTL_SLOT_RBFN_LEARN modulo
+ *  it (3 and 7; before the next command: the same updates wherever they sit
+ *  in between; only the telemetry's |W| and zeta_bar wait for them).
  *  docs/speed_control.md, "Rate". */
 #define CTL_RBFN_TICKS 4u
 #define CTL_SLOT_RBFN 1u
@@ -203,7 +205,8 @@ typedef struct {
 /** The supervision of the operating point (ctl.c supervise_flux(): the flux
  *  target with field weakening and its trim, the lowered flux while
  *  regenerating near zero stator frequency, the torque limit) steps once per
- *  slot cycle on what the ticks in between summed, in a slot of its own. The
+ *  slot cycle (every 8th tick) on what the ticks in between summed, in slot 3
+ *  (with the RBFN's learning: beside neither a monitor nor the command). The
  *  flux reference ramps to its target every tick. */
 #define CTL_SLOT_SUPERVISE 3u
 /** The switching-frequency regulation (ctl.c regulate_switching_frequency())
