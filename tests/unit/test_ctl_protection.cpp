@@ -310,8 +310,9 @@ TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
         ASSERT_EQ(c.s.run_state, CTL_MAGNETISING);
         int steps = 0;
         float psi_prev = c.s.psi_ref_ramped_Wb;
-        for (int k = 0; k < 12; ++k) {
-            const float w_e = 450.0f + 10.0f * (float)k; // a new speed each tick, rad/s electrical (below overspeed)
+        const int ticks = 3 * (int)CTL_SLOW_SLOTS; // three slot cycles
+        for (int k = 0; k < ticks; ++k) {
+            const float w_e = 450.0f + 5.0f * (float)k; // a new speed each tick, rad/s electrical (below overspeed)
             c.s.obs.omega_int_rad_s = w_e;
             c.s.obs.omega_e_rad_s = w_e;
             const float target_before = c.s.psi_target_Wb;

@@ -291,7 +291,7 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
     /* the slow tasks' slot advances here, once per tick that judges a sample (ctl.h) */
     s->slow_slot = (uint8_t)((s->slow_slot + 1u) & (CTL_SLOW_SLOTS - 1u));
     f |= plaus_check(&s->plaus, x, active, s->run_state == CTL_STOPPED, omega_e, cfg->period_s,
-                     s->slow_slot == CTL_SLOT_PLAUS);
+                     (s->slow_slot & (CTL_MONITOR_SLOTS - 1u)) == CTL_SLOT_PLAUS);
     return f;
 }
 
@@ -567,16 +567,50 @@ static void brake_stall_step(ctl_state *s, const ctl_cfg *cfg, bool at_limit, bo
     s->t_brake_limit_s = R(0.0); /* next window */
 }
 
+/* A command pinned at the limit while the speed stays away from its reference, and does
+ * not come nearer, means the loop cannot hold the speed it is asked for (overload,
+ * pull-out, or an estimate that no longer moves with the shaft). Counted in windows of
+ * STALL_WINDOW_S: a window whose error shrank (an acceleration or deceleration at the
+ * limit, however slow) does not count, nor does time at the limit on speed (full
+ * power); leaving the limit restarts the count. Off speed is judged on the filtered
+ * estimate (a noisy estimate hovering at the threshold restarted the old timer for
+ * ever: 100 rpm with the rated load generating ran away with no trip). One step per
+ * speed-loop step T, in its own slot (CTL_SLOT_STALL, not the command's: issue 11), on
+ * the command held since and the filtered estimate of this tick. */
+static void stall_step(ctl_state *s, const ctl_cfg *cfg, real_t T)
+{
+    bool at_limit = num_abs(s->te_ref_Nm) >= num_mul(R(0.98), s->te_limit_Nm);
+    real_t err = num_abs(s->speed_ref_ramped_rad_s - s->obs.omega_m_filt_rad_s);
+    bool off_speed = err > STALL_SPEED_ERR_RAD_S;
+    if (!at_limit) {
+        s->t_at_limit_s = R(0.0);
+        s->t_stall_win_s = R(0.0);
+    } else if (off_speed) {
+        if (s->t_stall_win_s == R(0.0))
+            s->err_win_start_rad_s = err;
+        s->t_stall_win_s += T;
+        if (s->t_stall_win_s >= STALL_WINDOW_S) {
+            if (!(err < s->err_win_start_rad_s))
+                s->t_at_limit_s += s->t_stall_win_s;
+            s->t_stall_win_s = R(0.0);
+        }
+    }
+    brake_stall_step(s, cfg, at_limit, off_speed, T);
+}
+
 /* The speed loop runs every CTL_RBFN_TICKS-th tick, whatever the controller:
- * its command in the slots the monitors leave free, the RBFN's learning of that
- * command in the next tick (ctl.h); between its steps the torque command and the
- * speed controller's outputs hold. */
+ * its command in a slot the monitors leave free, the RBFN's learning of that
+ * command and the stall windows each in a later slot of their own (ctl.h);
+ * between its steps the torque command and the speed controller's outputs hold. */
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
 {
     real_t T = cfg->speed_T_s; /* the speed loop's step */
     bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
-    if ((s->slow_slot & (CTL_RBFN_TICKS - 1u)) != CTL_SLOT_RBFN) {
-        if (rbfn)
+    unsigned k = s->slow_slot & (CTL_RBFN_TICKS - 1u);
+    if (k != CTL_SLOT_RBFN) {
+        if (k == CTL_SLOT_STALL)
+            stall_step(s, cfg, T);
+        else if (rbfn && k == CTL_SLOT_RBFN_LEARN)
             speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
         *so = s->speed_held;
         return;
@@ -597,31 +631,6 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
         speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
     s->speed_held = *so;
     s->te_ref_Nm = so->te_ref_Nm;
-    /* A command pinned at the limit while the speed stays away from its reference, and does
-     * not come nearer, means the loop cannot hold the speed it is asked for (overload,
-     * pull-out, or an estimate that no longer moves with the shaft). Counted in windows of
-     * STALL_WINDOW_S: a window whose error shrank (an acceleration or deceleration at the
-     * limit, however slow) does not count, nor does time at the limit on speed (full
-     * power); leaving the limit restarts the count. Off speed is judged on the filtered
-     * estimate (a noisy estimate hovering at the threshold restarted the old timer for
-     * ever: 100 rpm with the rated load generating ran away with no trip). */
-    bool at_limit = num_abs(s->te_ref_Nm) >= num_mul(R(0.98), s->te_limit_Nm);
-    real_t err = num_abs(si.omega_ref_rad_s - s->obs.omega_m_filt_rad_s);
-    bool off_speed = err > STALL_SPEED_ERR_RAD_S;
-    if (!at_limit) {
-        s->t_at_limit_s = R(0.0);
-        s->t_stall_win_s = R(0.0);
-    } else if (off_speed) {
-        if (s->t_stall_win_s == R(0.0))
-            s->err_win_start_rad_s = err;
-        s->t_stall_win_s += T;
-        if (s->t_stall_win_s >= STALL_WINDOW_S) {
-            if (!(err < s->err_win_start_rad_s))
-                s->t_at_limit_s += s->t_stall_win_s;
-            s->t_stall_win_s = R(0.0);
-        }
-    }
-    brake_stall_step(s, cfg, at_limit, off_speed, T);
 }
 
 /* Torque and flux control on the state predicted for t_{k+1}; returns the
@@ -769,7 +778,7 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     real_t v_V[2], is_A[2];
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
     observe(s, cfg, &in->sample, np_dev_pred_V, v_V, is_A);
-    if (s->slow_slot == CTL_SLOT_GUARD) { /* its window closes: the check of the ticks before this one */
+    if ((s->slow_slot & (CTL_MONITOR_SLOTS - 1u)) == CTL_SLOT_GUARD) { /* its window closes: the check of the ticks before this one */
         s->guard_trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
                                         s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
         /* in this branch, so that the compiler sees the sums just reset to -0.0: it

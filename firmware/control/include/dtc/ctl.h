@@ -126,7 +126,7 @@ typedef struct {
     real_t slip_rad_s_per_Nm; /**< electrical slip per N m at the rated flux, (rad/s)/(N m) */
     real_t regen_k2_min;      /**< regen_flux_min_frac^2 */
     real_t psi_ramp_step_Wb;  /**< psi_ramp_Wb_s x period_s: the flux reference's slew per tick, Wb */
-    real_t speed_T_s;         /**< CTL_RBFN_TICKS x period_s: the speed loop's step, s */
+    real_t speed_T_s;         /**< CTL_RBFN_TICKS x period_s: the speed loop's step, s (0.8 ms) */
     real_t speed_ramp_step_rad_s; /**< speed.ramp_rad_s2 x speed_T_s: the speed reference's slew per
                                    speed-loop step, rad/s */
     real_t inv_speed_T_per_s; /**< inv_period_per_s / CTL_RBFN_TICKS (exact: a power of 2), 1/s */
@@ -169,39 +169,60 @@ typedef struct {
 } ctl_out;
 
 /**
- * The slow tasks take turns (issue 11): tick k has slot k mod CTL_SLOW_SLOTS,
- * and each slow task does its heavy part in its own slot only, so no tick
- * carries two of them. The loss-of-control monitor checks in CTL_SLOT_GUARD
- * (ctl_guard.h; it sums its inputs every tick), the current plausibility
- * checks run in CTL_SLOT_PLAUS (plausibility.h).
+ * The slow tasks take turns (issue 11): tick k has slot k mod CTL_SLOW_SLOTS
+ * (an 8-tick cycle, 1.6 ms at 200 us), and each slow task does its heavy part
+ * in its own slots only, so no tick carries two heavy ones (the RBFN's learning,
+ * the supervision and the regulation are lighter than the command or a monitor):
+ *
+ *   slot   0      1        2        3           4      5        6        7
+ *          guard  speed    plaus    RBFN learn  guard  speed    plaus    RBFN learn
+ *                 command  + stall  + supervise        command  + stall  + FSW + level
+ *
+ * The loss-of-control monitor checks every CTL_GUARD_WINDOW_MAX (4) ticks,
+ * in the slots that are CTL_SLOT_GUARD modulo 4 (ctl_guard.h; it sums its
+ * inputs every tick), the current plausibility checks every PLAUS_CHECK_TICKS
+ * (4) ticks, in the slots that are CTL_SLOT_PLAUS modulo 4 (plausibility.h):
+ * their windows and latencies are those of a 4-tick cycle.
  */
-#define CTL_SLOW_SLOTS 4u
-#define CTL_SLOT_GUARD 0u
-#define CTL_SLOT_PLAUS 2u
-/** The speed loop steps every CTL_RBFN_TICKS ticks (a power of 2), whatever
- *  the controller: its command in the ticks whose slot is CTL_SLOT_RBFN modulo
- *  it (1 and 3, never with a monitor), the RBFN's weight and bound updates of
- *  that command in the next tick (with a monitor). */
-#define CTL_RBFN_TICKS 2u
+#define CTL_SLOW_SLOTS 8u
+#define CTL_MONITOR_SLOTS 4u /**< the monitors' cycle: CTL_GUARD_WINDOW_MAX = PLAUS_CHECK_TICKS */
+#define CTL_SLOT_GUARD 0u    /**< modulo CTL_MONITOR_SLOTS: slots 0 and 4 */
+#define CTL_SLOT_PLAUS 2u    /**< modulo CTL_MONITOR_SLOTS: slots 2 and 6 */
+/** The speed loop steps every CTL_RBFN_TICKS ticks (800 us, 1.25 kHz),
+ *  whatever the controller: its command in the slots that are CTL_SLOT_RBFN
+ *  modulo it (1 and 5, never with a monitor), the RBFN's weight and bound
+ *  updates of that command in the slots that are CTL_SLOT_RBFN_LEARN modulo
+ *  it (3 and 7; before the next command: the same updates wherever they sit
+ *  in between; only the telemetry's |W| and zeta_bar wait for them).
+ *  docs/speed_control.md, "Rate". */
+#define CTL_RBFN_TICKS 4u
 #define CTL_SLOT_RBFN 1u
+#define CTL_SLOT_RBFN_LEARN 3u
+/** The stall windows (ctl.c stall_step) step once per speed-loop step, in the
+ *  slots that are this modulo CTL_RBFN_TICKS (2 and 6, with the plausibility
+ *  checks: the lightest slots), on the command held since slot 1 or 5. */
+#define CTL_SLOT_STALL 2u
 /** The supervision of the operating point (ctl.c supervise_flux(): the flux
  *  target with field weakening and its trim, the lowered flux while
  *  regenerating near zero stator frequency, the torque limit) steps once per
- *  slot cycle on what the ticks in between summed, in a slot without the
- *  speed loop's command (with the guard's check: of slots 0 and 2 the one
- *  whose worst tick measured lower, docs/pil.md). The flux reference ramps
- *  to its target every tick. */
-#define CTL_SLOT_SUPERVISE 0u
+ *  slot cycle (every 8th tick) on what the ticks in between summed, in slot 3
+ *  (with the RBFN's learning: beside neither a monitor nor the command). The
+ *  flux reference ramps to its target every tick. */
+#define CTL_SLOT_SUPERVISE 3u
 /** The switching-frequency regulation (ctl.c regulate_switching_frequency())
  *  sums the leg changes every tick and steps the band scale once per slot
  *  cycle on their mean, in this slot (issue 11: its float work in one tick of
- *  four). */
-#define CTL_SLOT_FSW 2u
+ *  eight). */
+#define CTL_SLOT_FSW 7u
 /** The DTC's voltage level (dtc3l_cmd.decide_level: the back-emf against
- *  the link voltage, with hysteresis) is decided in this slot. */
-#define CTL_SLOT_LEVEL 3u
+ *  the link voltage, with hysteresis) is decided in this slot (a division and
+ *  two compares: beside the RBFN's learning, the lightest of the slow tasks). */
+#define CTL_SLOT_LEVEL 7u
 #ifndef __cplusplus
-_Static_assert(CTL_GUARD_WINDOW_MAX == CTL_SLOW_SLOTS && PLAUS_CHECK_TICKS == CTL_SLOW_SLOTS,
+_Static_assert(CTL_GUARD_WINDOW_MAX == CTL_MONITOR_SLOTS && PLAUS_CHECK_TICKS == CTL_MONITOR_SLOTS &&
+                   CTL_SLOW_SLOTS % CTL_MONITOR_SLOTS == 0u && CTL_SLOW_SLOTS % CTL_RBFN_TICKS == 0u &&
+                   CTL_SLOT_RBFN < CTL_RBFN_TICKS && CTL_SLOT_RBFN_LEARN < CTL_RBFN_TICKS && CTL_SLOT_STALL < CTL_RBFN_TICKS &&
+                   CTL_SLOT_STALL != CTL_SLOT_RBFN && CTL_SLOT_STALL != CTL_SLOT_RBFN_LEARN,
                "the slow tasks' own rates are the schedule's");
 #endif
 
@@ -237,7 +258,7 @@ typedef struct {
     dtc3l_out dtc_out;        /**< DTC outputs of the last step */
     real_t te_limit_Nm;       /**< torque limit of the last step (te_max, field weakening), N m */
     real_t fsw_hz;            /**< low-passed device switching frequency of the actuation, Hz */
-    uint8_t fsw_changes;      /**< leg changes of the actuations since the last regulation step (0..48) */
+    uint8_t fsw_changes;      /**< leg changes of the actuations since the last regulation step (0..96) */
     real_t band_scale;        /**< present widening of the torque bands (1..band_scale_max) */
     real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
