@@ -157,6 +157,23 @@ def tune(exe, elf, eds, work):
         stats_checks(*b.off(), "power-on 3")
 
 
+def wait_heartbeats(n, wall_timeout_s):
+    """Count heartbeat frames (0x701..0x77F, one byte, not the boot-up's 0x00) on vcan0
+    until @p n are seen or @p wall_timeout_s pass. @return how many were seen."""
+    import can
+    bus = can.Bus(interface="socketcan", channel="vcan0")
+    seen = 0
+    try:
+        deadline = time.monotonic() + wall_timeout_s
+        while seen < n and time.monotonic() < deadline:
+            m = bus.recv(timeout=0.5)
+            if m is not None and 0x701 <= m.arbitration_id <= 0x77F and len(m.data) == 1 and m.data[0] != 0:
+                seen += 1
+    finally:
+        bus.shutdown()
+    return seen
+
+
 def watchdog(exe, elf, eds, work, stall_elf):
     import can
     nvm = os.path.join(work, "twin.nvm")
@@ -201,7 +218,12 @@ def watchdog(exe, elf, eds, work, stall_elf):
         check(rc == 0 and value_of(out) == new, f"after the watchdog reset {PARAM} = the saved {new:g}")
         rc, out = dtctune(eds, "get", "persist_status")
         check(rc == 0 and value_of(out) == 0, "persist_status 0 (the stored set loaded)")
-        time.sleep(3.0)  # > 0.3 s of emulated time: a tick that stalled again would reset again
+        # Run on for at least one heartbeat period (1 s) of EMULATED time, long past the
+        # 0.3 s after which a tick that stalled again would reset again: two heartbeats
+        # after this point are at least one period apart. A wall-clock sleep did not
+        # measure that (the emulator runs at 0.07-0.2x real time under UML, machine-dependent).
+        hb = wait_heartbeats(2, wall_timeout_s=120.0)
+        check(hb == 2, f"two heartbeats after the checks ({hb}): at least 1 s more of emulated time")
     finally:
         rc, text = b.off()
     check(rc == 0, f"stall image: dtc-board exit status {rc}")
