@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 extern "C" {
 #include "dtc/ctl.h"
@@ -76,15 +77,33 @@ TEST(Duty, OverhaulingLoadIsFlaggedAsRunaway)
 // The firmware's low-speed measures (regenerating-mode stabilisation, lowered flux near zero
 // stator frequency, dead-time compensation) now hold this point; they are switched off here to
 // keep the runaway that the stall trip must catch.
-// When the runaway starts is chaotic (a one-ulp change in the RBFN basis moved the first escape
-// that is not caught from about 2 s to 4.4 s); 7 s covers both.
+// Whether and when the runaway starts is chaotic: a one-ulp change in the RBFN basis moved the
+// first escape that is not caught from about 2 s to 4.4 s (7 s covers both), and over 1 % changes
+// of an unrelated filter (the speed estimate's low-pass, 49..51 Hz) the same point runs away in 3 to
+// 5 of 5 runs, depending on the code's rounding. So the rule is checked over those five draws: every
+// run whose shaft leaves the runaway band ends with exactly the STALL trip (never a silent runaway),
+// every other run holds the point with no fault, and at least one of them runs away, so that the trip
+// itself is exercised. Without the stall trip every runaway run fails the first check.
 TEST(Duty, SilentLowSpeedGeneratingRunawayTripsStall)
 {
-    auto l = simtest::parse_text("[sim]\nduration_s = 7\n[controller]\nname = rbfn\n"
-                                 "[reference]\nramp = 0.3 0.5 30\n[load]\nstep = 1.2 -20.5\n"
-                                 "[control]\nobs_regen_angle_rad = 0\nregen_flux_min_frac = 1\ndead_time_comp_s = 0\n");
-    ASSERT_EQ(l.rc, 0) << l.error;
-    sim_result res;
-    ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;
-    EXPECT_EQ(res.metrics.faults, uint32_t(CTL_FAULT_STALL));
+    int tripped = 0;
+    for (const char *lpf_hz : {"49", "49.5", "50", "50.5", "51"}) {
+        SCOPED_TRACE(std::string("obs_speed_lpf_hz = ") + lpf_hz);
+        auto l = simtest::parse_text(std::string("[sim]\nduration_s = 7\n[controller]\nname = rbfn\n"
+                                                 "[reference]\nramp = 0.3 0.5 30\n[load]\nstep = 1.2 -20.5\n"
+                                                 "[control]\nobs_regen_angle_rad = 0\nregen_flux_min_frac = 1\n"
+                                                 "dead_time_comp_s = 0\nobs_speed_lpf_hz = ") +
+                                     lpf_hz + "\n");
+        ASSERT_EQ(l.rc, 0) << l.error;
+        sim_result res;
+        ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;
+        if (res.metrics.runaway) {
+            EXPECT_EQ(res.metrics.faults, uint32_t(CTL_FAULT_STALL));
+            tripped++;
+        } else {
+            EXPECT_EQ(res.metrics.faults, 0u);
+            EXPECT_NEAR(res.metrics.speed_true_end_rpm, 30.0, 15.0);
+        }
+    }
+    EXPECT_GE(tripped, 1) << "no draw ran away: the stall trip was not exercised";
 }
