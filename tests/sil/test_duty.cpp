@@ -80,10 +80,11 @@ TEST(Duty, OverhaulingLoadIsFlaggedAsRunaway)
 // Whether and when the runaway starts is chaotic: a one-ulp change in the RBFN basis moved the
 // first escape that is not caught from about 2 s to 4.4 s (7 s covers both), and over 1 % changes
 // of an unrelated filter (the speed estimate's low-pass, 49..51 Hz) the same point runs away in 3 to
-// 5 of 5 runs, depending on the code's rounding. So the rule is checked over those five draws: every
-// run whose shaft leaves the runaway band ends with exactly the STALL trip (never a silent runaway),
-// every other run holds the point with no fault, and at least one of them runs away, so that the trip
-// itself is exercised. Without the stall trip every runaway run fails the first check.
+// 5 of 5 runs, depending on the code's rounding (a run may also leave the band for 0.1 s and be braked
+// back by the drive itself, which the stall rule rightly does not trip). So the rule is checked over
+// those five draws: every run ends either with exactly the STALL trip or holding the point with no
+// fault (never a silent runaway), and at least one of them trips, so that the trip itself is
+// exercised. Without the stall trip every runaway run fails the second check.
 TEST(Duty, SilentLowSpeedGeneratingRunawayTripsStall)
 {
     int tripped = 0;
@@ -97,11 +98,10 @@ TEST(Duty, SilentLowSpeedGeneratingRunawayTripsStall)
         ASSERT_EQ(l.rc, 0) << l.error;
         sim_result res;
         ASSERT_EQ(sim_run(l.sc.get(), nullptr, &res), SIM_OK) << res.error;
-        if (res.metrics.runaway) {
+        if (res.metrics.faults != 0u) {
             EXPECT_EQ(res.metrics.faults, uint32_t(CTL_FAULT_STALL));
             tripped++;
-        } else {
-            EXPECT_EQ(res.metrics.faults, 0u);
+        } else { // no trip: the drive must hold the point (an excursion it brakes back itself is allowed)
             EXPECT_NEAR(res.metrics.speed_true_end_rpm, 30.0, 15.0);
         }
     }
