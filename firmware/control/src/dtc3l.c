@@ -321,7 +321,10 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     if (!(!p->split && p->sv0 == 0u && s->level == (uint8_t)DTC3L_LEVEL_LOW && psi < in->psi_ref_Wb - cfg->flux_band_Wb))
         return;
     uint8_t svh = dtc3l_table_flux_hold(g->sector6);
-    uint8_t sth = dtc3l_choose_state_unchecked(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+    bool push0_known;
+    real_t push0_VA = R(0.0);
+    uint8_t sth = dtc3l_choose_state_push0_unchecked(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A,
+                                                     &push0_known, &push0_VA);
     real_t v_h[2]; /* the pulse state's voltage, for both its flux rate and its torque slope */
     state_voltage(g, sth, v_h);
     real_t rate = flux_rate(in, pr, v_h, psi);
@@ -343,7 +346,10 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         return;
     p->st0 = sth;
     if (d < R(1.0) - dmin) {
-        p->st1 = dtc3l_choose_state_unchecked(0u, sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+        /* the zero state's NP look-ahead reuses the pulse choice's product
+         * when sth is one of svh's own states (issue 11) */
+        p->st1 = dtc3l_choose_zero_unchecked(sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A,
+                                             push0_known && dtc3l_state_sv_unchecked(sth) == svh, push0_VA);
         p->duty0 = d;
         p->split = true;
     } else {

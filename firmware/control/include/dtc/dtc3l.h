@@ -507,6 +507,23 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
 uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                                      const real_t i_abc[3]);
 
+/** dtc3l_choose_state_unchecked that also reports, for a small vector @p sv
+ *  outside the NP band whose first (P-type) state is within reach of
+ *  @p prev_state, that state's NP current x @p np_dev_V, A V (*@p push0_VA,
+ *  *@p push0_known true; otherwise *@p push0_known false, *@p push0_VA
+ *  untouched). For dtc3l_choose_zero_unchecked after it. Context: ANY. */
+uint8_t dtc3l_choose_state_push0_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                                           const real_t i_abc[3], bool *push0_known, real_t *push0_VA);
+
+/** dtc3l_choose_state_unchecked(0, @p prev_state, ...): the zero state after
+ *  @p prev_state 0..26. @p push0_known: @p push0_VA is the NP current of the
+ *  first state of @p prev_state's vector x @p np_dev_V, A V, already worked
+ *  out (dtc3l_choose_state_push0_unchecked when @p prev_state is one of its
+ *  vector's states); the NP look-ahead then reuses it instead of working it
+ *  out again (the same product: the same choice). Context: ANY. */
+uint8_t dtc3l_choose_zero_unchecked(uint8_t prev_state, real_t np_dev_V, real_t np_band_V, const real_t i_abc[3],
+                                    bool push0_known, real_t push0_VA);
+
 /* ------------------------------------------------------- ripple reduction
  * Over one period the torque under a fixed vector is close to a straight line
  * whose slope is dTe/dt = dte0 + dte_dv . v (linear in the stator voltage,
