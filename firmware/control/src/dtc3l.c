@@ -467,17 +467,13 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
     p->split = true;
 }
 
-static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out *out)
+static void emit(dtc3l *s, const tick_plan *p, dtc3l_out *out)
 {
     s->torque_state = p->after;
     out->act.duty0 = p->st1 == p->st0 ? R(1.0) : p->duty0;
     out->state[0] = p->st0;
     out->state[1] = p->st1;
-    out->sector = g->sector;
-    out->torque_cmp = p->cur;
-    out->flux_cmp = s->flux_state;
     out->level = s->level;
-    out->split = p->split;
 }
 
 void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
@@ -495,7 +491,7 @@ void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc
     add_flux_hold_pulse(s, cfg, dt_s, in, pr, &g, &p);
     balance_np_in_holds(s, cfg, in, &g, &p);
     cut_intermediate_short(cfg, in, &g, &p);
-    emit(s, &g, &p, out);
+    emit(s, &p, out);
 }
 
 /* The flat form: its prediction fields where dtc3l_step_predicted reads them

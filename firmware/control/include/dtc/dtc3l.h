@@ -166,11 +166,9 @@ typedef struct {
     hal_actuation act;        /**< the two vectors and the duty of the first (dtc3l_step_predicted
                                    writes only duty0, in 0..1: the vectors are state[]'s leg codes) */
     uint8_t state[2];         /**< the same as state numbers */
-    uint8_t sector;           /**< 0..11 */
-    int8_t torque_cmp;        /**< comparator output used for the first vector, -2..2 */
-    int8_t flux_cmp;          /**< +1 / -1 */
     uint8_t level;            /**< dtc3l_level */
-    bool split;               /**< the period was split (ripple reduction or flux pulse) */
+    /* no sector, comparator outputs or split flag: nothing read them, and
+     * their stores cost every tick (issue 11); the comparators' memory is in dtc3l */
 } dtc3l_out;
 
 /* ------------------------------------------------ vectors (dtc3l_vectors.c) */
