@@ -423,18 +423,21 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
     uint8_t target = st[0];
     bool small = cls == DTC3L_CLASS_SMALL;
     if (small) {
+        /* the chosen one is kept unless the link is outside its band and the
+         * chosen state pushes it further, or it would take the link beyond the
+         * room of an intermediate */
+        real_t inp_chosen = dtc3l_np_current_unchecked(p->st0, g->i_abc_A);
+        real_t n_chosen = num_abs(num_mac(cfg->np_V_per_A, inp_chosen, in->np_dev_V));
+        bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
+        bool far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V);
+        if (!(wrong_way || far))
+            return; /* kept whatever the other state does: its NP current not needed (issue 11) */
         /* of the vector's two states, the one that leaves the link nearer to balance */
         real_t n0 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[0], g->i_abc_A), in->np_dev_V));
         real_t n1 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[1], g->i_abc_A), in->np_dev_V));
         target = n1 < n0 ? st[1] : st[0];
         real_t n_target = n1 < n0 ? n1 : n0;
-        real_t inp_chosen = dtc3l_np_current_unchecked(p->st0, g->i_abc_A);
-        real_t n_chosen = num_abs(num_mac(cfg->np_V_per_A, inp_chosen, in->np_dev_V));
-        /* the chosen one is kept unless the link is outside its band and the
-         * chosen state pushes it further, or it would take the link beyond the
-         * room of an intermediate */
-        bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
-        bool too_far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V) && n_chosen > n_target;
+        bool too_far = far && n_chosen > n_target;
         if (p->st0 == target || !(wrong_way || too_far))
             return;
         if (!dtc3l_pn_step_unchecked(g->prev_state, target)) {
