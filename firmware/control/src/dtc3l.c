@@ -307,6 +307,9 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
     }
 }
 
+/* num_sat(x, 0, hi) for x >= 0 (or NaN): x above hi gives hi */
+static inline real_t upto(real_t x, real_t hi) { return x > hi ? hi : x; }
+
 /* Flux-drop compensation: a full hold period at the LOW level with the flux
  * below its band gets a pulse of the small vector along the flux, long enough
  * to bring |psi| back to the reference, and short enough to keep the torque
@@ -332,16 +335,19 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     real_t s_h = voltage_slope(pr, v_h);
     real_t s_z = pr->dte0_Nm_s;
     real_t hi = in->te_ref_Nm + b, lo = in->te_ref_Nm - b;
+    /* d >= 0 here and every bound below is positive (psi < psi_ref, rate > 0;
+     * lo - end0 and ds of one sign), so only the upper bound can act: a
+     * minimum, not num_sat's two compares (issue 11) */
     /* a rising pulse peaks at its end */
     if (s_h > R(0.0))
-        d = num_sat(d, R(0.0), dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s));
+        d = upto(d, dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s));
     /* the period ends at Te + s_z T + (s_h - s_z) d T, inside the band */
     real_t end0 = pr->te_pred_Nm + num_mul(s_z, dt_s);
     real_t ds = num_mul(s_h - s_z, dt_s);
     if (ds < R(0.0) && end0 > lo)
-        d = num_sat(d, R(0.0), num_div(lo - end0, ds));
+        d = upto(d, num_div(lo - end0, ds));
     else if (ds > R(0.0) && end0 < hi)
-        d = num_sat(d, R(0.0), num_div(hi - end0, ds));
+        d = upto(d, num_div(hi - end0, ds));
     if (d < dmin)
         return;
     p->st0 = sth;
