@@ -508,8 +508,8 @@ uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_d
 /** dtc3l_choose_state_unchecked that also reports, for a small vector @p sv
  *  outside the NP band whose first (P-type) state is within reach of
  *  @p prev_state, that state's NP current x @p np_dev_V, A V (*@p push0_VA,
- *  *@p push0_known true; otherwise *@p push0_known false, *@p push0_VA
- *  untouched). For dtc3l_choose_zero_unchecked after it. Context: ANY. */
+ *  *@p push0_known true; otherwise *@p push0_known false and *@p push0_VA
+ *  unspecified). For dtc3l_choose_zero_unchecked after it. Context: ANY. */
 uint8_t dtc3l_choose_state_push0_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                                            const real_t i_abc[3], bool *push0_known, real_t *push0_VA);
 
