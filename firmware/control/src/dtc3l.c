@@ -274,17 +274,22 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
     real_t dmin = cfg->duty_min;
     real_t s_cur = R(0.0), edge = R(0.0), f = R(2.0);
     int8_t next = p->cur;
-    for (int pass = 0; pass < 2; pass++) {
+    for (int pass = 0;; pass++) {
         s_cur = state_slope(g, pr, p->st0);
         f = exit_edge(p->cur, s_cur, in, pr, b, dt_s, &edge, &next);
-        if (!(f < dmin) || next == p->cur)
+        if (next == p->cur)
+            return; /* no crossing */
+        if (!(f < dmin))
             break;
         p->cur = next;
         p->after = p->cur;
         p->st0 = p->st1 = state_for_demand(s, cfg, in, g, p->cur, g->prev_state, &p->sv0);
+        if (pass == 1)
+            return;
     }
-    if (!(f >= dmin && f <= R(1.0) - dmin && next != p->cur))
-        return; /* no crossing, or it falls at the next period start */
+    /* f >= dmin here: exit_edge's fraction is never NaN (issue 11: one compare fewer) */
+    if (!(f <= R(1.0) - dmin))
+        return; /* it falls at the next period start */
     p->st1 = state_for_demand(s, cfg, in, g, next, p->st0, NULL);
     p->duty0 = f;
     p->after = next;
