@@ -1111,3 +1111,54 @@ TEST(Dtc3lTables, WrittenOutTablesEqualTheRule)
     EXPECT_EQ(dtc3l_demand_index(-1, 1), 2u);
     EXPECT_EQ(dtc3l_demand_index(-1, -1), 3u);
 }
+
+// The flux-hold pulse's two choices (issue 11): dtc3l_choose_state_push0_unchecked
+// must choose as dtc3l_choose_state does and, where it says so, report the first
+// state's NP current x vc1 - vc2 (the plant's sum of the O-leg phase currents,
+// worked out here in double, against the float product's sign and value); the
+// zero state after it from dtc3l_choose_zero_unchecked with that product must
+// be dtc3l_choose_state's zero-vector choice. Every small vector from every
+// state, random currents, deviations inside and outside the band.
+TEST(Dtc3lNp, PulseChoicesReuseTheProductAndChooseAsBefore)
+{
+    std::mt19937 rng(97);
+    std::uniform_real_distribution<float> cur(-40.f, 40.f), dev(-4.f, 4.f);
+    int known_seen = 0, reused = 0;
+    for (int k = 0; k < 400; ++k) {
+        float i_abc[3] = {cur(rng), cur(rng), 0.f};
+        i_abc[2] = -i_abc[0] - i_abc[1];
+        float np = dev(rng);
+        for (int sv = 1; sv < 19; ++sv) {
+            if (dtc3l_sv_class(uint8_t(sv)) != DTC3L_CLASS_SMALL)
+                continue;
+            uint8_t pair[3];
+            ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), pair), 2u);
+            for (int prev = 0; prev < 27; ++prev) {
+                bool known = false;
+                float push0 = 12345.f;
+                uint8_t st = dtc3l_choose_state_push0_unchecked(uint8_t(sv), uint8_t(prev), np, 1.5f, i_abc, &known,
+                                                                &push0);
+                ASSERT_EQ(st, dtc3l_choose_state(uint8_t(sv), uint8_t(prev), np, 1.5f, i_abc)) << sv << " " << prev;
+                if (known) {
+                    ++known_seen;
+                    uint8_t l[3];
+                    legs_of(pair[0], l);
+                    double inp = 0.0;
+                    for (int j = 0; j < 3; ++j)
+                        inp += l[j] == 1 ? double(i_abc[j]) : 0.0;
+                    ASSERT_NEAR(double(push0), inp * double(np), 1e-4 * (1.0 + std::abs(inp * double(np))));
+                }
+                bool reuse = known && dtc3l_state_sv(st) == uint8_t(sv);
+                reused += reuse;
+                ASSERT_EQ(dtc3l_choose_zero_unchecked(st, np, 1.5f, i_abc, reuse, push0),
+                          dtc3l_choose_state(0u, st, np, 1.5f, i_abc))
+                    << sv << " " << prev;
+                // without the product: the zero choice itself
+                ASSERT_EQ(dtc3l_choose_zero_unchecked(uint8_t(prev), np, 1.5f, i_abc, false, 0.f),
+                          dtc3l_choose_state(0u, uint8_t(prev), np, 1.5f, i_abc));
+            }
+        }
+    }
+    EXPECT_GT(known_seen, 1000);
+    EXPECT_GT(reused, 1000);
+}

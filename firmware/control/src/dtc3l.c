@@ -274,17 +274,22 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
     real_t dmin = cfg->duty_min;
     real_t s_cur = R(0.0), edge = R(0.0), f = R(2.0);
     int8_t next = p->cur;
-    for (int pass = 0; pass < 2; pass++) {
+    for (int pass = 0;; pass++) {
         s_cur = state_slope(g, pr, p->st0);
         f = exit_edge(p->cur, s_cur, in, pr, b, dt_s, &edge, &next);
-        if (!(f < dmin) || next == p->cur)
+        if (next == p->cur)
+            return; /* no crossing */
+        if (!(f < dmin))
             break;
         p->cur = next;
         p->after = p->cur;
         p->st0 = p->st1 = state_for_demand(s, cfg, in, g, p->cur, g->prev_state, &p->sv0);
+        if (pass == 1)
+            return;
     }
-    if (!(f >= dmin && f <= R(1.0) - dmin && next != p->cur))
-        return; /* no crossing, or it falls at the next period start */
+    /* f >= dmin here: exit_edge's fraction is never NaN (issue 11: one compare fewer) */
+    if (!(f <= R(1.0) - dmin))
+        return; /* it falls at the next period start */
     p->st1 = state_for_demand(s, cfg, in, g, next, p->st0, NULL);
     p->duty0 = f;
     p->after = next;
@@ -307,6 +312,9 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
     }
 }
 
+/* num_sat(x, 0, hi) for x >= 0 (or NaN): x above hi gives hi */
+static inline real_t upto(real_t x, real_t hi) { return x > hi ? hi : x; }
+
 /* Flux-drop compensation: a full hold period at the LOW level with the flux
  * below its band gets a pulse of the small vector along the flux, long enough
  * to bring |psi| back to the reference, and short enough to keep the torque
@@ -321,7 +329,10 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     if (!(!p->split && p->sv0 == 0u && s->level == (uint8_t)DTC3L_LEVEL_LOW && psi < in->psi_ref_Wb - cfg->flux_band_Wb))
         return;
     uint8_t svh = dtc3l_table_flux_hold(g->sector6);
-    uint8_t sth = dtc3l_choose_state_unchecked(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+    bool push0_known;
+    real_t push0_VA = R(0.0);
+    uint8_t sth = dtc3l_choose_state_push0_unchecked(svh, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A,
+                                                     &push0_known, &push0_VA);
     real_t v_h[2]; /* the pulse state's voltage, for both its flux rate and its torque slope */
     state_voltage(g, sth, v_h);
     real_t rate = flux_rate(in, pr, v_h, psi);
@@ -329,21 +340,27 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     real_t s_h = voltage_slope(pr, v_h);
     real_t s_z = pr->dte0_Nm_s;
     real_t hi = in->te_ref_Nm + b, lo = in->te_ref_Nm - b;
+    /* d >= 0 here and every bound below is positive (psi < psi_ref, rate > 0;
+     * lo - end0 and ds of one sign), so only the upper bound can act: a
+     * minimum, not num_sat's two compares (issue 11) */
     /* a rising pulse peaks at its end */
     if (s_h > R(0.0))
-        d = num_sat(d, R(0.0), dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s));
+        d = upto(d, dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s));
     /* the period ends at Te + s_z T + (s_h - s_z) d T, inside the band */
     real_t end0 = pr->te_pred_Nm + num_mul(s_z, dt_s);
     real_t ds = num_mul(s_h - s_z, dt_s);
     if (ds < R(0.0) && end0 > lo)
-        d = num_sat(d, R(0.0), num_div(lo - end0, ds));
+        d = upto(d, num_div(lo - end0, ds));
     else if (ds > R(0.0) && end0 < hi)
-        d = num_sat(d, R(0.0), num_div(hi - end0, ds));
+        d = upto(d, num_div(hi - end0, ds));
     if (d < dmin)
         return;
     p->st0 = sth;
     if (d < R(1.0) - dmin) {
-        p->st1 = dtc3l_choose_state_unchecked(0u, sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+        /* the zero state's NP look-ahead reuses the pulse choice's product
+         * when sth is one of svh's own states (issue 11) */
+        p->st1 = dtc3l_choose_zero_unchecked(sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A,
+                                             push0_known && dtc3l_state_sv_unchecked(sth) == svh, push0_VA);
         p->duty0 = d;
         p->split = true;
     } else {
@@ -417,18 +434,21 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
     uint8_t target = st[0];
     bool small = cls == DTC3L_CLASS_SMALL;
     if (small) {
+        /* the chosen one is kept unless the link is outside its band and the
+         * chosen state pushes it further, or it would take the link beyond the
+         * room of an intermediate */
+        real_t inp_chosen = dtc3l_np_current_unchecked(p->st0, g->i_abc_A);
+        real_t n_chosen = num_abs(num_mac(cfg->np_V_per_A, inp_chosen, in->np_dev_V));
+        bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
+        bool far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V);
+        if (!(wrong_way || far))
+            return; /* kept whatever the other state does: its NP current not needed (issue 11) */
         /* of the vector's two states, the one that leaves the link nearer to balance */
         real_t n0 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[0], g->i_abc_A), in->np_dev_V));
         real_t n1 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[1], g->i_abc_A), in->np_dev_V));
         target = n1 < n0 ? st[1] : st[0];
         real_t n_target = n1 < n0 ? n1 : n0;
-        real_t inp_chosen = dtc3l_np_current_unchecked(p->st0, g->i_abc_A);
-        real_t n_chosen = num_abs(num_mac(cfg->np_V_per_A, inp_chosen, in->np_dev_V));
-        /* the chosen one is kept unless the link is outside its band and the
-         * chosen state pushes it further, or it would take the link beyond the
-         * room of an intermediate */
-        bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
-        bool too_far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V) && n_chosen > n_target;
+        bool too_far = far && n_chosen > n_target;
         if (p->st0 == target || !(wrong_way || too_far))
             return;
         if (!dtc3l_pn_step_unchecked(g->prev_state, target)) {
@@ -461,17 +481,13 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
     p->split = true;
 }
 
-static void emit(dtc3l *s, const tick_geometry *g, const tick_plan *p, dtc3l_out *out)
+static void emit(dtc3l *s, const tick_plan *p, dtc3l_out *out)
 {
     s->torque_state = p->after;
     out->act.duty0 = p->st1 == p->st0 ? R(1.0) : p->duty0;
     out->state[0] = p->st0;
     out->state[1] = p->st1;
-    out->sector = g->sector;
-    out->torque_cmp = p->cur;
-    out->flux_cmp = s->flux_state;
     out->level = s->level;
-    out->split = p->split;
 }
 
 void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
@@ -489,7 +505,7 @@ void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc
     add_flux_hold_pulse(s, cfg, dt_s, in, pr, &g, &p);
     balance_np_in_holds(s, cfg, in, &g, &p);
     cut_intermediate_short(cfg, in, &g, &p);
-    emit(s, &g, &p, out);
+    emit(s, &p, out);
 }
 
 /* The flat form: its prediction fields where dtc3l_step_predicted reads them

@@ -71,33 +71,46 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
                                         np_dev_V, np_band_V, i_abc);
 }
 
-uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
-                                     const real_t i_abc[3])
+/* The zero state after @p prev_state (dtc3l_choose_state for the zero vector).
+ * @p push0 true: @p push0_VA is np_current(first state of prev_state's
+ * vector) x np_dev_V, already worked out by the caller (the NP look-ahead then
+ * reuses it: the same product, issue 11). */
+static inline uint8_t choose_zero(uint8_t prev_state, real_t np_dev_V, real_t np_band_V, const real_t i_abc[3],
+                                  bool push0, real_t push0_VA)
+{
+    /* From NNN (PPP) the P-type (N-type) small states are a P<->N step away.
+     * When the neutral point needs attention, pick the zero state on the way
+     * to the balancing state of the small vector just used (the likely next
+     * one), so that state stays reachable. */
+    if (!(num_abs(np_dev_V) > num_mul(NP_LOOKAHEAD_FRACTION, np_band_V)))
+        return zero_after[prev_state];
+    uint8_t prev_sv = dtc3l_state_sv_unchecked(prev_state);
+    if (dtc3l_sv_class_unchecked(prev_sv) != DTC3L_CLASS_SMALL)
+        return num_abs(np_dev_V) > np_band_V ? (uint8_t)DTC3L_STATE_OOO : zero_after[prev_state];
+    if (!push0)
+        push0_VA = num_mul(dtc3l_np_current_unchecked(dtc3l_sv_state_list[prev_sv][0], i_abc), np_dev_V);
+    return zero_toward[prev_state][push0_VA <= R(0.0) ? 0 : 1];
+}
+
+/* dtc3l_choose_state_unchecked; for a small vector outside the NP band whose
+ * first state is within reach, also np_current(first state) x np_dev_V
+ * (*push0_VA, *push0 true; otherwise *push0 false). */
+static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                                   const real_t i_abc[3], bool *push0_known, real_t *push0_VA)
 {
     const uint8_t *st = dtc3l_sv_state_list[sv]; /* read in place: no copy (issue 11) */
     dtc3l_class cls = dtc3l_sv_class_unchecked(sv);
     bool small = cls == DTC3L_CLASS_SMALL;
     bool np_out = num_abs(np_dev_V) > np_band_V;
     bool np_forced = small && np_out;
+    *push0_known = false;
 
-    /* Zero vector: from NNN (PPP) the P-type (N-type) small states are a
-     * P<->N step away. When the neutral point needs attention, pick the zero
-     * state on the way to the balancing state of the small vector just used
-     * (the likely next one), so that state stays reachable. */
-    if (sv == 0u && num_abs(np_dev_V) > num_mul(NP_LOOKAHEAD_FRACTION, np_band_V)) {
-        uint8_t prev_sv = dtc3l_state_sv_unchecked(prev_state);
-        if (dtc3l_sv_class_unchecked(prev_sv) != DTC3L_CLASS_SMALL)
-            return np_out ? (uint8_t)DTC3L_STATE_OOO : zero_after[prev_state];
-        const uint8_t *pair = dtc3l_sv_state_list[prev_sv];
-        real_t inp0 = dtc3l_np_current_unchecked(pair[0], i_abc);
-        return zero_toward[prev_state][num_mul(inp0, np_dev_V) <= R(0.0) ? 0 : 1];
-    }
-    /* Vectors with a single state (medium, large) and the zero vector
-     * without the NP look-ahead: nothing to choose. */
+    /* Zero vector: NNN, OOO or PPP (choose_zero) */
+    if (sv == 0u)
+        return choose_zero(prev_state, np_dev_V, np_band_V, i_abc, false, R(0.0));
+    /* Vectors with a single state (medium, large): nothing to choose. */
     if (cls == DTC3L_CLASS_MEDIUM || cls == DTC3L_CLASS_LARGE)
         return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
-    if (sv == 0u)
-        return zero_after[prev_state];
     if (small && !np_forced) {
         /* A small vector inside the band: the state with fewer commutations.
          * Its P-type state is its N-type one a level up in every leg, so from
@@ -121,6 +134,8 @@ uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_d
             return dtc3l_pn_safe_unchecked(prev_state, c0);
         real_t push0 = ok0 ? num_mul(dtc3l_np_current_unchecked(c0, i_abc), np_dev_V) : R(0.0);
         real_t push1 = ok1 ? num_mul(dtc3l_np_current_unchecked(c1, i_abc), np_dev_V) : R(0.0);
+        *push0_known = ok0;
+        *push0_VA = push0;
         bool take1 = !ok0;
         if (ok0 && ok1) {
             bool toward0 = push0 <= R(0.0), toward1 = push1 <= R(0.0);
@@ -140,4 +155,24 @@ uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_d
     /* Every vector with more than one state is the zero vector or a small one,
      * both handled above; this keeps the function total. */
     return dtc3l_pn_safe_unchecked(prev_state, st[0]);
+}
+
+uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                                     const real_t i_abc[3])
+{
+    bool known;
+    real_t push0;
+    return choose_state(sv, prev_state, np_dev_V, np_band_V, i_abc, &known, &push0);
+}
+
+uint8_t dtc3l_choose_state_push0_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                                           const real_t i_abc[3], bool *push0_known, real_t *push0_VA)
+{
+    return choose_state(sv, prev_state, np_dev_V, np_band_V, i_abc, push0_known, push0_VA);
+}
+
+uint8_t dtc3l_choose_zero_unchecked(uint8_t prev_state, real_t np_dev_V, real_t np_band_V, const real_t i_abc[3],
+                                    bool push0_known, real_t push0_VA)
+{
+    return choose_zero(prev_state, np_dev_V, np_band_V, i_abc, push0_known, push0_VA);
 }

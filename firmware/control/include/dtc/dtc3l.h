@@ -166,11 +166,9 @@ typedef struct {
     hal_actuation act;        /**< the two vectors and the duty of the first (dtc3l_step_predicted
                                    writes only duty0, in 0..1: the vectors are state[]'s leg codes) */
     uint8_t state[2];         /**< the same as state numbers */
-    uint8_t sector;           /**< 0..11 */
-    int8_t torque_cmp;        /**< comparator output used for the first vector, -2..2 */
-    int8_t flux_cmp;          /**< +1 / -1 */
     uint8_t level;            /**< dtc3l_level */
-    bool split;               /**< the period was split (ripple reduction or flux pulse) */
+    /* no sector, comparator outputs or split flag: nothing read them, and
+     * their stores cost every tick (issue 11); the comparators' memory is in dtc3l */
 } dtc3l_out;
 
 /* ------------------------------------------------ vectors (dtc3l_vectors.c) */
@@ -506,6 +504,23 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
  *  step's own vectors and states). Context: ANY. */
 uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                                      const real_t i_abc[3]);
+
+/** dtc3l_choose_state_unchecked that also reports, for a small vector @p sv
+ *  outside the NP band whose first (P-type) state is within reach of
+ *  @p prev_state, that state's NP current x @p np_dev_V, A V (*@p push0_VA,
+ *  *@p push0_known true; otherwise *@p push0_known false and *@p push0_VA
+ *  unspecified). For dtc3l_choose_zero_unchecked after it. Context: ANY. */
+uint8_t dtc3l_choose_state_push0_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
+                                           const real_t i_abc[3], bool *push0_known, real_t *push0_VA);
+
+/** dtc3l_choose_state_unchecked(0, @p prev_state, ...): the zero state after
+ *  @p prev_state 0..26. @p push0_known: @p push0_VA is the NP current of the
+ *  first state of @p prev_state's vector x @p np_dev_V, A V, already worked
+ *  out (dtc3l_choose_state_push0_unchecked when @p prev_state is one of its
+ *  vector's states); the NP look-ahead then reuses it instead of working it
+ *  out again (the same product: the same choice). Context: ANY. */
+uint8_t dtc3l_choose_zero_unchecked(uint8_t prev_state, real_t np_dev_V, real_t np_band_V, const real_t i_abc[3],
+                                    bool push0_known, real_t push0_VA);
 
 /* ------------------------------------------------------- ripple reduction
  * Over one period the torque under a fixed vector is close to a straight line
