@@ -601,8 +601,9 @@ static void stall_step(ctl_state *s, const ctl_cfg *cfg, real_t T)
 /* The speed loop runs every CTL_RBFN_TICKS-th tick, whatever the controller:
  * its command in a slot the monitors leave free, the RBFN's learning of that
  * command and the stall windows each in a later slot of their own (ctl.h);
- * between its steps the torque command and the speed controller's outputs hold. */
-static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
+ * between its steps the torque command and the speed controller's outputs
+ * (s->speed_held, written in place: no copy per tick, issue 11) hold. */
+static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 {
     real_t T = cfg->speed_T_s; /* the speed loop's step */
     bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
@@ -612,7 +613,6 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
             stall_step(s, cfg, T);
         else if (rbfn && k == CTL_SLOT_RBFN_LEARN)
             speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
-        *so = s->speed_held;
         return;
     }
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
@@ -625,12 +625,12 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
     si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_speed_T_per_s);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
     si.te_limit_Nm = s->te_limit_Nm;
+    /* both write every output before they read one */
     if (rbfn)
-        speed_ctl_command(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+        speed_ctl_command(&s->speed, &cfg->speed, &cfg->motor, T, &si, &s->speed_held);
     else
-        speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
-    s->speed_held = *so;
-    s->te_ref_Nm = so->te_ref_Nm;
+        speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, &s->speed_held);
+    s->te_ref_Nm = s->speed_held.te_ref_Nm;
 }
 
 /* Torque and flux control on the state predicted for t_{k+1}; returns the
@@ -792,18 +792,19 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     }
     ramp_flux_reference(s, cfg);
 
-    speed_out so;
-    memset(&so, 0, sizeof so);
+    const speed_out *so = NULL; /* the telemetry's speed-loop outputs: zeros without a speed loop */
     if (s->run_state == CTL_MAGNETISING) {
         rs_ident_step(&s->rsid, &cfg->rsid, v_V, is_A, s->obs.omega_e_rad_s);
         magnetise(s, cfg);
     }
     if (s->run_state == CTL_RUNNING && cfg->bringup_level == BRINGUP_TORQUE)
         s->te_ref_Nm = num_limit(cfg->bringup_te_Nm, cfg->speed.te_max_Nm); /* level 5: no speed loop */
-    else if (s->run_state == CTL_RUNNING)
-        control_speed(s, cfg, in, &so);
+    else if (s->run_state == CTL_RUNNING) {
+        control_speed(s, cfg, in);
+        so = &s->speed_held;
+    }
 
     uint8_t prev_state = control_torque_flux(s, cfg, &in->sample, np_dev_pred_V);
     actuate(s, cfg, prev_state, out);
-    fill_telemetry(s, &so, out);
+    fill_telemetry(s, so, out);
 }
