@@ -282,11 +282,9 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
     /* Written as "not within" so that a diverged (NaN) estimate trips too. */
     if (active && !(num_abs(s->obs.omega_m_filt_rad_s) <= cfg->overspeed_rad_s))
         f |= CTL_FAULT_OVERSPEED;
-    if (active && s->guard_trip)
-        f |= CTL_FAULT_LOSS_OF_CONTROL;
-    /* the rare conditions first, the configuration's switch-off last (issue 11: the same test, fewer compares) */
-    if (active && (s->brake_stall || s->t_at_limit_s >= cfg->stall_time_s) && cfg->stall_time_s > R(0.0))
-        f |= CTL_FAULT_STALL;
+    /* the loss-of-control and stall verdicts as their monitors last gave them (in their slots) */
+    if (active)
+        f |= s->monitor_faults;
     real_t omega_e = num_mul(cfg->motor.pole_pairs, s->obs.omega_m_filt_rad_s);
     /* the slow tasks' slot advances here, once per tick that judges a sample (ctl.h) */
     s->slow_slot = (uint8_t)((s->slow_slot + 1u) & (CTL_SLOW_SLOTS - 1u));
@@ -313,7 +311,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->speed_ref_ramped_rad_s = R(0.0);
     s->te_ref_Nm = R(0.0);
     ctl_guard_reset(&s->guard);
-    s->guard_trip = false;
+    s->monitor_faults = 0u;
     s->fsw_hz = R(0.0);
     s->fsw_changes = 0u;
     s->band_scale = R(1.0);
@@ -596,6 +594,10 @@ static void stall_step(ctl_state *s, const ctl_cfg *cfg, real_t T)
         }
     }
     brake_stall_step(s, cfg, at_limit, off_speed, T);
+    /* the verdict, judged here where its inputs change rather than every tick (issue 11): the rare
+     * conditions first, the configuration's switch-off last */
+    bool stall = (s->brake_stall || s->t_at_limit_s >= cfg->stall_time_s) && cfg->stall_time_s > R(0.0);
+    s->monitor_faults = (s->monitor_faults & ~(uint32_t)CTL_FAULT_STALL) | (stall ? (uint32_t)CTL_FAULT_STALL : 0u);
 }
 
 /* The speed loop runs every CTL_RBFN_TICKS-th tick, whatever the controller:
@@ -779,8 +781,10 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
     observe(s, cfg, &in->sample, np_dev_pred_V, v_V, is_A);
     if ((s->slow_slot & (CTL_MONITOR_SLOTS - 1u)) == CTL_SLOT_GUARD) { /* its window closes: the check of the ticks before this one */
-        s->guard_trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
-                                        s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+        bool trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
+                                    s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+        s->monitor_faults = (s->monitor_faults & ~(uint32_t)CTL_FAULT_LOSS_OF_CONTROL) |
+                            (trip ? (uint32_t)CTL_FAULT_LOSS_OF_CONTROL : 0u);
         /* in this branch, so that the compiler sees the sums just reset to -0.0: it
          * drops both the reset and the additions (x + -0.0 is x; cycle count) */
         ctl_guard_accumulate(&s->guard, v_V, is_A);

@@ -265,7 +265,9 @@ typedef struct {
     real_t psi_target_Wb;     /**< flux the reference ramps to (supervise()), Wb */
     real_t short_sum_Nm;      /**< |te_ref| - |te_est| summed since the last supervision step, N m */
     ctl_guard guard;          /**< loss-of-control monitor */
-    bool guard_trip;          /**< the monitor's verdict of the last step */
+    uint32_t monitor_faults;  /**< the slow monitors' verdicts at their last steps: CTL_FAULT_LOSS_OF_CONTROL
+                                   (the guard's check), CTL_FAULT_STALL (the stall windows, with
+                                   stall_time_s as it was then); detect_faults() adds them every tick */
     real_t t_at_limit_s;      /**< time at the torque limit, off speed, in windows whose speed error did not shrink (STALL), s */
     real_t t_stall_win_s;     /**< time in the present stall window, s */
     real_t err_win_start_rad_s; /**< |speed error| (filtered estimate) at the start of that window, rad/s */
