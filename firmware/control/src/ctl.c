@@ -105,6 +105,7 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->np_V_per_A = cfg->c_dc_F > R(0.0) ? num_div(cfg->period_s, cfg->c_dc_F) : R(0.0);
     cfg->dtc.np_V_per_A = cfg->np_V_per_A;
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
+    cfg->dead_time_per_T = num_mul(cfg->dead_time_comp_s, cfg->inv_period_per_s); /* the tick's product before: the same bits */
     ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
     rs_ident_cfg_derive(&cfg->rsid, m, cfg->period_s, cfg->rs_ident_tol);
     /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */
@@ -403,8 +404,7 @@ static void add_dead_time_error(const ctl_state *s, const ctl_cfg *cfg, const ha
         return;
     const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
     real_t dv[3];
-    dead_time_leg_error(&s->prev_act, &s->last_act, i, x->vc1_V, x->vc2_V,
-                        num_mul(cfg->dead_time_comp_s, cfg->inv_period_per_s), DROP_BAND_A, dv);
+    dead_time_leg_error(&s->prev_act, &s->last_act, i, x->vc1_V, x->vc2_V, cfg->dead_time_per_T, DROP_BAND_A, dv);
     v[0] += num_mul(R(0.333333333), R(2.0) * dv[0] - dv[1] - dv[2]);
     v[1] += num_mul(NUM_INV_SQRT3, dv[1] - dv[2]);
 }
@@ -649,7 +649,10 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
     di.vc1_V = x->vc1_V;
     di.vc2_V = x->vc2_V;
     di.np_dev_V = np_dev_pred_V;
-    di.prev_state = st1 < DTC3L_N_STATES ? st1 : (uint8_t)DTC3L_STATE_OOO;
+    /* last_state is always a state number: only gates_off() (OOO), actuate() and bringup_step()
+     * (P<->N guard outputs, 0..26) write it, so no clamp (issue 11; observe() and
+     * predict_np_dev() rely on the same) */
+    di.prev_state = st1;
     di.band_scale = s->band_scale;
     di.decide_level = s->slow_slot == CTL_SLOT_LEVEL;
     dtc3l_step_predicted(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->obs_out, &s->dtc_out);
