@@ -509,6 +509,10 @@ static void supervise_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x
 static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg)
 {
     s->short_sum_Nm += num_abs(s->te_ref_Nm) - num_abs(s->obs_out.te_Nm);
+    /* at the target (most ticks) the clamp would return the target's very bits: skipped,
+     * judged on the bits (a NaN stays NaN, -0 stays -0; issue 11) */
+    if (f32_bits(s->psi_target_Wb) == f32_bits(s->psi_ref_ramped_Wb))
+        return;
     real_t dpsi = cfg->psi_ramp_step_Wb;
     s->psi_ref_ramped_Wb = num_sat(s->psi_target_Wb, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
 }
