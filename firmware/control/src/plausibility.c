@@ -6,6 +6,8 @@
 
 #include "dtc/ctl.h"
 
+#include <string.h>
+
 void plaus_reset(plaus_state *p)
 {
     /* member by member: called every tick while stopped or faulted, where a
@@ -17,6 +19,14 @@ void plaus_reset(plaus_state *p)
         p->open_peak_A[k] = R(0.0);
         p->last_A[k] = R(0.0);
     }
+}
+
+/* The bits of @p x. */
+static inline uint32_t plaus_bits(real_t x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
 }
 
 /* Count ticks in a row while @p cond holds, PLAUS_CHECK_TICKS per check (saturating). */
@@ -63,15 +73,23 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
     bool judge_open = w > R(2.0) * NUM_PI * PLAUS_PHASE_MIN_HZ;
 
     bool flowing = mag_A > PLAUS_CURRENT_A;
+    /* |i| against PLAUS_OPEN_A and i against the last reading compared as integers on
+     * the bits (no FPU flag transfer per compare; issue 11): for finite values (ctl.c
+     * judges nothing else on a sample value that is not a number) |i| orders like its
+     * magnitude bits, and readings of |i| >= PLAUS_OPEN_A are equal exactly when their
+     * bits are */
+    const uint32_t open_bits = plaus_bits(PLAUS_OPEN_A);
     for (int k = 0; k < 3; k++) {
+        uint32_t bits = plaus_bits(i[k]);
+        bool small = (bits & 0x7FFFFFFFu) < open_bits;
         /* A reading stuck at ~0 A is judged as phase loss or by the current sum. */
-        p->stuck_ticks[k] = count(p->stuck_ticks[k], flowing && i[k] == p->last_A[k] && num_abs(i[k]) >= PLAUS_OPEN_A);
+        p->stuck_ticks[k] = count(p->stuck_ticks[k], flowing && !small && bits == plaus_bits(p->last_A[k]));
         if (p->stuck_ticks[k] >= PLAUS_STUCK_TICKS)
             f |= CTL_FAULT_CURRENT_SENSOR;
         p->last_A[k] = i[k];
         /* The two remaining currents cross zero too: the magnitude is judged by its
          * peak over the time the phase has been at ~0 A, not tick by tick. */
-        bool open = judge_open && num_abs(i[k]) < PLAUS_OPEN_A;
+        bool open = judge_open && small;
         p->open_ticks[k] = count(p->open_ticks[k], open);
         p->open_peak_A[k] = open ? (mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k]) : R(0.0);
         /* the half period is at least PLAUS_OPEN_MIN_TICKS: worked out only past that */
