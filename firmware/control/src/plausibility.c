@@ -19,6 +19,7 @@ void plaus_reset(plaus_state *p)
         p->open_peak_A[k] = R(0.0);
         p->last_A[k] = R(0.0);
     }
+    p->cleared = true;
 }
 
 /* The bits of @p x. */
@@ -54,11 +55,13 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
             f |= CTL_FAULT_DC_DIVIDER;
     }
     if (!active) {
-        plaus_reset(p);
+        if (!p->cleared)
+            plaus_reset(p);
         return f;
     }
     if (!check)
         return f; /* the current checks run every PLAUS_CHECK_TICKS-th tick (the caller's schedule) */
+    p->cleared = false;
     const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
 
     real_t sq = num_mac(i[0], i[0], num_mac(i[1], i[1], num_mul(i[2], i[2])));
