@@ -31,8 +31,7 @@ static void legs_packed(const hal_actuation *a, uint32_t *v0, uint32_t *v1)
 
 /* Edge by edge, and within an edge only the legs that commute (most periods
  * commute none or one; issue 11): their bytes differ in from ^ to, so one
- * test per leg. The sums per leg run in
- * the edges' order. */
+ * test per leg. The sums per leg run in the edges' order. */
 void dead_time_leg_error(const hal_actuation *prev, const hal_actuation *act, const real_t i_A[3], real_t vc1_V,
                          real_t vc2_V, real_t dt_per_T, real_t band_A, real_t dv_V[3])
 {

@@ -75,7 +75,9 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
     real_t w = num_abs(omega_e_rad_s);
     bool judge_open = w > R(2.0) * NUM_PI * PLAUS_PHASE_MIN_HZ;
 
-    bool flowing = mag_A > PLAUS_CURRENT_A;
+    /* on the bits too: mag_A is a square root, never negative nor NaN (issue 11: a float
+     * compare here was redone per leg) */
+    bool flowing = plaus_bits(mag_A) > plaus_bits(PLAUS_CURRENT_A);
     /* |i| against PLAUS_OPEN_A and i against the last reading compared as integers on
      * the bits (no FPU flag transfer per compare; issue 11): for finite values (ctl.c
      * judges nothing else on a sample value that is not a number) |i| orders like its
