@@ -88,13 +88,13 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
         uint32_t bits = plaus_bits(i[k]);
         bool small = (bits & 0x7FFFFFFFu) < open_bits;
         /* A reading stuck at ~0 A is judged as phase loss or by the current sum. */
-        p->stuck_ticks[k] = count(p->stuck_ticks[k], flowing && !small && bits == plaus_bits(p->last_A[k]));
+        p->stuck_ticks[k] = count(p->stuck_ticks[k], bits == plaus_bits(p->last_A[k]) && !small && flowing);
         if (p->stuck_ticks[k] >= PLAUS_STUCK_TICKS)
             f |= CTL_FAULT_CURRENT_SENSOR;
         p->last_A[k] = i[k];
         /* The two remaining currents cross zero too: the magnitude is judged by its
          * peak over the time the phase has been at ~0 A, not tick by tick. */
-        bool open = judge_open && small;
+        bool open = small && judge_open; /* the rare condition first */
         p->open_ticks[k] = count(p->open_ticks[k], open);
         p->open_peak_A[k] = open ? (mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k]) : R(0.0);
         /* the half period is at least PLAUS_OPEN_MIN_TICKS: worked out only past that */
