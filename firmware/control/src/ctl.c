@@ -324,6 +324,9 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     gates_off(s); /* the first period after enabling applies OOO */
 }
 
+/* The speed-loop outputs published while no speed loop runs. */
+static const speed_out k_speed_none = {.te_ref_Nm = R(0.0), .eps_hat = R(0.0), .w_norm = R(0.0), .zeta_bar = R(0.0)};
+
 static void fill_telemetry(const ctl_state *s, const speed_out *so, ctl_out *out)
 {
     ctl_telemetry *t = &out->tel;
@@ -333,9 +336,9 @@ static void fill_telemetry(const ctl_state *s, const speed_out *so, ctl_out *out
     t->te_est_Nm = s->obs_out.te_Nm;
     t->psi_s_est_Wb = s->obs_out.psi_s_abs_Wb;
     t->psi_ref_Wb = s->psi_ref_ramped_Wb;
-    t->eps_hat = so ? so->eps_hat : R(0.0);
-    t->w_norm = so ? so->w_norm : R(0.0);
-    t->zeta_bar = so ? so->zeta_bar : R(0.0);
+    t->eps_hat = so->eps_hat;
+    t->w_norm = so->w_norm;
+    t->zeta_bar = so->zeta_bar;
     t->rs_est_ohm = s->obs.rs_ohm;
     t->duty0 = out->act.duty0;
     t->vector_index = s->last_state[0]; /* out->act is last_act in every path */
@@ -350,7 +353,7 @@ static void output_off(ctl_state *s, ctl_out *out)
     act_zero(&out->act); /* = s->last_act, from the constant */
     out->gate_enable = false;
     s->te_ref_Nm = R(0.0);
-    fill_telemetry(s, NULL, out);
+    fill_telemetry(s, &k_speed_none, out);
 }
 
 /* Protect: latch this tick's faults; true when the gates must be off. */
@@ -762,7 +765,7 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
     s->last_state[1] = a1;
     out->act = act;
     out->gate_enable = true;
-    fill_telemetry(s, NULL, out);
+    fill_telemetry(s, &k_speed_none, out);
 }
 
 /* restrict (the definition only; the header's prototype is compatible): the
@@ -806,7 +809,7 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     }
     ramp_flux_reference(s, cfg);
 
-    const speed_out *so = NULL; /* the telemetry's speed-loop outputs: zeros without a speed loop */
+    const speed_out *so = &k_speed_none; /* the telemetry's speed-loop outputs (a constant: no test per tick) */
     if (s->run_state == CTL_MAGNETISING) {
         rs_ident_step(&s->rsid, &cfg->rsid, v_V, is_A, s->obs.omega_e_rad_s);
         magnetise(s, cfg);
