@@ -105,6 +105,7 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->np_V_per_A = cfg->c_dc_F > R(0.0) ? num_div(cfg->period_s, cfg->c_dc_F) : R(0.0);
     cfg->dtc.np_V_per_A = cfg->np_V_per_A;
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
+    cfg->dead_time_per_T = num_mul(cfg->dead_time_comp_s, cfg->inv_period_per_s); /* the tick's product before: the same bits */
     ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
     rs_ident_cfg_derive(&cfg->rsid, m, cfg->period_s, cfg->rs_ident_tol);
     /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */
@@ -282,11 +283,9 @@ static uint32_t detect_faults(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in
     /* Written as "not within" so that a diverged (NaN) estimate trips too. */
     if (active && !(num_abs(s->obs.omega_m_filt_rad_s) <= cfg->overspeed_rad_s))
         f |= CTL_FAULT_OVERSPEED;
-    if (active && s->guard_trip)
-        f |= CTL_FAULT_LOSS_OF_CONTROL;
-    /* the rare conditions first, the configuration's switch-off last (issue 11: the same test, fewer compares) */
-    if (active && (s->brake_stall || s->t_at_limit_s >= cfg->stall_time_s) && cfg->stall_time_s > R(0.0))
-        f |= CTL_FAULT_STALL;
+    /* the loss-of-control and stall verdicts as their monitors last gave them (in their slots) */
+    if (active)
+        f |= s->monitor_faults;
     real_t omega_e = num_mul(cfg->motor.pole_pairs, s->obs.omega_m_filt_rad_s);
     /* the slow tasks' slot advances here, once per tick that judges a sample (ctl.h) */
     s->slow_slot = (uint8_t)((s->slow_slot + 1u) & (CTL_SLOW_SLOTS - 1u));
@@ -313,7 +312,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->speed_ref_ramped_rad_s = R(0.0);
     s->te_ref_Nm = R(0.0);
     ctl_guard_reset(&s->guard);
-    s->guard_trip = false;
+    s->monitor_faults = 0u;
     s->fsw_hz = R(0.0);
     s->fsw_changes = 0u;
     s->band_scale = R(1.0);
@@ -325,6 +324,9 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     gates_off(s); /* the first period after enabling applies OOO */
 }
 
+/* The speed-loop outputs published while no speed loop runs. */
+static const speed_out k_speed_none = {.te_ref_Nm = R(0.0), .eps_hat = R(0.0), .w_norm = R(0.0), .zeta_bar = R(0.0)};
+
 static void fill_telemetry(const ctl_state *s, const speed_out *so, ctl_out *out)
 {
     ctl_telemetry *t = &out->tel;
@@ -334,9 +336,9 @@ static void fill_telemetry(const ctl_state *s, const speed_out *so, ctl_out *out
     t->te_est_Nm = s->obs_out.te_Nm;
     t->psi_s_est_Wb = s->obs_out.psi_s_abs_Wb;
     t->psi_ref_Wb = s->psi_ref_ramped_Wb;
-    t->eps_hat = so ? so->eps_hat : R(0.0);
-    t->w_norm = so ? so->w_norm : R(0.0);
-    t->zeta_bar = so ? so->zeta_bar : R(0.0);
+    t->eps_hat = so->eps_hat;
+    t->w_norm = so->w_norm;
+    t->zeta_bar = so->zeta_bar;
     t->rs_est_ohm = s->obs.rs_ohm;
     t->duty0 = out->act.duty0;
     t->vector_index = s->last_state[0]; /* out->act is last_act in every path */
@@ -351,7 +353,7 @@ static void output_off(ctl_state *s, ctl_out *out)
     act_zero(&out->act); /* = s->last_act, from the constant */
     out->gate_enable = false;
     s->te_ref_Nm = R(0.0);
-    fill_telemetry(s, NULL, out);
+    fill_telemetry(s, &k_speed_none, out);
 }
 
 /* Protect: latch this tick's faults; true when the gates must be off. */
@@ -405,8 +407,7 @@ static void add_dead_time_error(const ctl_state *s, const ctl_cfg *cfg, const ha
         return;
     const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
     real_t dv[3];
-    dead_time_leg_error(&s->prev_act, &s->last_act, i, x->vc1_V, x->vc2_V,
-                        num_mul(cfg->dead_time_comp_s, cfg->inv_period_per_s), DROP_BAND_A, dv);
+    dead_time_leg_error(&s->prev_act, &s->last_act, i, x->vc1_V, x->vc2_V, cfg->dead_time_per_T, DROP_BAND_A, dv);
     v[0] += num_mul(R(0.333333333), R(2.0) * dv[0] - dv[1] - dv[2]);
     v[1] += num_mul(NUM_INV_SQRT3, dv[1] - dv[2]);
 }
@@ -511,6 +512,10 @@ static void supervise_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x
 static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg)
 {
     s->short_sum_Nm += num_abs(s->te_ref_Nm) - num_abs(s->obs_out.te_Nm);
+    /* at the target (most ticks) the clamp would return the target's very bits: skipped,
+     * judged on the bits (a NaN stays NaN, -0 stays -0; issue 11) */
+    if (f32_bits(s->psi_target_Wb) == f32_bits(s->psi_ref_ramped_Wb))
+        return;
     real_t dpsi = cfg->psi_ramp_step_Wb;
     s->psi_ref_ramped_Wb = num_sat(s->psi_target_Wb, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
 }
@@ -596,13 +601,18 @@ static void stall_step(ctl_state *s, const ctl_cfg *cfg, real_t T)
         }
     }
     brake_stall_step(s, cfg, at_limit, off_speed, T);
+    /* the verdict, judged here where its inputs change rather than every tick (issue 11): the rare
+     * conditions first, the configuration's switch-off last */
+    bool stall = (s->brake_stall || s->t_at_limit_s >= cfg->stall_time_s) && cfg->stall_time_s > R(0.0);
+    s->monitor_faults = (s->monitor_faults & ~(uint32_t)CTL_FAULT_STALL) | (stall ? (uint32_t)CTL_FAULT_STALL : 0u);
 }
 
 /* The speed loop runs every CTL_RBFN_TICKS-th tick, whatever the controller:
  * its command in a slot the monitors leave free, the RBFN's learning of that
  * command and the stall windows each in a later slot of their own (ctl.h);
- * between its steps the torque command and the speed controller's outputs hold. */
-static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, speed_out *so)
+ * between its steps the torque command and the speed controller's outputs
+ * (s->speed_held, written in place: no copy per tick, issue 11) hold. */
+static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 {
     real_t T = cfg->speed_T_s; /* the speed loop's step */
     bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
@@ -612,25 +622,27 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, sp
             stall_step(s, cfg, T);
         else if (rbfn && k == CTL_SLOT_RBFN_LEARN)
             speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
-        *so = s->speed_held;
         return;
     }
     real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
     target = num_limit(target, cfg->speed_max_rad_s);
     real_t prev = s->speed_ref_ramped_rad_s;
-    s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, cfg->speed_ramp_step_rad_s);
+    /* at the target (most steps) the ramp returns it: skipped on equal bits, but not at zero,
+     * where prev + (+0) makes a -0 into +0 (issue 11: on the command tick, the worst one) */
+    if (f32_bits(target) != f32_bits(prev) || abs_bits(prev) == 0u)
+        s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, cfg->speed_ramp_step_rad_s);
     speed_in si;
     si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
     /* (d / T_tick) / CTL_RBFN_TICKS in one product: the division by a power of 2 is exact */
     si.domega_ref_rad_s2 = num_mul(s->speed_ref_ramped_rad_s - prev, cfg->inv_speed_T_per_s);
     si.omega_est_rad_s = s->obs_out.omega_m_rad_s;
     si.te_limit_Nm = s->te_limit_Nm;
+    /* both write every output before they read one */
     if (rbfn)
-        speed_ctl_command(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
+        speed_ctl_command(&s->speed, &cfg->speed, &cfg->motor, T, &si, &s->speed_held);
     else
-        speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, so);
-    s->speed_held = *so;
-    s->te_ref_Nm = so->te_ref_Nm;
+        speed_ctl_step(&s->speed, &cfg->speed, &cfg->motor, T, &si, &s->speed_held);
+    s->te_ref_Nm = s->speed_held.te_ref_Nm;
 }
 
 /* Torque and flux control on the state predicted for t_{k+1}; returns the
@@ -647,7 +659,10 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
     di.vc1_V = x->vc1_V;
     di.vc2_V = x->vc2_V;
     di.np_dev_V = np_dev_pred_V;
-    di.prev_state = st1 < DTC3L_N_STATES ? st1 : (uint8_t)DTC3L_STATE_OOO;
+    /* last_state is always a state number: only gates_off() (OOO), actuate() and bringup_step()
+     * (P<->N guard outputs, 0..26) write it, so no clamp (issue 11; observe() and
+     * predict_np_dev() rely on the same) */
+    di.prev_state = st1;
     di.band_scale = s->band_scale;
     di.decide_level = s->slow_slot == CTL_SLOT_LEVEL;
     dtc3l_step_predicted(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->obs_out, &s->dtc_out);
@@ -750,7 +765,7 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
     s->last_state[1] = a1;
     out->act = act;
     out->gate_enable = true;
-    fill_telemetry(s, NULL, out);
+    fill_telemetry(s, &k_speed_none, out);
 }
 
 /* restrict (the definition only; the header's prototype is compatible): the
@@ -779,8 +794,10 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     real_t np_dev_pred_V = predict_np_dev(s, cfg, &in->sample);
     observe(s, cfg, &in->sample, np_dev_pred_V, v_V, is_A);
     if ((s->slow_slot & (CTL_MONITOR_SLOTS - 1u)) == CTL_SLOT_GUARD) { /* its window closes: the check of the ticks before this one */
-        s->guard_trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
-                                        s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+        bool trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
+                                    s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+        s->monitor_faults = (s->monitor_faults & ~(uint32_t)CTL_FAULT_LOSS_OF_CONTROL) |
+                            (trip ? (uint32_t)CTL_FAULT_LOSS_OF_CONTROL : 0u);
         /* in this branch, so that the compiler sees the sums just reset to -0.0: it
          * drops both the reset and the additions (x + -0.0 is x; cycle count) */
         ctl_guard_accumulate(&s->guard, v_V, is_A);
@@ -792,18 +809,19 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     }
     ramp_flux_reference(s, cfg);
 
-    speed_out so;
-    memset(&so, 0, sizeof so);
+    const speed_out *so = &k_speed_none; /* the telemetry's speed-loop outputs (a constant: no test per tick) */
     if (s->run_state == CTL_MAGNETISING) {
         rs_ident_step(&s->rsid, &cfg->rsid, v_V, is_A, s->obs.omega_e_rad_s);
         magnetise(s, cfg);
     }
     if (s->run_state == CTL_RUNNING && cfg->bringup_level == BRINGUP_TORQUE)
         s->te_ref_Nm = num_limit(cfg->bringup_te_Nm, cfg->speed.te_max_Nm); /* level 5: no speed loop */
-    else if (s->run_state == CTL_RUNNING)
-        control_speed(s, cfg, in, &so);
+    else if (s->run_state == CTL_RUNNING) {
+        control_speed(s, cfg, in);
+        so = &s->speed_held;
+    }
 
     uint8_t prev_state = control_torque_flux(s, cfg, &in->sample, np_dev_pred_V);
     actuate(s, cfg, prev_state, out);
-    fill_telemetry(s, &so, out);
+    fill_telemetry(s, so, out);
 }

@@ -30,7 +30,8 @@ static void legs_packed(const hal_actuation *a, uint32_t *v0, uint32_t *v1)
 }
 
 /* Edge by edge, and within an edge only the legs that commute (most periods
- * commute none or one; issue 11); the sums per leg run in the edges' order. */
+ * commute none or one; issue 11): their bytes differ in from ^ to, so one
+ * test per leg. The sums per leg run in the edges' order. */
 void dead_time_leg_error(const hal_actuation *prev, const hal_actuation *act, const real_t i_A[3], real_t vc1_V,
                          real_t vc2_V, real_t dt_per_T, real_t band_A, real_t dv_V[3])
 {
@@ -49,12 +50,14 @@ void dead_time_leg_error(const hal_actuation *prev, const hal_actuation *act, co
     real_t half_per_A = num_div(R(0.5), band_A);
     for (int e = 1; e < n; e++) {
         uint32_t from = seq[e - 1], to = seq[e];
-        if (from == to)
+        uint32_t moved = from ^ to;
+        if (moved == 0u)
             continue;
         for (int leg = 0; leg < 3; leg++) {
-            uint32_t la = (from >> (8 * leg)) & 0xFFu, lb = (to >> (8 * leg)) & 0xFFu;
-            if (la == lb)
+            unsigned sh = 8u * (unsigned)leg;
+            if (((moved >> sh) & 0xFFu) == 0u)
                 continue;
+            uint32_t la = (from >> sh) & 0xFFu, lb = (to >> sh) & 0xFFu;
             real_t step_V = leg_level_V(lb, vc1_V, vc2_V) - leg_level_V(la, vc1_V, vc2_V);
             real_t toward_A = lb > la ? i_A[leg] : -i_A[leg];
             real_t late = num_sat(R(0.5) + num_mul(half_per_A, toward_A), R(0.0), R(1.0));

@@ -6,6 +6,8 @@
 
 #include "dtc/ctl.h"
 
+#include <string.h>
+
 void plaus_reset(plaus_state *p)
 {
     /* member by member: called every tick while stopped or faulted, where a
@@ -17,6 +19,15 @@ void plaus_reset(plaus_state *p)
         p->open_peak_A[k] = R(0.0);
         p->last_A[k] = R(0.0);
     }
+    p->cleared = true;
+}
+
+/* The bits of @p x. */
+static inline uint32_t plaus_bits(real_t x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
 }
 
 /* Count ticks in a row while @p cond holds, PLAUS_CHECK_TICKS per check (saturating). */
@@ -44,11 +55,13 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
             f |= CTL_FAULT_DC_DIVIDER;
     }
     if (!active) {
-        plaus_reset(p);
+        if (!p->cleared)
+            plaus_reset(p);
         return f;
     }
     if (!check)
         return f; /* the current checks run every PLAUS_CHECK_TICKS-th tick (the caller's schedule) */
+    p->cleared = false;
     const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
 
     real_t sq = num_mac(i[0], i[0], num_mac(i[1], i[1], num_mul(i[2], i[2])));
@@ -62,16 +75,26 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
     real_t w = num_abs(omega_e_rad_s);
     bool judge_open = w > R(2.0) * NUM_PI * PLAUS_PHASE_MIN_HZ;
 
-    bool flowing = mag_A > PLAUS_CURRENT_A;
+    /* on the bits too: mag_A is a square root, never negative nor NaN (issue 11: a float
+     * compare here was redone per leg) */
+    bool flowing = plaus_bits(mag_A) > plaus_bits(PLAUS_CURRENT_A);
+    /* |i| against PLAUS_OPEN_A and i against the last reading compared as integers on
+     * the bits (no FPU flag transfer per compare; issue 11): for finite values (ctl.c
+     * judges nothing else on a sample value that is not a number) |i| orders like its
+     * magnitude bits, and readings of |i| >= PLAUS_OPEN_A are equal exactly when their
+     * bits are */
+    const uint32_t open_bits = plaus_bits(PLAUS_OPEN_A);
     for (int k = 0; k < 3; k++) {
+        uint32_t bits = plaus_bits(i[k]);
+        bool small = (bits & 0x7FFFFFFFu) < open_bits;
         /* A reading stuck at ~0 A is judged as phase loss or by the current sum. */
-        p->stuck_ticks[k] = count(p->stuck_ticks[k], flowing && i[k] == p->last_A[k] && num_abs(i[k]) >= PLAUS_OPEN_A);
+        p->stuck_ticks[k] = count(p->stuck_ticks[k], bits == plaus_bits(p->last_A[k]) && !small && flowing);
         if (p->stuck_ticks[k] >= PLAUS_STUCK_TICKS)
             f |= CTL_FAULT_CURRENT_SENSOR;
         p->last_A[k] = i[k];
         /* The two remaining currents cross zero too: the magnitude is judged by its
          * peak over the time the phase has been at ~0 A, not tick by tick. */
-        bool open = judge_open && num_abs(i[k]) < PLAUS_OPEN_A;
+        bool open = small && judge_open; /* the rare condition first */
         p->open_ticks[k] = count(p->open_ticks[k], open);
         p->open_peak_A[k] = open ? (mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k]) : R(0.0);
         /* the half period is at least PLAUS_OPEN_MIN_TICKS: worked out only past that */

@@ -111,6 +111,7 @@ typedef struct {
                                    by sigma Tr) below a fifth of i_trip_A */
     real_t np_V_per_A;        /**< period_s / c_dc_F: change of vc1 - vc2 per ampere of NP current over one period */
     real_t inv_period_per_s;  /**< 1 / period_s */
+    real_t dead_time_per_T;   /**< dead_time_comp_s x inv_period_per_s: the dead time per period (0..0.5) */
     real_t te_pullout_Nm_Wb2; /**< pull-out torque per Wb^2 of stator flux: 1.5 p (1 - sigma) / (2 sigma Ls) */
     real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
     real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */
@@ -265,7 +266,9 @@ typedef struct {
     real_t psi_target_Wb;     /**< flux the reference ramps to (supervise()), Wb */
     real_t short_sum_Nm;      /**< |te_ref| - |te_est| summed since the last supervision step, N m */
     ctl_guard guard;          /**< loss-of-control monitor */
-    bool guard_trip;          /**< the monitor's verdict of the last step */
+    uint32_t monitor_faults;  /**< the slow monitors' verdicts at their last steps: CTL_FAULT_LOSS_OF_CONTROL
+                                   (the guard's check), CTL_FAULT_STALL (the stall windows, with
+                                   stall_time_s as it was then); detect_faults() adds them every tick */
     real_t t_at_limit_s;      /**< time at the torque limit, off speed, in windows whose speed error did not shrink (STALL), s */
     real_t t_stall_win_s;     /**< time in the present stall window, s */
     real_t err_win_start_rad_s; /**< |speed error| (filtered estimate) at the start of that window, rad/s */

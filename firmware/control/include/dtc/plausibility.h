@@ -58,6 +58,8 @@ typedef struct {
     uint16_t open_ticks[3];   /**< ticks in a row with a phase near 0 A */
     float open_peak_A[3];     /**< largest current magnitude seen meanwhile, A */
     float last_A[3];          /**< the readings of the previous check, A */
+    bool cleared;             /**< the history is plaus_reset()'s and no check ran since: a stopped
+                                   or faulted tick need not write it again (issue 11) */
 } plaus_state;
 
 /** Forget the history (at every start). Context: ISR or BG. */
