@@ -380,38 +380,48 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
     return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
 }
 
-/* Observe: the voltage applied from t_k to t_{k+1} is last_act with the
- * capacitors' mean voltages over the period (from this tick's vc1, vc2 and
- * the predicted neutral point at t_{k+1}); the observer advances to t_{k+1}
- * with it. Returns that voltage and the sampled current (alpha-beta). */
 /* The leg voltage is lower than the state says by the on-state drop of the two
  * conducting devices, against the phase current: v_drop_V per device, with a
  * sign softened over +-DROP_BAND_A so a current at zero does not toggle it. */
 #define DROP_BAND_A R(0.5)
-static void subtract_device_drops(const ctl_cfg *cfg, const hal_sample *x, real_t v[2])
+/* The three legs' voltages of a real inverter, V: the commanded ones (the
+ * duty's mix of the period's two vectors), less the device drops, plus the
+ * dead time's error (dead_time.h; with no dead time dt_per_T is 0 and the
+ * edges add nothing). The drop: 2 v_drop_V x sat(i / DROP_BAND_A, -1, 1)
+ * = 4 v_drop_V x late_up - 2 v_drop_V, with late_up = sat(0.5 + i / (2
+ * DROP_BAND_A), 0, 1) the dead time's softened sign; the constant 2 v_drop_V,
+ * common to the three legs, drops out of the stator voltage. */
+static void apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const real_t level_V[3], const real_t i[3],
+                                real_t vl[3])
 {
-    if (!(cfg->v_drop_V > R(0.0)))
-        return;
-    const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
-    real_t d[3];
+    const hal_actuation *a = &s->last_act;
+    const uint8_t *l0 = a->vector[0].leg, *l1 = a->vector[1].leg;
+    real_t late_up[3];
     for (int k = 0; k < 3; k++)
-        d[k] = num_mul(R(2.0) * cfg->v_drop_V, num_sat(i[k] / DROP_BAND_A, R(-1.0), R(1.0)));
-    v[0] -= num_mul(R(0.333333333), R(2.0) * d[0] - d[1] - d[2]);
-    v[1] -= num_mul(NUM_INV_SQRT3, d[1] - d[2]);
+        vl[k] = level_V[l1[k]];
+    if (s->last_state[0] != s->last_state[1]) {
+        real_t d0 = a->duty0;
+        for (int k = 0; k < 3; k++)
+            vl[k] = num_mac(d0, level_V[l0[k]] - vl[k], vl[k]);
+    }
+    real_t drop4_V = num_mul(R(-4.0), cfg->v_drop_V); /* 0 with the drops off */
+    for (int k = 0; k < 3; k++) {
+        late_up[k] = num_sat(R(0.5) + i[k] / (R(2.0) * DROP_BAND_A), R(0.0), R(1.0));
+        vl[k] = num_mac(drop4_V, late_up[k], vl[k]);
+    }
+    const uint8_t *from = dead_time_from(&s->prev_act)->leg, *first = dead_time_first(a)->leg;
+    bool split = dead_time_split(a);
+    real_t dt_per_T = cfg->dead_time_per_T;
+    for (int k = 0; k < 3; k++)
+        vl[k] = dead_time_leg_add(from[k], first[k], l1[k], split, late_up[k], level_V, dt_per_T, vl[k]);
 }
 
-/* The dead time's volt-seconds (dead_time.h), with the device drops' band. */
-static void add_dead_time_error(const ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t v[2])
-{
-    if (!(cfg->dead_time_comp_s > R(0.0)))
-        return;
-    const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
-    real_t dv[3];
-    dead_time_leg_error(&s->prev_act, &s->last_act, i, x->vc1_V, x->vc2_V, cfg->dead_time_per_T, DROP_BAND_A, dv);
-    v[0] += num_mul(R(0.333333333), R(2.0) * dv[0] - dv[1] - dv[2]);
-    v[1] += num_mul(NUM_INV_SQRT3, dv[1] - dv[2]);
-}
-
+/* Observe: the voltage applied from t_k to t_{k+1} is last_act with the
+ * capacitors' mean voltages over the period (from this tick's vc1, vc2 and
+ * the predicted neutral point at t_{k+1}); the observer advances to t_{k+1}
+ * with it. Returns that voltage and the sampled current (alpha-beta).
+ * Leg by leg (the commanded level, the device drops, the dead time), then one
+ * Clarke transform. */
 static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V, real_t v[2],
                     real_t is[2])
 {
@@ -425,20 +435,28 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
      * Linear over the period, so the mean is the midpoint: each capacitor
      * moves by half the predicted change, the mean by half of that. */
     real_t q = num_mul(R(0.25), np_dev_pred_V - (x->vc1_V - x->vc2_V));
-    /* the states' voltages from their leg codes (last_act holds them) and the three leg voltages */
-    const real_t leg_V[3] = {-(x->vc2_V - q), R(0.0), x->vc1_V + q};
-    dtc3l_legs_voltage(&s->last_act.vector[1], leg_V, v);
-    if (st0 != st1) { /* two states: mixed by the duty (one state's d0 x 0 + v1 would be v1 exactly) */
-        real_t v0[2];
-        dtc3l_legs_voltage(&s->last_act.vector[0], leg_V, v0);
-        real_t d0 = s->last_act.duty0;
-        v[0] = num_mac(d0, v0[0] - v[0], v[0]);
-        v[1] = num_mac(d0, v0[1] - v[1], v[1]);
+    /* the levels of the leg codes N, O, P (last_act holds the states' codes) */
+    const real_t level_V[3] = {-(x->vc2_V - q), R(0.0), x->vc1_V + q};
+    const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
+    if (!(cfg->v_drop_V > R(0.0)) && !(cfg->dead_time_comp_s > R(0.0))) {
+        /* an ideal inverter: the states' voltages straight in alpha-beta */
+        dtc3l_legs_voltage(&s->last_act.vector[1], level_V, v);
+        if (st0 != st1) { /* two states: mixed by the duty (one state's d0 x 0 + v1 would be v1 exactly) */
+            real_t v0[2];
+            dtc3l_legs_voltage(&s->last_act.vector[0], level_V, v0);
+            real_t d0 = s->last_act.duty0;
+            v[0] = num_mac(d0, v0[0] - v[0], v[0]);
+            v[1] = num_mac(d0, v0[1] - v[1], v[1]);
+        }
+    } else {
+        /* leg by leg (the commanded level, the device drops, the dead time), then one Clarke transform */
+        real_t vl[3];
+        apply_real_inverter(s, cfg, level_V, i, vl);
+        v[0] = num_mul(R(0.333333333), R(2.0) * vl[0] - vl[1] - vl[2]);
+        v[1] = num_mul(NUM_INV_SQRT3, vl[1] - vl[2]);
     }
-    subtract_device_drops(cfg, x, v);
-    add_dead_time_error(s, cfg, x, v);
-    is[0] = num_mul(R(0.333333333), R(2.0) * x->ia_A - x->ib_A - x->ic_A);
-    is[1] = num_mul(NUM_INV_SQRT3, x->ib_A - x->ic_A);
+    is[0] = num_mul(R(0.333333333), R(2.0) * i[0] - i[1] - i[2]);
+    is[1] = num_mul(NUM_INV_SQRT3, i[1] - i[2]);
     s->obs.te_cmd_Nm = s->te_ref_Nm; /* the command behind the voltage of this period */
     observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
 }

@@ -95,7 +95,7 @@ typedef struct {
     real_t bringup_te_Nm;     /**< torque command at level 5, N m (limited to the torque limit) */
     real_t dead_time_comp_s;  /**< dead time of the power stage, s (0..10e-6, 0 = not compensated): its
                                    volt-seconds are added to the applied voltage the observer and the
-                                   loss-of-control monitor use (ctl.c, add_dead_time_error) */
+                                   loss-of-control monitor use (ctl.c, apply_real_inverter) */
     real_t v_drop_V;          /**< on-state drop of one device, V: subtracted from the applied voltage the
                                    observer and the loss-of-control monitor use (0 = none) */
     real_t band_scale_max;    /**< largest widening of the torque bands, x (>= 1) */
