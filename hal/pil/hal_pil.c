@@ -20,10 +20,9 @@ typedef struct {
     hal_tick_handler handler;
     void *ctx;
     bool tick_running;
-    hal_sample next;       /* what the ADC converted for the coming tick */
+    hal_sample next;       /* what the ADC converted for the coming tick; the one allowed read copies it */
     bool next_fresh;
-    hal_sample sample;     /* latched by the tick interrupt */
-    bool sample_pending;   /* cleared by the one allowed read */
+    bool sample_pending;   /* latched by the tick interrupt, cleared by the one allowed read */
     uint32_t seq;
     bool gates_on;
     bool fault_input;
@@ -61,13 +60,12 @@ void hal_pil_set_inputs(const hal_sample *s, bool fresh, bool fault_input, bool 
 
 void hal_pil_tick_irq(void)
 {
-    /* The target's sample_latch() converts six ADC results here; the PIL
-     * board hands over the recorded, already converted sample. */
-    if (g_pil.next_fresh) {
-        g_pil.sample = g_pil.next;
-        g_pil.sample_pending = true;
-        g_pil.next_fresh = false;
-    }
+    /* The target's sample_latch() takes the ADC results here and its
+     * hal_sample_read converts them straight into the reader's buffer (issue
+     * 11: one copy of the sample, not two); the PIL board's read copies the
+     * recorded, already converted sample. */
+    g_pil.sample_pending = g_pil.next_fresh;
+    g_pil.next_fresh = false;
     if (g_pil.handler != NULL)
         g_pil.handler(g_pil.ctx);
 }
@@ -112,7 +110,7 @@ int hal_sample_read(hal_sample *out)
         return HAL_EINVAL;
     if (!g_pil.sample_pending)
         return HAL_EAGAIN;
-    *out = g_pil.sample;
+    *out = g_pil.next;
     g_pil.sample_pending = false;
     return HAL_OK;
 }

@@ -138,8 +138,8 @@ typedef struct {
     void *ctx;
     bool tick_running;
     volatile uint32_t millis; /* written by SysTick only */
-    hal_sample sample;        /* this tick's sample, written by the tick ISR */
-    bool sample_fresh;        /* cleared by the one allowed read */
+    uint32_t code[5];         /* this tick's ADC codes (ia, ib, ic, vc1, vc2), latched by the tick ISR */
+    bool sample_fresh;        /* cleared by the one allowed read, which converts code[] */
     bool adc_ok;              /* calibration and offsets valid */
     uint32_t seq;             /* tick sequence number */
     float offset_code[3];     /* current-sensor zero, ADC codes (ia, ib, ic) */
@@ -744,31 +744,17 @@ void SysTick_Handler(void) { g_board.millis++; }
 
 static void sample_latch(void)
 {
-    uint32_t code[5];
-    enum adc_codes got = adc_read_codes(code);
+    enum adc_codes got = adc_read_codes(g_board.code);
     g_board.seq++;
     if (got == ADC_CODES_SATURATED)
         g_board.faults |= BOARD_FAULT_ADC_RANGE;
     if (got == ADC_CODES_IC_MISSING)
         g_board.faults |= BOARD_FAULT_ADC_SYNC;
-    if (!g_board.adc_ok || got != ADC_CODES_OK) {
-        /* No trustworthy measurement: refuse it (the control core then sees a
-         * stale sample and goes to its safe state). */
-        g_board.sample_fresh = false;
-        return;
-    }
-    const float i_scale = 2.0f * BOARD_I_FULL_SCALE_A / BOARD_ADC_FULL_CODE;
-    const float v_scale = BOARD_V_FULL_SCALE_V / BOARD_ADC_FULL_CODE;
-    hal_sample *s = &g_board.sample;
-    s->ia_A = ((float)code[0] - g_board.offset_code[0]) * i_scale;
-    s->ib_A = ((float)code[1] - g_board.offset_code[1]) * i_scale;
-    s->ic_A = ((float)code[2] - g_board.offset_code[2]) * i_scale;
-    s->vc1_V = (float)code[3] * v_scale;
-    s->vc2_V = (float)code[4] * v_scale;
-    s->speed_meas_rad_s = 0.0f;
-    s->speed_meas_valid = false; /* no speed sensor on the board */
-    s->seq = g_board.seq;
-    g_board.sample_fresh = true;
+    /* No trustworthy measurement: refuse it (the control core then sees a
+     * stale sample and goes to its safe state). A good one is converted by
+     * the one allowed read, straight into the reader's buffer (issue 11: one
+     * copy of the sample, not two). */
+    g_board.sample_fresh = g_board.adc_ok && got == ADC_CODES_OK;
 }
 
 bool hal_tick_missed(void)
@@ -854,8 +840,18 @@ int hal_sample_read(hal_sample *out)
         return HAL_EINVAL;
     if (!g_board.sample_fresh)
         return HAL_EAGAIN;
-    *out = g_board.sample;
     g_board.sample_fresh = false;
+    const float i_scale = 2.0f * BOARD_I_FULL_SCALE_A / BOARD_ADC_FULL_CODE;
+    const float v_scale = BOARD_V_FULL_SCALE_V / BOARD_ADC_FULL_CODE;
+    const uint32_t *code = g_board.code;
+    out->ia_A = ((float)code[0] - g_board.offset_code[0]) * i_scale;
+    out->ib_A = ((float)code[1] - g_board.offset_code[1]) * i_scale;
+    out->ic_A = ((float)code[2] - g_board.offset_code[2]) * i_scale;
+    out->vc1_V = (float)code[3] * v_scale;
+    out->vc2_V = (float)code[4] * v_scale;
+    out->speed_meas_rad_s = 0.0f;
+    out->speed_meas_valid = false; /* no speed sensor on the board */
+    out->seq = g_board.seq;
     return HAL_OK;
 }
 
