@@ -29,7 +29,7 @@ typedef struct {
     bool tick_missed;
     uint32_t millis;
     npc_timing tm;            /* timer counts of the period, keep-out and minimum pulse */
-    uint8_t last_leg[3];      /* leg states at the end of the programmed period (with NPC_LEG_HELD: the timers hold its one-state words) */
+    uint8_t last_leg[4];      /* leg states at the end of the programmed period (with NPC_LEG_HELD: the timers hold its one-state words); [3] stays 0 (npc_leg_words_index3) */
     uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
     bool pn_step_seen;        /* as the target's BOARD_FAULT_PN_STEP */
     bool idle_held;           /* gates off: the registers hold idle_req's programme, which repeats itself */
@@ -86,6 +86,7 @@ int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us)
     g_pil.tm.min_pulse = (uint32_t)((uint64_t)PIL_MIN_PULSE_NS * PIL_COUNT_HZ / 1000000000u);
     for (unsigned leg = 0u; leg < 3u; leg++)
         g_pil.last_leg[leg] = (uint8_t)HAL_LEG_O;
+    g_pil.last_leg[3] = 0u;
     g_pil.idle_held = false;
     return HAL_OK;
 }
@@ -129,8 +130,9 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
     uint32_t timed = 0u;
+    uint32_t index3 = npc_leg_words_index3((const uint8_t *)act->vector, g_pil.last_leg);
     for (uint32_t leg = 0u; leg < 3u; leg++) {
-        w3[leg] = npc_leg_words_of(g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
         timed |= w3[leg]->timed;
     }
     uint32_t classes = NPC_UNTIMED_CLASSES;

@@ -147,7 +147,7 @@ typedef struct {
     uint32_t per_counts;
     uint32_t keepout_counts;
     uint32_t min_pulse_counts;
-    uint8_t last_leg[3];      /* leg state at the end of the last latched period (with NPC_LEG_HELD: the timers hold its one-state words) */
+    uint8_t last_leg[4];      /* leg state at the end of the last latched period (with NPC_LEG_HELD: the timers hold its one-state words); [3] stays 0 (npc_leg_words_index3) */
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     bool idle_held;           /* gates off: the preloaded registers hold idle_req's programme, which repeats itself */
     npc_request idle_req;     /* the last request programmed with the gates off */
@@ -480,6 +480,7 @@ static int hrtim_start(uint32_t period_us)
     }
     for (uint32_t leg = 0u; leg < 3u; leg++)
         g_board.last_leg[leg] = (uint8_t)HAL_LEG_O;
+    g_board.last_leg[3] = 0u;
     g_board.idle_held = false;
 
     HRTIM_ADC2R = HRTIM_ADC2R_AD2MC1;
@@ -878,8 +879,9 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
     uint32_t timed = 0u;
+    uint32_t index3 = npc_leg_words_index3((const uint8_t *)act->vector, g_board.last_leg);
     for (uint32_t leg = 0u; leg < 3u; leg++) {
-        w3[leg] = npc_leg_words_of(g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
         timed |= w3[leg]->timed;
     }
     uint32_t classes = NPC_UNTIMED_CLASSES;

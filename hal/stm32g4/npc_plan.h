@@ -277,6 +277,28 @@ static inline const npc_leg_words *npc_leg_words_of(uint8_t prev, uint8_t v0, ui
     return &npc_leg_words_table[((uint32_t)prev << 4) | ((uint32_t)v0 << 2) | v1];
 }
 
+/**
+ * The npc_leg_words_table indices of the three legs at once, one per byte
+ * (byte k: leg k's 16 prev + 4 v0 + v1, as npc_leg_words_of): @p legs are the
+ * six leg codes of an actuation (two vectors, each <= NPC_P: check with
+ * npc_legs_valid first), @p prev4 the three recorded leg states (each <=
+ * NPC_P | NPC_LEG_HELD) and a fourth byte that must be 0. Word-wide (issue
+ * 11: two loads and a few ORs instead of nine byte loads and six ORs): no
+ * byte exceeds 16 * 6 + 4 * 2 + 2 = 106, so nothing carries into the next one.
+ * Context: ANY (pure).
+ */
+static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t prev4[4])
+{
+    uint32_t w, p;
+    uint16_t h;
+    memcpy(&w, legs, sizeof w);       /* v0 of legs 0..2, v1 of leg 0 */
+    memcpy(&h, legs + 4, sizeof h);   /* v1 of legs 1, 2 */
+    memcpy(&p, prev4, sizeof p);
+    uint32_t v0 = w & 0x00FFFFFFu;
+    uint32_t v1 = (w >> 24) | ((uint32_t)h << 8);
+    return (p << 4) | (v0 << 2) | v1;
+}
+
 /** @return the instant class of the leg @p w in a period of classes @p classes (npc_period_classes). Context: ANY (pure). */
 static inline uint32_t npc_leg_class(const npc_leg_words *w, uint32_t classes)
 {

@@ -387,3 +387,35 @@ TEST(NpcPlan, LegsWordIsOneToOne)
         }
     }
 }
+
+// The three legs' table indices at once equal npc_leg_words_of's, leg by leg,
+// for every recorded state (with and without NPC_LEG_HELD) and every pair of
+// valid vectors; the fourth byte of the word is 0.
+TEST(NpcPlan, LegWordsIndex3EqualsTheIndexOfEachLeg)
+{
+    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
+                             NPC_P | NPC_LEG_HELD};
+    int checked = 0;
+    for (uint8_t p0 : prevs)
+        for (uint8_t p1 : prevs)
+            for (uint8_t p2 : prevs) {
+                const uint8_t prev4[4] = {p0, p1, p2, 0u};
+                for (int v = 0; v < 729; ++v) { // six leg codes 0..2
+                    uint8_t legs[6];
+                    for (int k = 0, r = v; k < 6; ++k, r /= 3)
+                        legs[k] = uint8_t(r % 3);
+                    ASSERT_TRUE(npc_legs_valid(legs));
+                    const uint32_t i3 = npc_leg_words_index3(legs, prev4);
+                    ASSERT_EQ(i3 >> 24, 0u);
+                    for (unsigned leg = 0u; leg < 3u; ++leg) {
+                        const npc_leg_words *want = npc_leg_words_of(prev4[leg], legs[leg], legs[3u + leg]);
+                        const uint32_t idx = (i3 >> (8u * leg)) & 0xFFu;
+                        ASSERT_LT(idx, NPC_LEG_WORDS_ENTRIES);
+                        ASSERT_EQ(&npc_leg_words_table[idx], want)
+                            << "prev " << int(prev4[leg]) << " v0 " << int(legs[leg]) << " v1 " << int(legs[3u + leg]);
+                    }
+                    ++checked;
+                }
+            }
+    EXPECT_EQ(checked, 216 * 729);
+}
