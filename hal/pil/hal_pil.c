@@ -139,10 +139,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     uint32_t t = 0u; /* CMP1 of every leg that changes inside the period (none without a timed leg) */
     if (timed != 0u) {
         uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
-        npc_instants instants;
-        npc_instants_of(&g_pil.tm, t0, &instants); /* once for the three legs */
-        classes = npc_period_classes(&g_pil.tm, &instants);
-        t = instants.keep;
+        classes = npc_period_classes_at(&g_pil.tm, t0, &t); /* once for the three legs */
     }
     uint32_t fixups = 0u;
     g_pil_update_disable |= PIL_UDIS_ALL;

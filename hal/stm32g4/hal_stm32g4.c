@@ -888,10 +888,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     uint32_t t = 0u; /* CMP1 of every leg that changes inside the period (none without a timed leg) */
     if (timed != 0u) {
         uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
-        npc_instants instants;
-        npc_instants_of(&tm, t0, &instants); /* once for the three legs */
-        classes = npc_period_classes(&tm, &instants);
-        t = instants.keep;
+        classes = npc_period_classes_at(&tm, t0, &t); /* once for the three legs */
     }
     uint32_t fixups = 0u;
 

@@ -264,6 +264,27 @@ static inline uint32_t npc_period_classes(const npc_timing *tm, const npc_instan
 }
 
 /**
+ * The period's instant classes (as npc_period_classes of npc_instants_of) and
+ * the instant @p t_out (counts) at which its legs of class NPC_AT_T change
+ * (npc_instants.keep), from the requested instant @p t0 (counts). An instant
+ * out of the keep-out and before the last minimum pulse, the usual one, is
+ * taken as it is: both kinds of two-state leg change at it (issue 11: no
+ * clamps and no class tests; only the other instants take the general way).
+ * Context: ANY (pure).
+ */
+static inline uint32_t npc_period_classes_at(const npc_timing *tm, uint32_t t0, uint32_t *t_out)
+{
+    if (t0 >= tm->keepout && t0 != 0u && t0 + tm->min_pulse < tm->per) {
+        *t_out = t0;
+        return (uint32_t)NPC_AT_PER | ((uint32_t)NPC_AT_T << 8) | ((uint32_t)NPC_AT_T << 16) | ((uint32_t)NPC_HELD << 24);
+    }
+    npc_instants in;
+    npc_instants_of(tm, t0, &in);
+    *t_out = in.keep;
+    return npc_period_classes(tm, &in);
+}
+
+/**
  * The instant classes of a period none of whose legs has two states (no
  * npc_leg_words.timed): every such leg's class is NPC_AT_PER or NPC_HELD
  * whatever the instants, so the actuation need not work them out (issue 11:

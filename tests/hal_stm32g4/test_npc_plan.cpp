@@ -419,3 +419,22 @@ TEST(NpcPlan, LegWordsIndex3EqualsTheIndexOfEachLeg)
             }
     EXPECT_EQ(checked, 216 * 729);
 }
+
+// The period's classes and change instant taken straight from a usual instant
+// equal npc_period_classes of npc_instants_of (and its keep instant) for every
+// requested instant, in timings with and without a keep-out and a minimum
+// pulse, and with a period too short for both.
+TEST(NpcPlan, PeriodClassesAtEqualTheInstantsWay)
+{
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}, {100u, 0u, 30u},
+                              {100u, 40u, 0u}, {50u, 40u, 30u}, {1u, 0u, 0u}, {8500u, 1190u, 340u}};
+    for (const npc_timing &tm : tms)
+        for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0++) {
+            npc_instants in;
+            npc_instants_of(&tm, t0, &in);
+            uint32_t t = 12345u;
+            const uint32_t classes = npc_period_classes_at(&tm, t0, &t);
+            ASSERT_EQ(classes, npc_period_classes(&tm, &in)) << "per " << tm.per << " t0 " << t0;
+            ASSERT_EQ(t, in.keep) << "per " << tm.per << " t0 " << t0;
+        }
+}
