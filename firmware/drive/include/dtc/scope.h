@@ -148,7 +148,8 @@ static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s
     bool primed = s->primed;
     s->last_ref_rad_s = ref_cmd_rad_s;
     s->last_faults = faults;
-    s->primed = true;
+    if (!primed) /* once (issue 11: no store every tick) */
+        s->primed = true;
 
     uint8_t st = s->state;
     if (st == (uint8_t)SCOPE_ARMED) {
