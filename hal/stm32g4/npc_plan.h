@@ -55,8 +55,8 @@ static inline bool npc_legs_valid(const uint8_t legs[6])
     uint16_t h;
     memcpy(&w, legs, sizeof w);
     memcpy(&h, legs + 4, sizeof h);
-    uint32_t hw = h;
-    uint32_t bad = ((w + 0x7D7D7D7Du) | w | (hw + 0x7D7Du) | hw) & 0x80808080u;
+    uint32_t hw = h; /* its bytes 2 and 3 are 0: + 0x7D leaves their bit 7 clear (one constant for both words) */
+    uint32_t bad = ((w + 0x7D7D7D7Du) | w | (hw + 0x7D7D7D7Du) | hw) & 0x80808080u;
     return bad == 0u;
 }
 

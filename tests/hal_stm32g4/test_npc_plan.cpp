@@ -438,3 +438,18 @@ TEST(NpcPlan, PeriodClassesAtEqualTheInstantsWay)
             ASSERT_EQ(t, in.keep) << "per " << tm.per << " t0 " << t0;
         }
 }
+
+// The last two leg codes (the halfword npc_legs_valid adds the word's constant
+// to) for every pair of byte values, and the first four for every pair too.
+TEST(NpcPlan, LegsValidSeesEveryPairOfCodes)
+{
+    for (int a = 0; a < 256; ++a)
+        for (int b = 0; b < 256; ++b) {
+            const uint8_t tail[6] = {2, 1, 0, 2, uint8_t(a), uint8_t(b)};
+            ASSERT_EQ(npc_legs_valid(tail), a <= 2 && b <= 2) << a << " " << b;
+            const uint8_t head[6] = {uint8_t(a), 1, 0, uint8_t(b), 2, 2};
+            ASSERT_EQ(npc_legs_valid(head), a <= 2 && b <= 2) << a << " " << b;
+            const uint8_t mid[6] = {0, 2, uint8_t(a), 1, uint8_t(b), 0};
+            ASSERT_EQ(npc_legs_valid(mid), a <= 2 && b <= 2) << a << " " << b;
+        }
+}
