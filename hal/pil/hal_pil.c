@@ -116,6 +116,25 @@ int hal_sample_read(hal_sample *out)
     return HAL_OK;
 }
 
+/* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to its two
+ * timers, CMP1 = @p t in class NPC_AT_T (issue 11: no plan struct in between).
+ * @return the entry's P<->N fixups. */
+static inline uint32_t write_leg(unsigned leg, const npc_leg_words *w, uint32_t c, uint32_t t)
+{
+    const uint32_t *reg = w->reg[c];
+    unsigned tim = 2u * leg;
+    g_pil_timer[tim][0] = reg[0];
+    g_pil_timer[tim][1] = reg[1];
+    if (c == (uint32_t)NPC_AT_T)
+        g_pil_timer[tim][2] = t;
+    g_pil_timer[tim + 1u][0] = reg[2];
+    g_pil_timer[tim + 1u][1] = reg[3];
+    if (c == (uint32_t)NPC_AT_T)
+        g_pil_timer[tim + 1u][2] = t;
+    g_pil.last_leg[leg] = w->end[c];
+    return w->fixups;
+}
+
 /* The target's work (hal_stm32g4.c program_period): plan each leg's
  * switching events for the period and write them to the timers. */
 static __attribute__((noinline)) int program_period(const hal_actuation *act)
@@ -135,32 +154,29 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
         timed |= w3[leg]->timed;
     }
-    uint32_t classes = NPC_UNTIMED_CLASSES;
-    uint32_t t = 0u; /* CMP1 of every leg that changes inside the period (none without a timed leg) */
-    if (timed != 0u) {
-        uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
-        classes = npc_period_classes_at(&g_pil.tm, t0, &t); /* once for the three legs */
-    }
     uint32_t fixups = 0u;
     g_pil_update_disable |= PIL_UDIS_ALL;
-    for (unsigned leg = 0u; leg < 3u; leg++) {
-        /* the ready words of the leg's (prev, v0, v1) and class, straight to the timers (issue 11) */
-        const npc_leg_words *w = w3[leg];
-        uint32_t c = npc_leg_class(w, classes);
-        if (c == NPC_HELD)
-            continue; /* one state again: the timers hold its words, the leg stays */
-        const uint32_t *reg = w->reg[c];
-        unsigned tim = 2u * leg;
-        g_pil_timer[tim][0] = reg[0];
-        g_pil_timer[tim][1] = reg[1];
-        if (c == (uint32_t)NPC_AT_T)
-            g_pil_timer[tim][2] = t;
-        g_pil_timer[tim + 1u][0] = reg[2];
-        g_pil_timer[tim + 1u][1] = reg[3];
-        if (c == (uint32_t)NPC_AT_T)
-            g_pil_timer[tim + 1u][2] = t;
-        g_pil.last_leg[leg] = w->end[c];
-        fixups += w->fixups;
+    if (timed == 0u) {
+        /* One state per leg (three periods in four): each leg is held or
+         * applies its state for the whole period (issue 11: no instants, no
+         * classes, no CMP1 test). */
+        for (unsigned leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            if (npc_leg_held(w))
+                continue; /* one state again: the timers hold its words, the leg stays */
+            fixups += write_leg(leg, w, NPC_AT_PER, 0u);
+        }
+    } else {
+        uint32_t t; /* CMP1 of every leg that changes inside the period */
+        uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
+        uint32_t classes = npc_period_classes_at(&g_pil.tm, t0, &t); /* once for the three legs */
+        for (unsigned leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            uint32_t c = npc_leg_class(w, classes);
+            if (c == NPC_HELD)
+                continue;
+            fixups += write_leg(leg, w, c, t);
+        }
     }
     if (fixups != 0u) { /* one test per period */
         g_pil.pn_fixups += fixups;

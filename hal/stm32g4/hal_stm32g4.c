@@ -863,6 +863,25 @@ _Static_assert(NPC_RST_FAULT_EVENT == HRTIM_RST_EXTEVNT6, "the fault event in ev
 _Static_assert(NPC_P == (unsigned)HAL_LEG_P && NPC_O == (unsigned)HAL_LEG_O && NPC_N == (unsigned)HAL_LEG_N,
                "leg states");
 
+/* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to the
+ * preloaded registers of its two timers, CMP1 = @p t in class NPC_AT_T
+ * (issue 11: no plan struct in between). @return the entry's P<->N fixups. */
+static inline uint32_t write_leg(uint32_t leg, const npc_leg_words *w, uint32_t c, uint32_t t)
+{
+    const uint32_t *reg = w->reg[c];
+    uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
+    HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = reg[0];
+    HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = reg[1]; /* with EXTEVNT6: inner off on a fault */
+    if (c == (uint32_t)NPC_AT_T)
+        HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = t;
+    HRTIM_TIM_REG(tim + 1u, HRTIM_SETx1R_OFS) = reg[2];
+    HRTIM_TIM_REG(tim + 1u, HRTIM_RSTx1R_OFS) = reg[3];
+    if (c == (uint32_t)NPC_AT_T)
+        HRTIM_TIM_REG(tim + 1u, HRTIM_CMP1xR_OFS) = t;
+    g_board.last_leg[leg] = w->end[c];
+    return w->fixups;
+}
+
 /* Plan each leg's switching events for the period and write them to the
  * timers' preloaded registers. */
 static __attribute__((noinline)) int program_period(const hal_actuation *act)
@@ -884,37 +903,33 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
         timed |= w3[leg]->timed;
     }
-    uint32_t classes = NPC_UNTIMED_CLASSES;
-    uint32_t t = 0u; /* CMP1 of every leg that changes inside the period (none without a timed leg) */
-    if (timed != 0u) {
-        uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
-        classes = npc_period_classes_at(&tm, t0, &t); /* once for the three legs */
-    }
     uint32_t fixups = 0u;
 
     /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
      * while the six programmes are written, so a period never starts with
      * half of them. */
     HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
-    for (uint32_t leg = 0u; leg < 3u; leg++) {
-        /* the ready words of the leg's (prev, v0, v1) and class, straight to
-         * the registers (issue 11: no plan struct in between) */
-        const npc_leg_words *w = w3[leg];
-        uint32_t c = npc_leg_class(w, classes);
-        if (c == NPC_HELD)
-            continue; /* one state again: the timers hold its words, the leg stays */
-        const uint32_t *reg = w->reg[c];
-        uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
-        HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = reg[0];
-        HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = reg[1]; /* with EXTEVNT6: inner off on a fault */
-        if (c == (uint32_t)NPC_AT_T)
-            HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = t;
-        HRTIM_TIM_REG(tim + 1u, HRTIM_SETx1R_OFS) = reg[2];
-        HRTIM_TIM_REG(tim + 1u, HRTIM_RSTx1R_OFS) = reg[3];
-        if (c == (uint32_t)NPC_AT_T)
-            HRTIM_TIM_REG(tim + 1u, HRTIM_CMP1xR_OFS) = t;
-        g_board.last_leg[leg] = w->end[c];
-        fixups += w->fixups;
+    if (timed == 0u) {
+        /* One state per leg (three periods in four): each leg is held or
+         * applies its state for the whole period (issue 11: no instants, no
+         * classes, no CMP1 test). */
+        for (uint32_t leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            if (npc_leg_held(w))
+                continue; /* one state again: the timers hold its words, the leg stays */
+            fixups += write_leg(leg, w, NPC_AT_PER, 0u);
+        }
+    } else {
+        uint32_t t; /* CMP1 of every leg that changes inside the period */
+        uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
+        uint32_t classes = npc_period_classes_at(&tm, t0, &t); /* once for the three legs */
+        for (uint32_t leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            uint32_t c = npc_leg_class(w, classes);
+            if (c == NPC_HELD)
+                continue;
+            fixups += write_leg(leg, w, c, t);
+        }
     }
     if (fixups != 0u) { /* one test per period */
         g_board.pn_fixups += fixups;

@@ -320,6 +320,20 @@ static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t
     return (p << 4) | (v0 << 2) | v1;
 }
 
+/** npc_leg_words.kind_shift of an entry whose timers hold its words already (class NPC_HELD in every period) */
+#define NPC_HELD_SHIFT 24u
+
+/**
+ * @return true when the entry @p w's timers hold its words already (class
+ * NPC_HELD whatever the period). In a period none of whose legs has two
+ * states (no npc_leg_words.timed), every other leg's class is NPC_AT_PER
+ * (issue 11: such a period needs no class word). Context: ANY (pure).
+ */
+static inline bool npc_leg_held(const npc_leg_words *w)
+{
+    return w->kind_shift == NPC_HELD_SHIFT;
+}
+
 /** @return the instant class of the leg @p w in a period of classes @p classes (npc_period_classes). Context: ANY (pure). */
 static inline uint32_t npc_leg_class(const npc_leg_words *w, uint32_t classes)
 {

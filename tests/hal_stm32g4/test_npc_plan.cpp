@@ -453,3 +453,27 @@ TEST(NpcPlan, LegsValidSeesEveryPairOfCodes)
             ASSERT_EQ(npc_legs_valid(mid), a <= 2 && b <= 2) << a << " " << b;
         }
 }
+
+// A period without a two-state leg needs no class word: every entry without
+// npc_leg_words.timed has class NPC_HELD exactly when npc_leg_held says so
+// (then it is the held state alone again) and NPC_AT_PER otherwise; an entry
+// with two states is never held.
+TEST(NpcPlan, UntimedEntriesAreHeldOrTheWholePeriod)
+{
+    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
+                             NPC_P | NPC_LEG_HELD};
+    for (uint8_t prev : prevs)
+        for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+            for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
+                const bool alone_again = (prev & NPC_LEG_HELD) != 0u && v0 == (prev & NPC_LEG_STATE) && v1 == v0;
+                EXPECT_EQ(npc_leg_held(w), alone_again) << int(prev) << " " << int(v0) << " " << int(v1);
+                if (w->timed != 0u) {
+                    EXPECT_FALSE(npc_leg_held(w));
+                    continue;
+                }
+                EXPECT_EQ(npc_leg_class(w, NPC_UNTIMED_CLASSES),
+                          npc_leg_held(w) ? uint32_t(NPC_HELD) : uint32_t(NPC_AT_PER))
+                    << int(prev) << " " << int(v0) << " " << int(v1);
+            }
+}
