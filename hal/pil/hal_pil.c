@@ -98,12 +98,10 @@ void hal_tick_stop(void)
     g_pil.handler = NULL;
 }
 
-bool hal_tick_missed(void)
-{
-    bool m = g_pil.tick_missed;
-    g_pil.tick_missed = false;
-    return m;
-}
+/* The recorded deadline flag of this tick (hal_pil_set_inputs sets it every
+ * tick), read as the target reads the timer's pending flag: without clearing
+ * it. */
+bool hal_tick_missed(void) { return g_pil.tick_missed; }
 
 int hal_sample_read(hal_sample *out)
 {
