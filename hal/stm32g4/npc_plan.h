@@ -276,7 +276,8 @@ static inline uint32_t npc_period_classes_at(const npc_timing *tm, uint32_t t0, 
 {
     if (t0 >= tm->keepout && t0 != 0u && t0 + tm->min_pulse < tm->per) {
         *t_out = t0;
-        return (uint32_t)NPC_AT_PER | ((uint32_t)NPC_AT_T << 8) | ((uint32_t)NPC_AT_T << 16) | ((uint32_t)NPC_HELD << 24);
+        return (uint32_t)NPC_AT_PER | ((uint32_t)NPC_AT_T << 8) | ((uint32_t)NPC_AT_T << 16) |
+               ((uint32_t)NPC_HELD << 24);
     }
     npc_instants in;
     npc_instants_of(tm, t0, &in);
@@ -304,8 +305,9 @@ static inline const npc_leg_words *npc_leg_words_of(uint8_t prev, uint8_t v0, ui
  * six leg codes of an actuation (two vectors, each <= NPC_P: check with
  * npc_legs_valid first), @p prev4 the three recorded leg states (each <=
  * NPC_P | NPC_LEG_HELD) and a fourth byte that must be 0. Word-wide (issue
- * 11: two loads and a few ORs instead of nine byte loads and six ORs): no
- * byte exceeds 16 * 6 + 4 * 2 + 2 = 106, so nothing carries into the next one.
+ * 11: two loads and a few ORs instead of nine byte loads and six ORs; byte k
+ * of a word is the k-th byte in memory on both little-endian builds): no byte
+ * exceeds 16 * 6 + 4 * 2 + 2 = 106, so nothing carries into the next one.
  * Context: ANY (pure).
  */
 static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t prev4[4])
