@@ -20,17 +20,16 @@ typedef struct {
     hal_tick_handler handler;
     void *ctx;
     bool tick_running;
-    hal_sample next;       /* what the ADC converted for the coming tick */
+    hal_sample next;       /* what the ADC converted for the coming tick; the one allowed read copies it */
     bool next_fresh;
-    hal_sample sample;     /* latched by the tick interrupt */
-    bool sample_pending;   /* cleared by the one allowed read */
+    bool sample_pending;   /* latched by the tick interrupt, cleared by the one allowed read */
     uint32_t seq;
     bool gates_on;
     bool fault_input;
     bool tick_missed;
     uint32_t millis;
     npc_timing tm;            /* timer counts of the period, keep-out and minimum pulse */
-    uint8_t last_leg[3];      /* leg states at the end of the programmed period (with NPC_LEG_HELD: the timers hold its one-state words) */
+    uint8_t last_leg[4];      /* leg states at the end of the programmed period (with NPC_LEG_HELD: the timers hold its one-state words); [3] stays 0 (npc_leg_words_index3) */
     uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
     bool pn_step_seen;        /* as the target's BOARD_FAULT_PN_STEP */
     bool idle_held;           /* gates off: the registers hold idle_req's programme, which repeats itself */
@@ -61,13 +60,12 @@ void hal_pil_set_inputs(const hal_sample *s, bool fresh, bool fault_input, bool 
 
 void hal_pil_tick_irq(void)
 {
-    /* The target's sample_latch() converts six ADC results here; the PIL
-     * board hands over the recorded, already converted sample. */
-    if (g_pil.next_fresh) {
-        g_pil.sample = g_pil.next;
-        g_pil.sample_pending = true;
-        g_pil.next_fresh = false;
-    }
+    /* The target's sample_latch() takes the ADC results here and its
+     * hal_sample_read converts them straight into the reader's buffer (issue
+     * 11: one copy of the sample, not two); the PIL board's read copies the
+     * recorded, already converted sample. */
+    g_pil.sample_pending = g_pil.next_fresh;
+    g_pil.next_fresh = false;
     if (g_pil.handler != NULL)
         g_pil.handler(g_pil.ctx);
 }
@@ -88,6 +86,7 @@ int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us)
     g_pil.tm.min_pulse = (uint32_t)((uint64_t)PIL_MIN_PULSE_NS * PIL_COUNT_HZ / 1000000000u);
     for (unsigned leg = 0u; leg < 3u; leg++)
         g_pil.last_leg[leg] = (uint8_t)HAL_LEG_O;
+    g_pil.last_leg[3] = 0u;
     g_pil.idle_held = false;
     return HAL_OK;
 }
@@ -99,12 +98,10 @@ void hal_tick_stop(void)
     g_pil.handler = NULL;
 }
 
-bool hal_tick_missed(void)
-{
-    bool m = g_pil.tick_missed;
-    g_pil.tick_missed = false;
-    return m;
-}
+/* The recorded deadline flag of this tick (hal_pil_set_inputs sets it every
+ * tick), read as the target reads the timer's pending flag: without clearing
+ * it. */
+bool hal_tick_missed(void) { return g_pil.tick_missed; }
 
 int hal_sample_read(hal_sample *out)
 {
@@ -112,9 +109,28 @@ int hal_sample_read(hal_sample *out)
         return HAL_EINVAL;
     if (!g_pil.sample_pending)
         return HAL_EAGAIN;
-    *out = g_pil.sample;
+    *out = g_pil.next;
     g_pil.sample_pending = false;
     return HAL_OK;
+}
+
+/* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to its two
+ * timers, CMP1 = @p t in class NPC_AT_T (issue 11: no plan struct in between).
+ * @return the entry's P<->N fixups. */
+static inline uint32_t write_leg(unsigned leg, const npc_leg_words *w, uint32_t c, uint32_t t)
+{
+    const uint32_t *reg = w->reg[c];
+    unsigned tim = 2u * leg;
+    g_pil_timer[tim][0] = reg[0];
+    g_pil_timer[tim][1] = reg[1];
+    if (c == (uint32_t)NPC_AT_T)
+        g_pil_timer[tim][2] = t;
+    g_pil_timer[tim + 1u][0] = reg[2];
+    g_pil_timer[tim + 1u][1] = reg[3];
+    if (c == (uint32_t)NPC_AT_T)
+        g_pil_timer[tim + 1u][2] = t;
+    g_pil.last_leg[leg] = w->end[c];
+    return w->fixups;
 }
 
 /* The target's work (hal_stm32g4.c program_period): plan each leg's
@@ -131,39 +147,34 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
     uint32_t timed = 0u;
+    uint32_t index3 = npc_leg_words_index3((const uint8_t *)act->vector, g_pil.last_leg);
     for (uint32_t leg = 0u; leg < 3u; leg++) {
-        w3[leg] = npc_leg_words_of(g_pil.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
         timed |= w3[leg]->timed;
-    }
-    uint32_t classes = NPC_UNTIMED_CLASSES;
-    uint32_t t = 0u; /* CMP1 of every leg that changes inside the period (none without a timed leg) */
-    if (timed != 0u) {
-        uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
-        npc_instants instants;
-        npc_instants_of(&g_pil.tm, t0, &instants); /* once for the three legs */
-        classes = npc_period_classes(&g_pil.tm, &instants);
-        t = instants.keep;
     }
     uint32_t fixups = 0u;
     g_pil_update_disable |= PIL_UDIS_ALL;
-    for (unsigned leg = 0u; leg < 3u; leg++) {
-        /* the ready words of the leg's (prev, v0, v1) and class, straight to the timers (issue 11) */
-        const npc_leg_words *w = w3[leg];
-        uint32_t c = npc_leg_class(w, classes);
-        if (c == NPC_HELD)
-            continue; /* one state again: the timers hold its words, the leg stays */
-        const uint32_t *reg = w->reg[c];
-        unsigned tim = 2u * leg;
-        g_pil_timer[tim][0] = reg[0];
-        g_pil_timer[tim][1] = reg[1];
-        if (c == (uint32_t)NPC_AT_T)
-            g_pil_timer[tim][2] = t;
-        g_pil_timer[tim + 1u][0] = reg[2];
-        g_pil_timer[tim + 1u][1] = reg[3];
-        if (c == (uint32_t)NPC_AT_T)
-            g_pil_timer[tim + 1u][2] = t;
-        g_pil.last_leg[leg] = w->end[c];
-        fixups += w->fixups;
+    if (timed == 0u) {
+        /* One state per leg (three periods in four): each leg is held or
+         * applies its state for the whole period (issue 11: no instants, no
+         * classes, no CMP1 test). */
+        for (unsigned leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            if (npc_leg_held(w))
+                continue; /* one state again: the timers hold its words, the leg stays */
+            fixups += write_leg(leg, w, NPC_AT_PER, 0u);
+        }
+    } else {
+        uint32_t t; /* CMP1 of every leg that changes inside the period */
+        uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
+        uint32_t classes = npc_period_classes_at(&g_pil.tm, t0, &t); /* once for the three legs */
+        for (unsigned leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            uint32_t c = npc_leg_class(w, classes);
+            if (c == NPC_HELD)
+                continue;
+            fixups += write_leg(leg, w, c, t);
+        }
     }
     if (fixups != 0u) { /* one test per period */
         g_pil.pn_fixups += fixups;

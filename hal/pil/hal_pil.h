@@ -6,13 +6,15 @@
  *
  * The semantics follow the host binding (hal/host): a sample can be read once
  * per tick, hal_actuate validates and latches, an active fault input keeps the
- * gates off, hal_tick_missed reports (and clears) an injected miss. Like the
+ * gates off, hal_tick_missed reports the injected miss of the tick (until the
+ * next hal_pil_set_inputs, as the target's timer flag until the next tick). Like the
  * target, hal_actuate also plans every leg's switching events for the period
  * (hal/stm32g4/npc_plan.c, the target's own planner) and writes them to
  * stand-in timer registers, so the bench counts that work too.
  * The tick interrupt (hal_pil_tick_irq, in the vector table as IRQ
  * HAL_PIL_TICK_IRQ) does what ADC1_2_IRQHandler does on the target: latch the
- * converted sample, then call the registered handler (drive_isr). The bench
+ * sample (the one allowed read copies it, where the target's converts its ADC
+ * codes), then call the registered handler (drive_isr). The bench
  * triggers it by pending the IRQ in the NVIC.
  */
 #ifndef PIL_HAL_PIL_H

@@ -138,8 +138,8 @@ typedef struct {
     void *ctx;
     bool tick_running;
     volatile uint32_t millis; /* written by SysTick only */
-    hal_sample sample;        /* this tick's sample, written by the tick ISR */
-    bool sample_fresh;        /* cleared by the one allowed read */
+    uint32_t code[5];         /* this tick's ADC codes (ia, ib, ic, vc1, vc2), latched by the tick ISR */
+    bool sample_fresh;        /* cleared by the one allowed read, which converts code[] */
     bool adc_ok;              /* calibration and offsets valid */
     uint32_t seq;             /* tick sequence number */
     float offset_code[3];     /* current-sensor zero, ADC codes (ia, ib, ic) */
@@ -147,7 +147,7 @@ typedef struct {
     uint32_t per_counts;
     uint32_t keepout_counts;
     uint32_t min_pulse_counts;
-    uint8_t last_leg[3];      /* leg state at the end of the last latched period (with NPC_LEG_HELD: the timers hold its one-state words) */
+    uint8_t last_leg[4];      /* leg state at the end of the last latched period (with NPC_LEG_HELD: the timers hold its one-state words); [3] stays 0 (npc_leg_words_index3) */
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     bool idle_held;           /* gates off: the preloaded registers hold idle_req's programme, which repeats itself */
     npc_request idle_req;     /* the last request programmed with the gates off */
@@ -480,6 +480,7 @@ static int hrtim_start(uint32_t period_us)
     }
     for (uint32_t leg = 0u; leg < 3u; leg++)
         g_board.last_leg[leg] = (uint8_t)HAL_LEG_O;
+    g_board.last_leg[3] = 0u;
     g_board.idle_held = false;
 
     HRTIM_ADC2R = HRTIM_ADC2R_AD2MC1;
@@ -744,31 +745,17 @@ void SysTick_Handler(void) { g_board.millis++; }
 
 static void sample_latch(void)
 {
-    uint32_t code[5];
-    enum adc_codes got = adc_read_codes(code);
+    enum adc_codes got = adc_read_codes(g_board.code);
     g_board.seq++;
     if (got == ADC_CODES_SATURATED)
         g_board.faults |= BOARD_FAULT_ADC_RANGE;
     if (got == ADC_CODES_IC_MISSING)
         g_board.faults |= BOARD_FAULT_ADC_SYNC;
-    if (!g_board.adc_ok || got != ADC_CODES_OK) {
-        /* No trustworthy measurement: refuse it (the control core then sees a
-         * stale sample and goes to its safe state). */
-        g_board.sample_fresh = false;
-        return;
-    }
-    const float i_scale = 2.0f * BOARD_I_FULL_SCALE_A / BOARD_ADC_FULL_CODE;
-    const float v_scale = BOARD_V_FULL_SCALE_V / BOARD_ADC_FULL_CODE;
-    hal_sample *s = &g_board.sample;
-    s->ia_A = ((float)code[0] - g_board.offset_code[0]) * i_scale;
-    s->ib_A = ((float)code[1] - g_board.offset_code[1]) * i_scale;
-    s->ic_A = ((float)code[2] - g_board.offset_code[2]) * i_scale;
-    s->vc1_V = (float)code[3] * v_scale;
-    s->vc2_V = (float)code[4] * v_scale;
-    s->speed_meas_rad_s = 0.0f;
-    s->speed_meas_valid = false; /* no speed sensor on the board */
-    s->seq = g_board.seq;
-    g_board.sample_fresh = true;
+    /* No trustworthy measurement: refuse it (the control core then sees a
+     * stale sample and goes to its safe state). A good one is converted by
+     * the one allowed read, straight into the reader's buffer (issue 11: one
+     * copy of the sample, not two). */
+    g_board.sample_fresh = g_board.adc_ok && got == ADC_CODES_OK;
 }
 
 bool hal_tick_missed(void)
@@ -854,8 +841,18 @@ int hal_sample_read(hal_sample *out)
         return HAL_EINVAL;
     if (!g_board.sample_fresh)
         return HAL_EAGAIN;
-    *out = g_board.sample;
     g_board.sample_fresh = false;
+    const float i_scale = 2.0f * BOARD_I_FULL_SCALE_A / BOARD_ADC_FULL_CODE;
+    const float v_scale = BOARD_V_FULL_SCALE_V / BOARD_ADC_FULL_CODE;
+    const uint32_t *code = g_board.code;
+    out->ia_A = ((float)code[0] - g_board.offset_code[0]) * i_scale;
+    out->ib_A = ((float)code[1] - g_board.offset_code[1]) * i_scale;
+    out->ic_A = ((float)code[2] - g_board.offset_code[2]) * i_scale;
+    out->vc1_V = (float)code[3] * v_scale;
+    out->vc2_V = (float)code[4] * v_scale;
+    out->speed_meas_rad_s = 0.0f;
+    out->speed_meas_valid = false; /* no speed sensor on the board */
+    out->seq = g_board.seq;
     return HAL_OK;
 }
 
@@ -865,6 +862,25 @@ _Static_assert(NPC_EV_T == HRTIM_SET_CMP1 && NPC_EV_T == HRTIM_RST_CMP1, "CMP1 e
 _Static_assert(NPC_RST_FAULT_EVENT == HRTIM_RST_EXTEVNT6, "the fault event in every reset word");
 _Static_assert(NPC_P == (unsigned)HAL_LEG_P && NPC_O == (unsigned)HAL_LEG_O && NPC_N == (unsigned)HAL_LEG_N,
                "leg states");
+
+/* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to the
+ * preloaded registers of its two timers, CMP1 = @p t in class NPC_AT_T
+ * (issue 11: no plan struct in between). @return the entry's P<->N fixups. */
+static inline uint32_t write_leg(uint32_t leg, const npc_leg_words *w, uint32_t c, uint32_t t)
+{
+    const uint32_t *reg = w->reg[c];
+    uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
+    HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = reg[0];
+    HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = reg[1]; /* with EXTEVNT6: inner off on a fault */
+    if (c == (uint32_t)NPC_AT_T)
+        HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = t;
+    HRTIM_TIM_REG(tim + 1u, HRTIM_SETx1R_OFS) = reg[2];
+    HRTIM_TIM_REG(tim + 1u, HRTIM_RSTx1R_OFS) = reg[3];
+    if (c == (uint32_t)NPC_AT_T)
+        HRTIM_TIM_REG(tim + 1u, HRTIM_CMP1xR_OFS) = t;
+    g_board.last_leg[leg] = w->end[c];
+    return w->fixups;
+}
 
 /* Plan each leg's switching events for the period and write them to the
  * timers' preloaded registers. */
@@ -882,18 +898,10 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
     uint32_t timed = 0u;
+    uint32_t index3 = npc_leg_words_index3((const uint8_t *)act->vector, g_board.last_leg);
     for (uint32_t leg = 0u; leg < 3u; leg++) {
-        w3[leg] = npc_leg_words_of(g_board.last_leg[leg], act->vector[0].leg[leg], act->vector[1].leg[leg]);
+        w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
         timed |= w3[leg]->timed;
-    }
-    uint32_t classes = NPC_UNTIMED_CLASSES;
-    uint32_t t = 0u; /* CMP1 of every leg that changes inside the period (none without a timed leg) */
-    if (timed != 0u) {
-        uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
-        npc_instants instants;
-        npc_instants_of(&tm, t0, &instants); /* once for the three legs */
-        classes = npc_period_classes(&tm, &instants);
-        t = instants.keep;
     }
     uint32_t fixups = 0u;
 
@@ -901,25 +909,27 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
      * while the six programmes are written, so a period never starts with
      * half of them. */
     HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
-    for (uint32_t leg = 0u; leg < 3u; leg++) {
-        /* the ready words of the leg's (prev, v0, v1) and class, straight to
-         * the registers (issue 11: no plan struct in between) */
-        const npc_leg_words *w = w3[leg];
-        uint32_t c = npc_leg_class(w, classes);
-        if (c == NPC_HELD)
-            continue; /* one state again: the timers hold its words, the leg stays */
-        const uint32_t *reg = w->reg[c];
-        uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
-        HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = reg[0];
-        HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = reg[1]; /* with EXTEVNT6: inner off on a fault */
-        if (c == (uint32_t)NPC_AT_T)
-            HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = t;
-        HRTIM_TIM_REG(tim + 1u, HRTIM_SETx1R_OFS) = reg[2];
-        HRTIM_TIM_REG(tim + 1u, HRTIM_RSTx1R_OFS) = reg[3];
-        if (c == (uint32_t)NPC_AT_T)
-            HRTIM_TIM_REG(tim + 1u, HRTIM_CMP1xR_OFS) = t;
-        g_board.last_leg[leg] = w->end[c];
-        fixups += w->fixups;
+    if (timed == 0u) {
+        /* One state per leg (three periods in four): each leg is held or
+         * applies its state for the whole period (issue 11: no instants, no
+         * classes, no CMP1 test). */
+        for (uint32_t leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            if (npc_leg_held(w))
+                continue; /* one state again: the timers hold its words, the leg stays */
+            fixups += write_leg(leg, w, NPC_AT_PER, 0u);
+        }
+    } else {
+        uint32_t t; /* CMP1 of every leg that changes inside the period */
+        uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
+        uint32_t classes = npc_period_classes_at(&tm, t0, &t); /* once for the three legs */
+        for (uint32_t leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            uint32_t c = npc_leg_class(w, classes);
+            if (c == NPC_HELD)
+                continue;
+            fixups += write_leg(leg, w, c, t);
+        }
     }
     if (fixups != 0u) { /* one test per period */
         g_board.pn_fixups += fixups;

@@ -48,7 +48,7 @@ const npc_leg_rule npc_leg_rules[27] = {RULES_A(0u), RULES_A(1u), RULES_A(2u)};
 /* one state: always the first only; prev -> v1 no P<->N step: may drop v0; else keeps it;
  * h: the timers hold prev's one-state words, and the leg stays in prev: nothing to write */
 #define KIND(h, p, a, b) \
-    (uint8_t)((h) && (a) == (p) && (b) == (p) ? 24u : (ONE_STATE(p, a, b) ? 0u : (PN(p, V1(p, a, b)) ? 16u : 8u)))
+    (uint8_t)((h) && (a) == (p) && (b) == (p) ? NPC_HELD_SHIFT : (ONE_STATE(p, a, b) ? 0u : (PN(p, V1(p, a, b)) ? 16u : 8u)))
 #define WORDS(h, p, a, b)                                                                                       \
     {{WORDS_C(NPC_AT_ZERO, p, a, b), WORDS_C(NPC_AT_T, p, a, b), WORDS_C(NPC_AT_PER, p, a, b)},                 \
      {END(NPC_AT_ZERO, p, a, b), END(NPC_AT_T, p, a, b), END(NPC_AT_PER, p, a, b)},                             \

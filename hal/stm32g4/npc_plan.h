@@ -55,8 +55,8 @@ static inline bool npc_legs_valid(const uint8_t legs[6])
     uint16_t h;
     memcpy(&w, legs, sizeof w);
     memcpy(&h, legs + 4, sizeof h);
-    uint32_t hw = h;
-    uint32_t bad = ((w + 0x7D7D7D7Du) | w | (hw + 0x7D7Du) | hw) & 0x80808080u;
+    uint32_t hw = h; /* its bytes 2 and 3 are 0: + 0x7D leaves their bit 7 clear (one constant for both words) */
+    uint32_t bad = ((w + 0x7D7D7D7Du) | w | (hw + 0x7D7D7D7Du) | hw) & 0x80808080u;
     return bad == 0u;
 }
 
@@ -264,6 +264,28 @@ static inline uint32_t npc_period_classes(const npc_timing *tm, const npc_instan
 }
 
 /**
+ * The period's instant classes (as npc_period_classes of npc_instants_of) and
+ * the instant @p t_out (counts) at which its legs of class NPC_AT_T change
+ * (npc_instants.keep), from the requested instant @p t0 (counts). An instant
+ * out of the keep-out and before the last minimum pulse, the usual one, is
+ * taken as it is: both kinds of two-state leg change at it (issue 11: no
+ * clamps and no class tests; only the other instants take the general way).
+ * Context: ANY (pure).
+ */
+static inline uint32_t npc_period_classes_at(const npc_timing *tm, uint32_t t0, uint32_t *t_out)
+{
+    if (t0 >= tm->keepout && t0 != 0u && t0 + tm->min_pulse < tm->per) {
+        *t_out = t0;
+        return (uint32_t)NPC_AT_PER | ((uint32_t)NPC_AT_T << 8) | ((uint32_t)NPC_AT_T << 16) |
+               ((uint32_t)NPC_HELD << 24);
+    }
+    npc_instants in;
+    npc_instants_of(tm, t0, &in);
+    *t_out = in.keep;
+    return npc_period_classes(tm, &in);
+}
+
+/**
  * The instant classes of a period none of whose legs has two states (no
  * npc_leg_words.timed): every such leg's class is NPC_AT_PER or NPC_HELD
  * whatever the instants, so the actuation need not work them out (issue 11:
@@ -275,6 +297,43 @@ static inline uint32_t npc_period_classes(const npc_timing *tm, const npc_instan
 static inline const npc_leg_words *npc_leg_words_of(uint8_t prev, uint8_t v0, uint8_t v1)
 {
     return &npc_leg_words_table[((uint32_t)prev << 4) | ((uint32_t)v0 << 2) | v1];
+}
+
+/**
+ * The npc_leg_words_table indices of the three legs at once, one per byte
+ * (byte k: leg k's 16 prev + 4 v0 + v1, as npc_leg_words_of): @p legs are the
+ * six leg codes of an actuation (two vectors, each <= NPC_P: check with
+ * npc_legs_valid first), @p prev4 the three recorded leg states (each <=
+ * NPC_P | NPC_LEG_HELD) and a fourth byte that must be 0. Word-wide (issue
+ * 11: two loads and a few ORs instead of nine byte loads and six ORs; byte k
+ * of a word is the k-th byte in memory on both little-endian builds): no byte
+ * exceeds 16 * 6 + 4 * 2 + 2 = 106, so nothing carries into the next one.
+ * Context: ANY (pure).
+ */
+static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t prev4[4])
+{
+    uint32_t w, p;
+    uint16_t h;
+    memcpy(&w, legs, sizeof w);       /* v0 of legs 0..2, v1 of leg 0 */
+    memcpy(&h, legs + 4, sizeof h);   /* v1 of legs 1, 2 */
+    memcpy(&p, prev4, sizeof p);
+    uint32_t v0 = w & 0x00FFFFFFu;
+    uint32_t v1 = (w >> 24) | ((uint32_t)h << 8);
+    return (p << 4) | (v0 << 2) | v1;
+}
+
+/** npc_leg_words.kind_shift of an entry whose timers hold its words already (class NPC_HELD in every period) */
+#define NPC_HELD_SHIFT 24u
+
+/**
+ * @return true when the entry @p w's timers hold its words already (class
+ * NPC_HELD whatever the period). In a period none of whose legs has two
+ * states (no npc_leg_words.timed), every other leg's class is NPC_AT_PER
+ * (issue 11: such a period needs no class word). Context: ANY (pure).
+ */
+static inline bool npc_leg_held(const npc_leg_words *w)
+{
+    return w->kind_shift == NPC_HELD_SHIFT;
 }
 
 /** @return the instant class of the leg @p w in a period of classes @p classes (npc_period_classes). Context: ANY (pure). */

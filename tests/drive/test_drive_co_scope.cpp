@@ -242,3 +242,31 @@ TEST(DriveCoScope, DerivedSignalsAreThisTicksValues)
 }
 
 } // namespace
+
+// A manual trigger asked for while the pretrigger part is still filling waits
+// for it and is taken with the first sample after it: exactly pretrigger
+// samples before the trigger sample.
+TEST(DriveCoScope, ManualTriggerDuringThePretriggerWaitsForIt)
+{
+    Bench b;
+    set_channels(b, {2});
+    ASSERT_FALSE(b.download(0x2600, 5, {0}).aborted());    // manual
+    ASSERT_FALSE(b.download(0x2600, 6, {100, 0}).aborted()); // 100 samples before
+    ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted());
+    for (int i = 0; i < 10; i++)
+        isr_tick(b, 0.0f);
+    ASSERT_FALSE(b.download(0x2600, 8, {2}).aborted()); // trigger now: 90 pretrigger samples still to come
+    for (int i = 0; i < 90; i++)
+        isr_tick(b, 0.0f);
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_ARMED));
+    isr_tick(b, 0.0f);
+    const uint32_t trig_tick = b.d->snap.tick;
+    EXPECT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_TRIGGERED));
+    for (int i = 0; i < 1024 - 100 - 1; i++)
+        isr_tick(b, 0.0f);
+    ASSERT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_DONE));
+    auto data = as_floats(b.upload_segmented(0x2601, 0));
+    ASSERT_EQ(data.size(), 1024u);
+    EXPECT_FLOAT_EQ(data[100], float(trig_tick) * float(kRpmPerRadS)); // the speed estimate is the tick, in rpm
+    EXPECT_FLOAT_EQ(data[0], float(trig_tick - 100u) * float(kRpmPerRadS));
+}

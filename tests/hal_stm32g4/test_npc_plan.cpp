@@ -387,3 +387,93 @@ TEST(NpcPlan, LegsWordIsOneToOne)
         }
     }
 }
+
+// The three legs' table indices at once equal npc_leg_words_of's, leg by leg,
+// for every recorded state (with and without NPC_LEG_HELD) and every pair of
+// valid vectors; the fourth byte of the word is 0.
+TEST(NpcPlan, LegWordsIndex3EqualsTheIndexOfEachLeg)
+{
+    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
+                             NPC_P | NPC_LEG_HELD};
+    int checked = 0;
+    for (uint8_t p0 : prevs)
+        for (uint8_t p1 : prevs)
+            for (uint8_t p2 : prevs) {
+                const uint8_t prev4[4] = {p0, p1, p2, 0u};
+                for (int v = 0; v < 729; ++v) { // six leg codes 0..2
+                    uint8_t legs[6];
+                    for (int k = 0, r = v; k < 6; ++k, r /= 3)
+                        legs[k] = uint8_t(r % 3);
+                    ASSERT_TRUE(npc_legs_valid(legs));
+                    const uint32_t i3 = npc_leg_words_index3(legs, prev4);
+                    ASSERT_EQ(i3 >> 24, 0u);
+                    for (unsigned leg = 0u; leg < 3u; ++leg) {
+                        const npc_leg_words *want = npc_leg_words_of(prev4[leg], legs[leg], legs[3u + leg]);
+                        const uint32_t idx = (i3 >> (8u * leg)) & 0xFFu;
+                        ASSERT_LT(idx, NPC_LEG_WORDS_ENTRIES);
+                        ASSERT_EQ(&npc_leg_words_table[idx], want)
+                            << "prev " << int(prev4[leg]) << " v0 " << int(legs[leg]) << " v1 " << int(legs[3u + leg]);
+                    }
+                    ++checked;
+                }
+            }
+    EXPECT_EQ(checked, 216 * 729);
+}
+
+// The period's classes and change instant taken straight from a usual instant
+// equal npc_period_classes of npc_instants_of (and its keep instant) for every
+// requested instant, in timings with and without a keep-out and a minimum
+// pulse, and with a period too short for both.
+TEST(NpcPlan, PeriodClassesAtEqualTheInstantsWay)
+{
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}, {100u, 0u, 30u},
+                              {100u, 40u, 0u}, {50u, 40u, 30u}, {1u, 0u, 0u}, {8500u, 1190u, 340u}};
+    for (const npc_timing &tm : tms)
+        for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0++) {
+            npc_instants in;
+            npc_instants_of(&tm, t0, &in);
+            uint32_t t = 12345u;
+            const uint32_t classes = npc_period_classes_at(&tm, t0, &t);
+            ASSERT_EQ(classes, npc_period_classes(&tm, &in)) << "per " << tm.per << " t0 " << t0;
+            ASSERT_EQ(t, in.keep) << "per " << tm.per << " t0 " << t0;
+        }
+}
+
+// The last two leg codes (the halfword npc_legs_valid adds the word's constant
+// to) for every pair of byte values, and the first four for every pair too.
+TEST(NpcPlan, LegsValidSeesEveryPairOfCodes)
+{
+    for (int a = 0; a < 256; ++a)
+        for (int b = 0; b < 256; ++b) {
+            const uint8_t tail[6] = {2, 1, 0, 2, uint8_t(a), uint8_t(b)};
+            ASSERT_EQ(npc_legs_valid(tail), a <= 2 && b <= 2) << a << " " << b;
+            const uint8_t head[6] = {uint8_t(a), 1, 0, uint8_t(b), 2, 2};
+            ASSERT_EQ(npc_legs_valid(head), a <= 2 && b <= 2) << a << " " << b;
+            const uint8_t mid[6] = {0, 2, uint8_t(a), 1, uint8_t(b), 0};
+            ASSERT_EQ(npc_legs_valid(mid), a <= 2 && b <= 2) << a << " " << b;
+        }
+}
+
+// A period without a two-state leg needs no class word: every entry without
+// npc_leg_words.timed has class NPC_HELD exactly when npc_leg_held says so
+// (then it is the held state alone again) and NPC_AT_PER otherwise; an entry
+// with two states is never held.
+TEST(NpcPlan, UntimedEntriesAreHeldOrTheWholePeriod)
+{
+    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
+                             NPC_P | NPC_LEG_HELD};
+    for (uint8_t prev : prevs)
+        for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+            for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
+                const bool alone_again = (prev & NPC_LEG_HELD) != 0u && v0 == (prev & NPC_LEG_STATE) && v1 == v0;
+                EXPECT_EQ(npc_leg_held(w), alone_again) << int(prev) << " " << int(v0) << " " << int(v1);
+                if (w->timed != 0u) {
+                    EXPECT_FALSE(npc_leg_held(w));
+                    continue;
+                }
+                EXPECT_EQ(npc_leg_class(w, NPC_UNTIMED_CLASSES),
+                          npc_leg_held(w) ? uint32_t(NPC_HELD) : uint32_t(NPC_AT_PER))
+                    << int(prev) << " " << int(v0) << " " << int(v1);
+            }
+}

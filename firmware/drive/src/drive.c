@@ -149,8 +149,8 @@ static inline void snapshot_open(drive_snapshot *s)
     publish_fence();
 }
 
-/* The rest of the snapshot, then even: consistent (the telemetry is in place). */
-static void publish_snapshot(drive *d, bool quick_stop_done)
+/* The rest of the snapshot (the telemetry is in place). */
+static inline void snapshot_fill(drive *d, bool quick_stop_done)
 {
     drive_snapshot *s = &d->snap;
     s->tick = d->tick;
@@ -158,8 +158,13 @@ static void publish_snapshot(drive *d, bool quick_stop_done)
     uint32_t which = d->snap_derived;
     if (which != 0u) /* only what the armed scope reads */
         snapshot_derive(s, which);
+}
+
+/* Even: consistent. */
+static inline void snapshot_close(drive_snapshot *s)
+{
     publish_fence();
-    s->seq++; /* even: consistent */
+    s->seq++;
 }
 
 void drive_isr(void *ctx)
@@ -201,8 +206,11 @@ void drive_isr(void *ctx)
     (void)hal_actuate(&d->out.act);
 
     d->tick++;
-    publish_snapshot(d, qs_done);
+    snapshot_fill(d, qs_done);
+    /* The scope reads the filled snapshot before it is closed (issue 11: the
+     * closing fence after the scope, so its inputs need not be read again). */
     scope_sample(&d->scope, &d->snap, in->speed_ref_rad_s, d->out.tel.faults, d->tick);
+    snapshot_close(&d->snap);
 
     /* Judged by the board's timer, so it latches CTL_FAULT_OVERRUN next tick. */
     d->tick_missed = hal_tick_missed();

@@ -56,13 +56,12 @@ void scope_arm(scope *s, const scope_src *src, uint8_t n_src)
     s->dec_left = s->decimation;
     s->start = 0u;
     s->pending = false;
-    s->trig_req = false;
     s->trigger_tick = 0u;
     publish_fence();
     s->state = SCOPE_ARMED;
 }
 
-void scope_trigger_now(scope *s) { s->trig_req = true; }
+void scope_trigger_now(scope *s) { s->pending = true; }
 
 uint8_t scope_get_state(const scope *s) { return s->state; }
 

@@ -128,6 +128,9 @@ typedef struct drive {
                                          writes them in place, inside the snapshot's sequence window) */
         };
     };
+    uint8_t snap_derived;           /**< DRIVE_SNAP_* the interrupt works out in snap (the armed scope's
+                                         sources; written by drive_scope_arm while the scope is stopped;
+                                         next to snap: one load in the tick, issue 11) */
     drive_timing timing;
     scope scope;                    /**< triggered capture, sampled in drive_isr */
     co_dev co;                      /**< CANopen device, run by drive_background (drive_co.c) */
@@ -136,8 +139,6 @@ typedef struct drive {
     uint8_t reset_cause;            /**< hal_reset_cause() at drive_init (0x2510:7) */
     bool reset_cause_sent;          /**< the EMCY of a watchdog reset went out (once per start) */
     drive_snapshot bg_snap;         /**< background copy of snap, taken once per drive_background pass */
-    uint8_t snap_derived;           /**< DRIVE_SNAP_* the interrupt works out in snap (the armed scope's
-                                         sources; written by drive_scope_arm while the scope is stopped) */
 } drive;
 
 /**

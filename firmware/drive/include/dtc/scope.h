@@ -79,7 +79,10 @@ typedef struct {
 
     /* hand-over */
     volatile uint8_t state;             /**< scope_state */
-    volatile bool trig_req;             /**< BG asks for a manual trigger */
+    volatile bool pending;              /**< a trigger to take at the next stored sample once the pretrigger
+                                             part is full: set by the ISR on a trigger event or by BG for a
+                                             manual trigger (issue 11: no request flag for the ISR to test
+                                             every tick), cleared by the ISR when it takes it and by scope_arm */
 
     /* interrupt-owned */
     uint16_t pos;                       /**< next ring index */
@@ -87,7 +90,6 @@ typedef struct {
     uint16_t remaining;                 /**< samples still to take after the trigger */
     uint16_t dec_left;                  /**< ticks until the next stored sample (1: this one) */
     uint16_t start;                     /**< ring index of the oldest sample (DONE) */
-    bool pending;                       /**< trigger seen, taken at the next stored sample */
     bool primed;                        /**< last_ref/last_faults valid */
     real_t last_ref_rad_s;
     uint32_t last_faults;
@@ -146,17 +148,15 @@ static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s
     bool primed = s->primed;
     s->last_ref_rad_s = ref_cmd_rad_s;
     s->last_faults = faults;
-    s->primed = true;
+    if (!primed) /* once (issue 11: no store every tick) */
+        s->primed = true;
 
     uint8_t st = s->state;
     if (st == (uint8_t)SCOPE_ARMED) {
-        if (s->pre_left == 0u) { /* the pretrigger part is full */
-            bool manual = s->trig_req;
-            if (manual)
-                s->trig_req = false;
+        if (s->pre_left == 0u) { /* the pretrigger part is full (a manual trigger is pending already) */
             uint8_t trigger = s->trigger;
-            if (manual || (primed && ((trigger == SCOPE_TRIG_REF && ref_cmd_rad_s != last_ref_rad_s) ||
-                                      (trigger == SCOPE_TRIG_FAULT && faults != 0u && last_faults == 0u))))
+            if (primed && ((trigger == SCOPE_TRIG_REF && ref_cmd_rad_s != last_ref_rad_s) ||
+                           (trigger == SCOPE_TRIG_FAULT && faults != 0u && last_faults == 0u)))
                 s->pending = true;
         }
     } else if (st != (uint8_t)SCOPE_TRIGGERED) {
@@ -196,7 +196,7 @@ static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s
 
     if (st == (uint8_t)SCOPE_ARMED) {
         uint16_t pre_left = s->pre_left;
-        if (pre_left != 0u) { /* (no trigger can be pending yet) */
+        if (pre_left != 0u) { /* (a pending manual trigger waits for the pretrigger part) */
             s->pre_left = (uint16_t)(pre_left - 1u);
             return;
         }
