@@ -146,12 +146,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         return HAL_OK; /* tick not started: nothing to program */
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
-    uint32_t timed = 0u;
-    uint32_t index3 = npc_leg_words_index3((const uint8_t *)act->vector, g_pil.last_leg);
-    for (uint32_t leg = 0u; leg < 3u; leg++) {
-        w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
-        timed |= w3[leg]->timed;
-    }
+    uint32_t timed = npc_legs_words((const uint8_t *)act->vector, g_pil.last_leg, w3);
     uint32_t fixups = 0u;
     g_pil_update_disable |= PIL_UDIS_ALL;
     if (timed == 0u) {

@@ -897,12 +897,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     const npc_timing tm = {g_board.per_counts, g_board.keepout_counts, g_board.min_pulse_counts};
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
-    uint32_t timed = 0u;
-    uint32_t index3 = npc_leg_words_index3((const uint8_t *)act->vector, g_board.last_leg);
-    for (uint32_t leg = 0u; leg < 3u; leg++) {
-        w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
-        timed |= w3[leg]->timed;
-    }
+    uint32_t timed = npc_legs_words((const uint8_t *)act->vector, g_board.last_leg, w3);
     uint32_t fixups = 0u;
 
     /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer

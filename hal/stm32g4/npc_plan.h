@@ -322,6 +322,23 @@ static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t
     return (p << 4) | (v0 << 2) | v1;
 }
 
+/**
+ * The three legs' entries of npc_leg_words_table for an actuation (@p legs,
+ * @p prev4 as npc_leg_words_index3) into @p w3; @return non-zero when a leg
+ * has two states in the period (npc_leg_words.timed: the period then needs
+ * its instants). Both boards' programme writers start here. Context: ANY.
+ */
+static inline uint32_t npc_legs_words(const uint8_t legs[6], const uint8_t prev4[4], const npc_leg_words *w3[3])
+{
+    uint32_t timed = 0u;
+    uint32_t index3 = npc_leg_words_index3(legs, prev4);
+    for (uint32_t leg = 0u; leg < 3u; leg++) {
+        w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
+        timed |= w3[leg]->timed;
+    }
+    return timed;
+}
+
 /** npc_leg_words.kind_shift of an entry whose timers hold its words already (class NPC_HELD in every period) */
 #define NPC_HELD_SHIFT 24u
 
