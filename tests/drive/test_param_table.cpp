@@ -10,6 +10,7 @@
 #include <cstring>
 #include <cstdlib>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <cstddef>
 #include <cstdio>
 #include <fstream>
@@ -79,7 +80,9 @@ struct Toml {
 Toml read_toml()
 {
     Toml t;
-    std::string script = std::string(DTC_BINARY_DIR) + "/test_param_table_dump.py";
+    // One script per process: ctest runs each test of this suite in its own
+    // process, in parallel, and a shared file could be truncated under a reader.
+    std::string script = std::string(DTC_BINARY_DIR) + "/test_param_table_dump." + std::to_string(getpid()) + ".py";
     {
         std::ofstream f(script);
         f << kDumpScript;
@@ -116,6 +119,7 @@ Toml read_toml()
         }
     }
     pclose(p);
+    std::remove(script.c_str());
     return t;
 }
 
@@ -147,6 +151,9 @@ protected:
         delete toml;
         toml = nullptr;
     }
+    // Every test reads the table; an empty read must fail them all, not let
+    // their loops pass over nothing.
+    void SetUp() override { ASSERT_GT(toml->params.size(), 100u) << "python3 with tomllib must be on PATH"; }
     static Toml *toml;
 };
 Toml *ParamTable::toml = nullptr;
