@@ -139,9 +139,9 @@ static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev
         bool take1 = !ok0;
         if (ok0 && ok1) {
             bool toward0 = push0 <= R(0.0), toward1 = push1 <= R(0.0);
-            take1 = toward0 == toward1
-                        ? dtc3l_leg_changes_unchecked(prev_state, c1) < dtc3l_leg_changes_unchecked(prev_state, c0)
-                        : toward1;
+            if (toward0 != toward1)
+                return toward1 ? c1 : c0; /* the one that balances (its push <= 0: no fallback; issue 11) */
+            take1 = dtc3l_leg_changes_unchecked(prev_state, c1) < dtc3l_leg_changes_unchecked(prev_state, c0);
         }
         uint8_t chosen = take1 ? c1 : c0;
         if (!((take1 ? push1 : push0) > R(0.0)))
