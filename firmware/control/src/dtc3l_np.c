@@ -62,6 +62,58 @@ static const uint8_t zero_toward[DTC3L_N_STATES][2] = {
     {13u, 13u}, /* 26 PPP (not small: unused) */
 };
 
+/* The integer part of the choice between a small vector's two states from
+ * each state, precomputed from the P<->N, commutation and P<->N-safe tables
+ * (issue 11: one look-up instead of two P<->N tests, two commutation counts and
+ * the fallback's P<->N-safe state and class; the rules are choose_state's,
+ * below, and tests/unit/test_dtc3l.cpp checks the choices against an
+ * independent reference for every state, vector and NP case). Indexed by
+ * [prev_state][sv], sv 1..6 (0 and 7 pad the row to eight entries). */
+typedef struct {
+    uint8_t pick;  /* of the vector's states (first P-type, second N-type) not a P<->N step
+                      away, the one with fewer commutations (they never tie); when both are,
+                      the first with those legs held at O */
+    uint8_t other; /* the vector's state that is not `pick`, with its P<->N legs held at O
+                      (0 when neither is in reach) */
+    uint8_t reach; /* bit 0: the first state is in reach (no P<->N step), bit 1: the second;
+                      bit 2: `other` is a small state */
+    uint8_t pad;
+} small_choice;
+
+#define SMALL_FIRST_OK 1u
+#define SMALL_SECOND_OK 2u
+#define SMALL_OTHER_SMALL 4u
+
+static const small_choice small_choice_of[DTC3L_N_STATES][8] = {
+    {/*  0 NNN */ {0u, 0u, 0u, 0u}, {9u, 13u, 2u, 0u}, {12u, 13u, 2u, 0u}, {3u, 13u, 2u, 0u}, {4u, 13u, 2u, 0u}, {1u, 13u, 2u, 0u}, {10u, 13u, 2u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  1 NNO */ {0u, 0u, 0u, 0u}, {9u, 13u, 2u, 0u}, {12u, 13u, 2u, 0u}, {3u, 13u, 2u, 0u}, {4u, 14u, 6u, 0u}, {1u, 14u, 7u, 0u}, {10u, 14u, 6u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  2 NNP */ {0u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {4u, 14u, 6u, 0u}, {1u, 14u, 7u, 0u}, {10u, 14u, 6u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  3 NON */ {0u, 0u, 0u, 0u}, {9u, 13u, 2u, 0u}, {12u, 16u, 6u, 0u}, {3u, 16u, 7u, 0u}, {4u, 16u, 6u, 0u}, {1u, 13u, 2u, 0u}, {10u, 13u, 2u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  4 NOO */ {0u, 0u, 0u, 0u}, {9u, 13u, 2u, 0u}, {12u, 16u, 6u, 0u}, {3u, 16u, 7u, 0u}, {4u, 17u, 7u, 0u}, {1u, 14u, 7u, 0u}, {10u, 14u, 6u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  5 NOP */ {0u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {16u, 0u, 0u, 0u}, {16u, 4u, 5u, 0u}, {4u, 17u, 7u, 0u}, {14u, 1u, 7u, 0u}, {10u, 14u, 6u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  6 NPN */ {0u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {12u, 16u, 6u, 0u}, {3u, 16u, 7u, 0u}, {4u, 16u, 6u, 0u}, {13u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  7 NPO */ {0u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {12u, 16u, 6u, 0u}, {16u, 3u, 7u, 0u}, {4u, 17u, 7u, 0u}, {14u, 4u, 5u, 0u}, {14u, 0u, 0u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  8 NPP */ {0u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {16u, 0u, 0u, 0u}, {16u, 4u, 5u, 0u}, {17u, 4u, 7u, 0u}, {14u, 4u, 5u, 0u}, {14u, 0u, 0u, 0u}, {0u, 0u, 0u, 0u}},
+    {/*  9 ONN */ {0u, 0u, 0u, 0u}, {9u, 22u, 7u, 0u}, {12u, 22u, 6u, 0u}, {3u, 13u, 2u, 0u}, {4u, 13u, 2u, 0u}, {1u, 13u, 2u, 0u}, {10u, 22u, 6u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 10 ONO */ {0u, 0u, 0u, 0u}, {9u, 22u, 7u, 0u}, {12u, 22u, 6u, 0u}, {3u, 13u, 2u, 0u}, {4u, 14u, 6u, 0u}, {1u, 14u, 7u, 0u}, {10u, 23u, 7u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 11 ONP */ {0u, 0u, 0u, 0u}, {22u, 10u, 5u, 0u}, {22u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {4u, 14u, 6u, 0u}, {14u, 1u, 7u, 0u}, {10u, 23u, 7u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 12 OON */ {0u, 0u, 0u, 0u}, {9u, 22u, 7u, 0u}, {12u, 25u, 7u, 0u}, {3u, 16u, 7u, 0u}, {4u, 16u, 6u, 0u}, {1u, 13u, 2u, 0u}, {10u, 22u, 6u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 13 OOO */ {0u, 0u, 0u, 0u}, {22u, 9u, 7u, 0u}, {12u, 25u, 7u, 0u}, {16u, 3u, 7u, 0u}, {4u, 17u, 7u, 0u}, {14u, 1u, 7u, 0u}, {10u, 23u, 7u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 14 OOP */ {0u, 0u, 0u, 0u}, {22u, 10u, 5u, 0u}, {25u, 13u, 1u, 0u}, {16u, 4u, 5u, 0u}, {17u, 4u, 7u, 0u}, {14u, 1u, 7u, 0u}, {23u, 10u, 7u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 15 OPN */ {0u, 0u, 0u, 0u}, {22u, 12u, 5u, 0u}, {12u, 25u, 7u, 0u}, {16u, 3u, 7u, 0u}, {4u, 16u, 6u, 0u}, {13u, 0u, 0u, 0u}, {22u, 0u, 0u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 16 OPO */ {0u, 0u, 0u, 0u}, {22u, 12u, 5u, 0u}, {25u, 12u, 7u, 0u}, {16u, 3u, 7u, 0u}, {17u, 4u, 7u, 0u}, {14u, 4u, 5u, 0u}, {23u, 13u, 1u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 17 OPP */ {0u, 0u, 0u, 0u}, {22u, 13u, 1u, 0u}, {25u, 13u, 1u, 0u}, {16u, 4u, 5u, 0u}, {17u, 4u, 7u, 0u}, {14u, 4u, 5u, 0u}, {23u, 13u, 1u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 18 PNN */ {0u, 0u, 0u, 0u}, {9u, 22u, 7u, 0u}, {12u, 22u, 6u, 0u}, {13u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {10u, 22u, 6u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 19 PNO */ {0u, 0u, 0u, 0u}, {22u, 9u, 7u, 0u}, {12u, 22u, 6u, 0u}, {13u, 0u, 0u, 0u}, {14u, 0u, 0u, 0u}, {14u, 10u, 5u, 0u}, {10u, 23u, 7u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 20 PNP */ {0u, 0u, 0u, 0u}, {22u, 10u, 5u, 0u}, {22u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {14u, 0u, 0u, 0u}, {14u, 10u, 5u, 0u}, {23u, 10u, 7u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 21 PON */ {0u, 0u, 0u, 0u}, {22u, 9u, 7u, 0u}, {12u, 25u, 7u, 0u}, {16u, 12u, 5u, 0u}, {16u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {10u, 22u, 6u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 22 POO */ {0u, 0u, 0u, 0u}, {22u, 9u, 7u, 0u}, {25u, 12u, 7u, 0u}, {16u, 12u, 5u, 0u}, {17u, 13u, 1u, 0u}, {14u, 10u, 5u, 0u}, {23u, 10u, 7u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 23 POP */ {0u, 0u, 0u, 0u}, {22u, 10u, 5u, 0u}, {25u, 13u, 1u, 0u}, {16u, 13u, 1u, 0u}, {17u, 13u, 1u, 0u}, {14u, 10u, 5u, 0u}, {23u, 10u, 7u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 24 PPN */ {0u, 0u, 0u, 0u}, {22u, 12u, 5u, 0u}, {25u, 12u, 7u, 0u}, {16u, 12u, 5u, 0u}, {16u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {22u, 0u, 0u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 25 PPO */ {0u, 0u, 0u, 0u}, {22u, 12u, 5u, 0u}, {25u, 12u, 7u, 0u}, {16u, 12u, 5u, 0u}, {17u, 13u, 1u, 0u}, {14u, 13u, 1u, 0u}, {23u, 13u, 1u, 0u}, {0u, 0u, 0u, 0u}},
+    {/* 26 PPP */ {0u, 0u, 0u, 0u}, {22u, 13u, 1u, 0u}, {25u, 13u, 1u, 0u}, {16u, 13u, 1u, 0u}, {17u, 13u, 1u, 0u}, {14u, 13u, 1u, 0u}, {23u, 13u, 1u, 0u}, {0u, 0u, 0u, 0u}},
+};
+
 uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                            const real_t i_abc[3])
 {
@@ -111,46 +163,47 @@ static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev
     /* Vectors with a single state (medium, large): nothing to choose. */
     if (cls == DTC3L_CLASS_MEDIUM || cls == DTC3L_CLASS_LARGE)
         return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
-    if (small && !np_forced) {
-        /* A small vector inside the band: the state with fewer commutations.
-         * Its P-type state is its N-type one a level up in every leg, so from
-         * any state their commutation counts differ by an odd number (three
-         * legs of +-1 each): never a tie, so the NP preference never decides
-         * inside the band and no NP current is needed here. */
-        uint8_t c0 = st[0], c1 = st[1];
-        bool ok0 = !dtc3l_pn_step_unchecked(prev_state, c0), ok1 = !dtc3l_pn_step_unchecked(prev_state, c1);
-        if (ok0 && ok1)
-            return dtc3l_leg_changes_unchecked(prev_state, c0) < dtc3l_leg_changes_unchecked(prev_state, c1) ? c0 : c1;
-        return ok0 ? c0 : (ok1 ? c1 : dtc3l_pn_safe_unchecked(prev_state, c0));
-    }
     if (small) {
-        /* A small vector outside the band (np_forced): the balancing state
-         * first, then fewer commutations (never a tie); when the balancing
-         * state is a P<->N step away, the other state held P<->N-safe if that
-         * one balances (below). */
+        const small_choice *e = &small_choice_of[prev_state][sv];
+        /* Inside the band: the state with fewer commutations. Its P-type
+         * state is its N-type one a level up in every leg, so from any state
+         * their commutation counts differ by an odd number (three legs of
+         * +-1 each): never a tie, so the NP preference never decides inside
+         * the band and no NP current is needed here. Neither in reach: the
+         * P-type state held P<->N-safe, in or out of the band. */
+        unsigned reach = e->reach & (SMALL_FIRST_OK | SMALL_SECOND_OK);
+        if (!np_forced || reach == 0u)
+            return e->pick;
+        /* Outside the band (np_forced): the balancing state first, then
+         * fewer commutations; when the one taken pushes the link further
+         * off, the other state held P<->N-safe if that one is small and
+         * balances. */
         uint8_t c0 = st[0], c1 = st[1];
-        bool ok0 = !dtc3l_pn_step_unchecked(prev_state, c0), ok1 = !dtc3l_pn_step_unchecked(prev_state, c1);
-        if (!(ok0 || ok1))
-            return dtc3l_pn_safe_unchecked(prev_state, c0);
-        real_t push0 = ok0 ? num_mul(dtc3l_np_current_unchecked(c0, i_abc), np_dev_V) : R(0.0);
-        real_t push1 = ok1 ? num_mul(dtc3l_np_current_unchecked(c1, i_abc), np_dev_V) : R(0.0);
-        *push0_known = ok0;
-        *push0_VA = push0;
-        bool take1 = !ok0;
-        if (ok0 && ok1) {
-            bool toward0 = push0 <= R(0.0), toward1 = push1 <= R(0.0);
-            if (toward0 != toward1)
-                return toward1 ? c1 : c0; /* the one that balances (its push <= 0: no fallback; issue 11) */
-            take1 = dtc3l_leg_changes_unchecked(prev_state, c1) < dtc3l_leg_changes_unchecked(prev_state, c0);
+        real_t push; /* of e->pick */
+        if (reach == (SMALL_FIRST_OK | SMALL_SECOND_OK)) {
+            real_t push0 = num_mul(dtc3l_np_current_unchecked(c0, i_abc), np_dev_V);
+            real_t push1 = num_mul(dtc3l_np_current_unchecked(c1, i_abc), np_dev_V);
+            *push0_known = true;
+            *push0_VA = push0;
+            /* exactly one balances (push <= 0): that one, no fallback (issue 11) */
+            if (push0 <= R(0.0)) {
+                if (!(push1 <= R(0.0)))
+                    return c0;
+            } else if (push1 <= R(0.0)) {
+                return c1;
+            }
+            push = e->pick == c0 ? push0 : push1;
+        } else {
+            push = num_mul(dtc3l_np_current_unchecked(e->pick, i_abc), np_dev_V);
+            *push0_known = reach == SMALL_FIRST_OK;
+            *push0_VA = reach == SMALL_FIRST_OK ? push : R(0.0);
         }
-        uint8_t chosen = take1 ? c1 : c0;
-        if (!((take1 ? push1 : push0) > R(0.0)))
-            return chosen;
-        uint8_t m = dtc3l_pn_safe_unchecked(prev_state, take1 ? c0 : c1); /* the other state, held P<->N-safe */
-        if (dtc3l_sv_class_unchecked(dtc3l_state_sv_unchecked(m)) == DTC3L_CLASS_SMALL &&
-            num_mul(dtc3l_np_current_unchecked(m, i_abc), np_dev_V) < R(0.0))
-            return m;
-        return chosen;
+        if (!(push > R(0.0)))
+            return e->pick;
+        if ((e->reach & SMALL_OTHER_SMALL) != 0u &&
+            num_mul(dtc3l_np_current_unchecked(e->other, i_abc), np_dev_V) < R(0.0))
+            return e->other;
+        return e->pick;
     }
     /* Every vector with more than one state is the zero vector or a small one,
      * both handled above; this keeps the function total. */
