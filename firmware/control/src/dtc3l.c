@@ -137,6 +137,10 @@ typedef struct {
     bool split;
 } tick_plan;
 
+/* st0 and st1 of a plan whose zero vector's state is not chosen yet
+ * (plan_state, settle_zero): not a state, never looked up */
+#define ZERO_PENDING 0xFFu
+
 static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const observer_out *pr, tick_geometry *g)
 {
     g->b_Nm = num_mul(cfg->torque_band_Nm, in->band_scale); /* >= 1: the caller's clamp */
@@ -193,13 +197,16 @@ static void decide_voltage_level(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd
         s->level = (uint8_t)DTC3L_LEVEL_LOW;
 }
 
-/* Flux demand: two-level hysteresis on |psi_s|. */
-static void decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, real_t psi_Wb)
+/* Flux demand: two-level hysteresis on |psi_s|. @return true when the flux is
+ * below its band (the flux-hold pulse's condition too). */
+static bool decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, real_t psi_Wb)
 {
-    if (psi_Wb < in->psi_ref_Wb - cfg->flux_band_Wb)
+    bool low = psi_Wb < in->psi_ref_Wb - cfg->flux_band_Wb;
+    if (low)
         s->flux_state = 1;
     else if (psi_Wb > in->psi_ref_Wb + cfg->flux_band_Wb)
         s->flux_state = -1;
+    return low;
 }
 
 /* Neutral point with the large and medium vectors: a medium vector draws the
@@ -238,14 +245,36 @@ static uint8_t np_checked_vector(uint8_t sv, const dtc3l_cmd *in, const dtc3l_cf
     return (uint8_t)(13u + dir / 2u);
 }
 
-/* The state realising the table's vector for torque demand @p torque. */
+/* The state realising the table's vector for torque demand @p torque, from @p prev_state. */
 static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g,
-                                int8_t torque, uint8_t prev_state, uint8_t *sv)
+                                int8_t torque, uint8_t prev_state)
 {
     uint8_t v = np_checked_vector(pick(g->sector, g->sector6, torque, s->flux_state, s->level), in, cfg, g, torque);
-    if (sv)
-        *sv = v;
     return dtc3l_choose_state_unchecked(v, prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+}
+
+/* state_for_demand from the state in force (g->prev_state) for the plan's
+ * first state, but the zero vector's state left to settle_zero: in a hold
+ * the flux-hold pulse often takes the period's start, and its own zero state
+ * follows the pulse (issue 11: the plan's zero state, with its NP look-ahead,
+ * was worked out and dropped in those ticks). */
+static void plan_state(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g, tick_plan *p)
+{
+    uint8_t v = np_checked_vector(pick(g->sector, g->sector6, p->cur, s->flux_state, s->level), in, cfg, g, p->cur);
+    p->sv0 = v;
+    p->st0 = p->st1 = v == 0u ? (uint8_t)ZERO_PENDING
+                              : dtc3l_choose_state_unchecked(v, g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
+}
+
+/* The zero vector's state from g->prev_state (dtc3l_choose_state's choice)
+ * once the plan keeps it; @p push0 and @p push0_VA as dtc3l_choose_zero_unchecked. */
+static inline void settle_zero(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g, tick_plan *p,
+                               bool push0, real_t push0_VA)
+{
+    if (p->st0 != ZERO_PENDING)
+        return;
+    p->st0 = p->st1 = dtc3l_choose_zero_unchecked(g->prev_state, in->np_dev_V, cfg->np_band_V, g->i_abc_A, push0,
+                                                  push0_VA);
 }
 
 /* The states are chosen first (P<->N-free, NP-balancing, fewest
@@ -257,8 +286,7 @@ static void plan_table_vector(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_
 {
     p->cur = torque_comparator(s->torque_state, pr->te_pred_Nm, in->te_ref_Nm, g->b_Nm, g->b2_Nm, pr->dte0_Nm_s);
     p->after = p->cur;
-    p->st0 = state_for_demand(s, cfg, in, g, p->cur, g->prev_state, &p->sv0);
-    p->st1 = p->st0;
+    plan_state(s, cfg, in, g, p);
     p->duty0 = R(1.0);
     p->split = false;
 }
@@ -275,7 +303,8 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
     real_t s_cur = R(0.0), edge = R(0.0), f = R(2.0);
     int8_t next = p->cur;
     for (int pass = 0;; pass++) {
-        s_cur = state_slope(g, pr, p->st0);
+        /* the zero vector's states all have the slope dte0, chosen or not */
+        s_cur = p->sv0 == 0u ? pr->dte0_Nm_s : state_slope(g, pr, p->st0);
         f = exit_edge(p->cur, s_cur, in, pr, b, dt_s, &edge, &next);
         if (next == p->cur)
             return; /* no crossing */
@@ -283,14 +312,15 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
             break;
         p->cur = next;
         p->after = p->cur;
-        p->st0 = p->st1 = state_for_demand(s, cfg, in, g, p->cur, g->prev_state, &p->sv0);
+        plan_state(s, cfg, in, g, p);
         if (pass == 1)
             return;
     }
     /* f >= dmin here: exit_edge's fraction is never NaN (issue 11: one compare fewer) */
     if (!(f <= R(1.0) - dmin))
         return; /* it falls at the next period start */
-    p->st1 = state_for_demand(s, cfg, in, g, next, p->st0, NULL);
+    settle_zero(cfg, in, g, p, false, R(0.0)); /* the state after it follows it */
+    p->st1 = state_for_demand(s, cfg, in, g, next, p->st0);
     p->duty0 = f;
     p->after = next;
     p->split = true;
@@ -321,13 +351,16 @@ static inline real_t upto(real_t x, real_t hi) { return x > hi ? hi : x; }
  * in its band over the whole period. */
 static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
                                 const observer_out *pr,
-                                const tick_geometry *g, tick_plan *p)
+                                const tick_geometry *g, bool flux_low, tick_plan *p)
 {
     real_t b = g->b_Nm;
     real_t dmin = cfg->duty_min;
     real_t psi = g->psi_Wb;
-    if (!(!p->split && p->sv0 == 0u && s->level == (uint8_t)DTC3L_LEVEL_LOW && psi < in->psi_ref_Wb - cfg->flux_band_Wb))
+    /* flux_low: psi < psi_ref - flux_band, from decide_flux_demand */
+    if (!(!p->split && p->sv0 == 0u && s->level == (uint8_t)DTC3L_LEVEL_LOW && flux_low)) {
+        settle_zero(cfg, in, g, p, false, R(0.0)); /* no pulse: the plan's zero state, if it has one */
         return;
+    }
     uint8_t svh = dtc3l_table_flux_hold(g->sector6);
     bool push0_known;
     real_t push0_VA = R(0.0);
@@ -353,8 +386,13 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         d = upto(d, num_div(lo - end0, ds));
     else if (ds > R(0.0) && end0 < hi)
         d = upto(d, num_div(hi - end0, ds));
-    if (d < dmin)
+    if (d < dmin) {
+        /* no pulse: the plan's zero state after all, its NP look-ahead
+         * reusing the pulse choice's product when the state in force is
+         * one of svh's (the same first state; issue 11) */
+        settle_zero(cfg, in, g, p, push0_known && dtc3l_state_sv_unchecked(g->prev_state) == svh, push0_VA);
         return;
+    }
     p->st0 = sth;
     if (d < R(1.0) - dmin) {
         /* the zero state's NP look-ahead reuses the pulse choice's product
@@ -498,11 +536,11 @@ void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc
     tick_geometry_of(cfg, in, pr, &g);
     if (in->decide_level)
         decide_voltage_level(s, cfg, in);
-    decide_flux_demand(s, cfg, in, g.psi_Wb);
+    bool flux_low = decide_flux_demand(s, cfg, in, g.psi_Wb);
     plan_table_vector(s, cfg, in, pr, &g, &p);
     if (cfg->ripple_reduction && num_abs(pr->omega_m_rad_s) < cfg->ripple_speed_max_rad_s)
         place_band_edge_crossing(s, cfg, dt_s, in, pr, &g, &p);
-    add_flux_hold_pulse(s, cfg, dt_s, in, pr, &g, &p);
+    add_flux_hold_pulse(s, cfg, dt_s, in, pr, &g, flux_low, &p);
     balance_np_in_holds(s, cfg, in, &g, &p);
     cut_intermediate_short(cfg, in, &g, &p);
     emit(s, &p, out);
