@@ -4,6 +4,8 @@
  */
 #include "dtc/rbfn.h"
 
+#include <stdbool.h>
+
 /* Relative margin taken off the projection radius: the float norm of n <= 9
  * terms is within a few ulps of the exact norm, so projecting onto
  * m_w (1 - 16 ulps) guarantees that the exact norm stays <= m_w. */
@@ -69,9 +71,11 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
 }
 
 /* The unnormalised terms of rbfn_basis_grid into v (the nearest node 1) and,
- * with @p w, sum w_k v_k into *wv; returns their sum (>= 1, NaN for NaN x). */
-static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, const real_t *w,
-                                real_t *v_out, real_t *wv)
+ * if @p weighted, sum w_k v_k into *wv; returns their sum (>= 1, NaN for NaN x).
+ * @p weighted is a constant at each call (not a test of w against NULL, which
+ * the compiler could not drop where w is the caller's state: issue 11). */
+static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, bool weighted,
+                                const real_t *w, real_t *v_out, real_t *wv)
 {
     if (!(x == x)) {
         for (uint32_t k = 0u; k < n; k++)
@@ -97,28 +101,28 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     real_t rho = num_div(q, r);
     real_t sum = R(1.0);
     v_out[ks] = R(1.0);
-    real_t y = w != 0 ? w[ks] : R(0.0);
+    real_t y = weighted ? w[ks] : R(0.0);
     /* walked with pointers: no index arithmetic per node */
     real_t v = R(1.0);
     real_t *vk = v_out + ks;
-    const real_t *wk = w != 0 ? w + ks : 0;
+    const real_t *wk = w + ks;
     for (const real_t *end = v_out + n; ++vk < end;) {
         v = num_mul(v, r);
         r = num_mul(r, q);
         *vk = v;
         sum += v;
-        if (w != 0)
+        if (weighted)
             y = num_mac(*++wk, v, y);
     }
     v = R(1.0);
     vk = v_out + ks;
-    wk = w != 0 ? w + ks : 0;
+    wk = w + ks;
     while (vk > v_out) {
         v = num_mul(v, rho);
         rho = num_mul(rho, q);
         *--vk = v;
         sum += v;
-        if (w != 0)
+        if (weighted)
             y = num_mac(*--wk, v, y);
     }
     *wv = y;
@@ -128,7 +132,7 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
 void rbfn_basis_grid(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, real_t *z)
 {
     real_t wv;
-    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, 0, z, &wv));
+    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, false, z, z, &wv));
     for (uint32_t k = 0u; k < n; k++)
         z[k] = num_mul(z[k], inv);
 }
@@ -137,7 +141,7 @@ real_t rbfn_grid_eval(const rbfn_grid *g, const real_t *centre, uint32_t n, real
                       real_t *scale)
 {
     real_t wv;
-    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, w, v, &wv));
+    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, true, w, v, &wv));
     *scale = inv;
     return num_mul(wv, inv);
 }
