@@ -86,17 +86,26 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     /* nearest node (written so that huge |x| never reaches the integer conversion) */
     real_t t = num_mul(x - centre[0], g->inv_spacing);
     uint32_t ks;
-    if (!(t > R(0.0)))
+    bool inside = false;
+    if (!(t > R(0.0))) {
         ks = 0u;
-    else if (t >= g->last_node) /* (real_t)(n - 1), n == g->n */
+    } else if (t >= g->last_node) { /* (real_t)(n - 1), n == g->n */
         ks = n - 1u;
-    else
+    } else {
         ks = (uint32_t)(t + R(0.5));
+        inside = true;
+    }
     real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
     /* r: z[k + 1] / z[k] going up; rho: z[k - 1] / z[k] going down (r rho = q) */
-    /* x is not NaN here and u is bounded, so the argument is not NaN (g->d and
-     * g->half_d2 are finite by rbfn_grid_derive): the exp without its NaN test */
-    real_t r = num_expf_not_nan(num_mul(u, g->d) - g->half_d2);
+    real_t a = num_mul(u, g->d) - g->half_d2;
+    /* Between the outer nodes x is within about half a spacing of the nearest
+     * one (the centres are uniform to 1e-5 of the spacing), so |u| <= d / 2 and
+     * the argument lies in [-d^2, 0] up to rounding, inside [-80, 0] (d^2 <=
+     * RBFN_GRID_D2_MAX): the exp without its range tests (issue 11). Beyond
+     * the outer nodes it is not bounded; x is not NaN here and u is, so the
+     * argument is not NaN (g->d and g->half_d2 are finite by rbfn_grid_derive):
+     * the exp without its NaN test. */
+    real_t r = inside ? num_expf_in_range(a) : num_expf_not_nan(a);
     const real_t q = g->q; /* held in a register: the stores into v_out could alias it */
     real_t rho = num_div(q, r);
     real_t sum = R(1.0);
