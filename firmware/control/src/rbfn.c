@@ -98,10 +98,12 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
     real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
     /* r: z[k + 1] / z[k] going up; rho: z[k - 1] / z[k] going down (r rho = q) */
     real_t a = num_mul(u, g->d) - g->half_d2;
-    /* Between the outer nodes x is within about half a spacing of the nearest
-     * one (the centres are uniform to 1e-5 of the spacing), so |u| <= d / 2 and
-     * the argument lies in [-d^2, 0] up to rounding, inside [-80, 0] (d^2 <=
-     * RBFN_GRID_D2_MAX): the exp without its range tests (issue 11). Beyond
+    /* Between the outer nodes x is within half a spacing of node ks of the
+     * exact grid, and node ks is within ks x 1e-5 spacings of it (the centres'
+     * tolerance in rbfn_grid_derive), so |u| <= (1/2 + delta) d with delta =
+     * 1e-5 ks, and the argument lies in [-(1 + delta) d^2, delta d^2]: inside
+     * [-87.3, 88.7] for d^2 <= RBFN_GRID_D2_MAX = 80 and any grid below
+     * 9,000 nodes. The exp without its range tests there (issue 11). Beyond
      * the outer nodes it is not bounded; x is not NaN here and u is, so the
      * argument is not NaN (g->d and g->half_d2 are finite by rbfn_grid_derive):
      * the exp without its NaN test. */
