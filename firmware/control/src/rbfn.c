@@ -83,31 +83,32 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
         *wv = x;
         return x;
     }
-    /* nearest node (written so that huge |x| never reaches the integer conversion) */
+    /* nearest node (written so that huge |x| never reaches the integer conversion),
+     * and r: z[k + 1] / z[k] going up from it (rho below: z[k - 1] / z[k] going
+     * down, r rho = q), r = exp(u d - d^2 / 2) with u = (x - m_ks) / s */
     real_t t = num_mul(x - centre[0], g->inv_spacing);
     uint32_t ks;
-    bool inside = false;
-    if (!(t > R(0.0))) {
-        ks = 0u;
-    } else if (t >= g->last_node) { /* (real_t)(n - 1), n == g->n */
-        ks = n - 1u;
-    } else {
+    real_t r;
+    if (t > R(0.0) && t < g->last_node) { /* (real_t)(n - 1), n == g->n */
         ks = (uint32_t)(t + R(0.5));
-        inside = true;
+        /* Between the outer nodes x is within half a spacing of node ks of
+         * the exact grid, and node ks is within ks x 1e-5 spacings of it (the
+         * centres' tolerance in rbfn_grid_derive), so |u| <= (1/2 + delta) d
+         * with delta = 1e-5 ks (no clamp needed) and the argument lies in
+         * [-(1 + delta) d^2, delta d^2]: inside [-87.3, 88.7] for d^2 <=
+         * RBFN_GRID_D2_MAX = 80 and any grid below 9,000 nodes. The exp
+         * without its range tests (issue 11). */
+        real_t u = num_mul(x - centre[ks], g->inv_width);
+        r = num_expf_in_range(num_mul(u, g->d) - g->half_d2);
+    } else {
+        ks = t > R(0.0) ? n - 1u : 0u;
+        /* Beyond the outer nodes u is not bounded: clamped so that u d stays
+         * finite; x is not NaN here and u is bounded, so the argument is not
+         * NaN (g->d and g->half_d2 are finite by rbfn_grid_derive): the exp
+         * without its NaN test. */
+        real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
+        r = num_expf_not_nan(num_mul(u, g->d) - g->half_d2);
     }
-    real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
-    /* r: z[k + 1] / z[k] going up; rho: z[k - 1] / z[k] going down (r rho = q) */
-    real_t a = num_mul(u, g->d) - g->half_d2;
-    /* Between the outer nodes x is within half a spacing of node ks of the
-     * exact grid, and node ks is within ks x 1e-5 spacings of it (the centres'
-     * tolerance in rbfn_grid_derive), so |u| <= (1/2 + delta) d with delta =
-     * 1e-5 ks, and the argument lies in [-(1 + delta) d^2, delta d^2]: inside
-     * [-87.3, 88.7] for d^2 <= RBFN_GRID_D2_MAX = 80 and any grid below
-     * 9,000 nodes. The exp without its range tests there (issue 11). Beyond
-     * the outer nodes it is not bounded; x is not NaN here and u is, so the
-     * argument is not NaN (g->d and g->half_d2 are finite by rbfn_grid_derive):
-     * the exp without its NaN test. */
-    real_t r = inside ? num_expf_in_range(a) : num_expf_not_nan(a);
     const real_t q = g->q; /* held in a register: the stores into v_out could alias it */
     real_t rho = num_div(q, r);
     real_t sum = R(1.0);
