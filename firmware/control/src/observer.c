@@ -315,7 +315,7 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
     real_t ps1 = num_mac(m->sigma_ls, is_meas[1], num_mul(m->lm_lr, p1));
     out->psi_s_Wb[0] = ps0;
     out->psi_s_Wb[1] = ps1;
-    out->psi_s_abs_Wb = num_sqrt(num_mac(ps0, ps0, num_mul(ps1, ps1)));
+    out->psi_s_abs_Wb = num_sqrt_nonneg(num_mac(ps0, ps0, num_mul(ps1, ps1))); /* a sum of squares */
     out->te_Nm = te;
 
     /* advance to t_{k+1}: u_is = b v - g_is e, u_psi = -g_psi e */

@@ -171,7 +171,7 @@ real_t rbfn_norm(const real_t *w, uint32_t n)
     real_t s = R(0.0);
     for (uint32_t q = 0u; q < n; q++)
         s = num_mac(w[q], w[q], s);
-    return num_sqrt(s);
+    return num_sqrt_nonneg(s); /* a sum of squares */
 }
 
 /* rbfn_project with |W| = @p norm already worked out. */
@@ -210,5 +210,5 @@ real_t rbfn_update_projected(real_t *w, const real_t *z, uint32_t n, real_t e, r
      * part, i.e. W is put back on the sphere (the Euclidean projection onto
      * the convex set |W| <= M_w; to first order in the step it is exactly the
      * tangential projection of eq. 21). An inward step is left alone. */
-    return project_with_norm(w, n, m_w, num_sqrt(s2));
+    return project_with_norm(w, n, m_w, num_sqrt_nonneg(s2)); /* a sum of squares */
 }
