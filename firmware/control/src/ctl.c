@@ -642,13 +642,18 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
             speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
         return;
     }
-    real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : s->speed_ref_ramped_rad_s;
-    target = num_limit(target, cfg->speed_max_rad_s);
     real_t prev = s->speed_ref_ramped_rad_s;
     /* at the target (most steps) the ramp returns it: skipped on equal bits, but not at zero,
-     * where prev + (+0) makes a -0 into +0 (issue 11: on the command tick, the worst one) */
-    if (f32_bits(target) != f32_bits(prev) || abs_bits(prev) == 0u)
-        s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, cfg->speed_ramp_step_rad_s);
+     * where prev + (+0) makes a -0 into +0 (issue 11: on the command tick, the worst one).
+     * An input that is the ramped reference itself, within the limit, is that target as
+     * it is (finite, not clamped): neither screened nor clamped then. */
+    if (!(f32_bits(in->speed_ref_rad_s) == f32_bits(prev) && abs_bits(prev) != 0u &&
+          num_abs(prev) <= cfg->speed_max_rad_s)) {
+        real_t target = finite_r(in->speed_ref_rad_s) ? in->speed_ref_rad_s : prev;
+        target = num_limit(target, cfg->speed_max_rad_s);
+        if (f32_bits(target) != f32_bits(prev) || abs_bits(prev) == 0u)
+            s->speed_ref_ramped_rad_s = speed_ref_ramp(prev, target, cfg->speed_ramp_step_rad_s);
+    }
     speed_in si;
     si.omega_ref_rad_s = s->speed_ref_ramped_rad_s;
     /* (d / T_tick) / CTL_RBFN_TICKS in one product: the division by a power of 2 is exact */

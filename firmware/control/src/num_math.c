@@ -58,6 +58,11 @@ float num_expf_not_nan(float x)
         return INFINITY;
     if (x < EXP_X_MIN)
         return 0.0f;
+    return num_expf_in_range(x);
+}
+
+float num_expf_in_range(float x)
+{
     int32_t k = round_i32(x * LOG2_E); /* -126..128 */
     float kf = (float)k;
     float r = fmaf(-kf, LN2_LO, fmaf(-kf, LN2_HI, x)); /* |r| <= ln2/2 + a little */

@@ -315,11 +315,8 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
     real_t ps1 = num_mac(m->sigma_ls, is_meas[1], num_mul(m->lm_lr, p1));
     out->psi_s_Wb[0] = ps0;
     out->psi_s_Wb[1] = ps1;
-    out->psi_s_abs_Wb = num_sqrt(num_mac(ps0, ps0, num_mul(ps1, ps1)));
+    out->psi_s_abs_Wb = num_sqrt_nonneg(num_mac(ps0, ps0, num_mul(ps1, ps1))); /* a sum of squares */
     out->te_Nm = te;
-    out->omega_e_rad_s = omega_e;
-    out->err_A[0] = e[0];
-    out->err_A[1] = e[1];
 
     /* advance to t_{k+1}: u_is = b v - g_is e, u_psi = -g_psi e */
     /* the Rs terms: derived once for the nominal Rs (the usual case: no Rs
@@ -355,8 +352,6 @@ void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const
     /* prediction for t_{k+1} */
     out->is_pred_A[0] = xn[0];
     out->is_pred_A[1] = xn[1];
-    out->psi_r_pred_Wb[0] = xn[2];
-    out->psi_r_pred_Wb[1] = xn[3];
     out->psi_s_pred_Wb[0] = num_mac(m->sigma_ls, xn[0], num_mul(m->lm_lr, xn[2]));
     out->psi_s_pred_Wb[1] = num_mac(m->sigma_ls, xn[1], num_mul(m->lm_lr, xn[3]));
     real_t cr = ccross(&xn[2], &xn[0]); /* psi_r x is */

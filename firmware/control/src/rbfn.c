@@ -4,6 +4,8 @@
  */
 #include "dtc/rbfn.h"
 
+#include <stdbool.h>
+
 /* Relative margin taken off the projection radius: the float norm of n <= 9
  * terms is within a few ulps of the exact norm, so projecting onto
  * m_w (1 - 16 ulps) guarantees that the exact norm stays <= m_w. */
@@ -69,9 +71,11 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
 }
 
 /* The unnormalised terms of rbfn_basis_grid into v (the nearest node 1) and,
- * with @p w, sum w_k v_k into *wv; returns their sum (>= 1, NaN for NaN x). */
-static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, const real_t *w,
-                                real_t *v_out, real_t *wv)
+ * if @p weighted, sum w_k v_k into *wv; returns their sum (>= 1, NaN for NaN x).
+ * @p weighted is a constant at each call (not a test of w against NULL, which
+ * the compiler could not drop where w is the caller's state: issue 11). */
+static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, bool weighted,
+                                const real_t *w, real_t *v_out, real_t *wv)
 {
     if (!(x == x)) {
         for (uint32_t k = 0u; k < n; k++)
@@ -79,46 +83,58 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
         *wv = x;
         return x;
     }
-    /* nearest node (written so that huge |x| never reaches the integer conversion) */
+    /* nearest node (written so that huge |x| never reaches the integer conversion),
+     * and r: z[k + 1] / z[k] going up from it (rho below: z[k - 1] / z[k] going
+     * down, r rho = q), r = exp(u d - d^2 / 2) with u = (x - m_ks) / s */
     real_t t = num_mul(x - centre[0], g->inv_spacing);
     uint32_t ks;
-    if (!(t > R(0.0)))
-        ks = 0u;
-    else if (t >= g->last_node) /* (real_t)(n - 1), n == g->n */
-        ks = n - 1u;
-    else
+    real_t r;
+    if (t > R(0.0) && t < g->last_node) { /* (real_t)(n - 1), n == g->n */
         ks = (uint32_t)(t + R(0.5));
-    real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
-    /* r: z[k + 1] / z[k] going up; rho: z[k - 1] / z[k] going down (r rho = q) */
-    /* x is not NaN here and u is bounded, so the argument is not NaN (g->d and
-     * g->half_d2 are finite by rbfn_grid_derive): the exp without its NaN test */
-    real_t r = num_expf_not_nan(num_mul(u, g->d) - g->half_d2);
+        /* Between the outer nodes x is within half a spacing of node ks of
+         * the exact grid, and node ks is within ks x 1e-5 spacings of it (the
+         * centres' tolerance in rbfn_grid_derive), so |u| <= (1/2 + delta) d
+         * with delta = 1e-5 ks (no clamp needed) and the argument lies in
+         * [-(1 + delta) d^2, delta d^2]: inside [-87.3, 88.7] for d^2 <=
+         * RBFN_GRID_D2_MAX = 80 and any grid below 9,000 nodes. The exp
+         * without its range tests (issue 11). */
+        real_t u = num_mul(x - centre[ks], g->inv_width);
+        r = num_expf_in_range(num_mul(u, g->d) - g->half_d2);
+    } else {
+        ks = t > R(0.0) ? n - 1u : 0u;
+        /* Beyond the outer nodes u is not bounded: clamped so that u d stays
+         * finite; x is not NaN here and u is bounded, so the argument is not
+         * NaN (g->d and g->half_d2 are finite by rbfn_grid_derive): the exp
+         * without its NaN test. */
+        real_t u = num_limit(num_mul(x - centre[ks], g->inv_width), R(1e15));
+        r = num_expf_not_nan(num_mul(u, g->d) - g->half_d2);
+    }
     const real_t q = g->q; /* held in a register: the stores into v_out could alias it */
     real_t rho = num_div(q, r);
     real_t sum = R(1.0);
     v_out[ks] = R(1.0);
-    real_t y = w != 0 ? w[ks] : R(0.0);
+    real_t y = weighted ? w[ks] : R(0.0);
     /* walked with pointers: no index arithmetic per node */
     real_t v = R(1.0);
     real_t *vk = v_out + ks;
-    const real_t *wk = w != 0 ? w + ks : 0;
+    const real_t *wk = w + ks;
     for (const real_t *end = v_out + n; ++vk < end;) {
         v = num_mul(v, r);
         r = num_mul(r, q);
         *vk = v;
         sum += v;
-        if (w != 0)
+        if (weighted)
             y = num_mac(*++wk, v, y);
     }
     v = R(1.0);
     vk = v_out + ks;
-    wk = w != 0 ? w + ks : 0;
+    wk = w + ks;
     while (vk > v_out) {
         v = num_mul(v, rho);
         rho = num_mul(rho, q);
         *--vk = v;
         sum += v;
-        if (w != 0)
+        if (weighted)
             y = num_mac(*--wk, v, y);
     }
     *wv = y;
@@ -128,7 +144,7 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
 void rbfn_basis_grid(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, real_t *z)
 {
     real_t wv;
-    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, 0, z, &wv));
+    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, false, z, z, &wv));
     for (uint32_t k = 0u; k < n; k++)
         z[k] = num_mul(z[k], inv);
 }
@@ -137,7 +153,7 @@ real_t rbfn_grid_eval(const rbfn_grid *g, const real_t *centre, uint32_t n, real
                       real_t *scale)
 {
     real_t wv;
-    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, w, v, &wv));
+    real_t inv = num_div(R(1.0), grid_terms(g, centre, n, x, true, w, v, &wv));
     *scale = inv;
     return num_mul(wv, inv);
 }
@@ -155,7 +171,7 @@ real_t rbfn_norm(const real_t *w, uint32_t n)
     real_t s = R(0.0);
     for (uint32_t q = 0u; q < n; q++)
         s = num_mac(w[q], w[q], s);
-    return num_sqrt(s);
+    return num_sqrt_nonneg(s); /* a sum of squares */
 }
 
 /* rbfn_project with |W| = @p norm already worked out. */
@@ -194,5 +210,5 @@ real_t rbfn_update_projected(real_t *w, const real_t *z, uint32_t n, real_t e, r
      * part, i.e. W is put back on the sphere (the Euclidean projection onto
      * the convex set |W| <= M_w; to first order in the step it is exactly the
      * tangential projection of eq. 21). An inward step is left alone. */
-    return project_with_norm(w, n, m_w, num_sqrt(s2));
+    return project_with_norm(w, n, m_w, num_sqrt_nonneg(s2)); /* a sum of squares */
 }

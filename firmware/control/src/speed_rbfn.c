@@ -65,7 +65,6 @@ void speed_rbfn_command(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m
     int wind_up = (u > te_max_Nm && e > R(0.0)) || (u < -te_max_Nm && e < R(0.0));
     s->e_learn = e;
     s->learn = wind_up ? RBFN_LEARN_PROJECT : RBFN_LEARN_STEP;
-    s->eps_hat = eps_hat;
 
     out->te_ref_Nm = te;
     out->eps_hat = eps_hat;
@@ -114,6 +113,5 @@ void speed_rbfn_bumpless(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *
         s->w[q] = q < n ? w : R(0.0);
     s->w_norm = rbfn_project(s->w, n, cfg->m_w);
     s->zeta_bar = R(0.0);
-    s->eps_hat = s->w[0]; /* equal weights: eps_hat = w for any input */
     s->learn = RBFN_LEARN_NONE; /* a step commanded before the switch learns nothing now */
 }

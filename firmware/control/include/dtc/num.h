@@ -51,6 +51,10 @@ static inline real_t num_abs(real_t x) { return fabsf(x); }
 /** sqrt(x); x <= 0 (and NaN) gives 0, so a rounding-negative argument is safe. */
 static inline real_t num_sqrt(real_t x) { return sqrtf(x > R(0.0) ? x : R(0.0)); }
 
+/** sqrt(x) of an argument that cannot be negative (a sum of squares): num_sqrt
+ *  without its clamp (the same result for every x >= 0; a NaN stays NaN). */
+static inline real_t num_sqrt_nonneg(real_t x) { return sqrtf(x); }
+
 /** e^x; overflows to +inf above about 88.7. The project's own (dtc/num_math.h), so
  *  every build returns the same bits. */
 static inline real_t num_exp(real_t x) { return num_expf(x); }

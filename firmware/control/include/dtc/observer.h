@@ -133,12 +133,12 @@ typedef struct {
     real_t psi_s_Wb[2];       /**< stator flux, Wb (sigma Ls is_meas + Lm/Lr psi_r_hat) */
     real_t psi_s_abs_Wb;      /**< |psi_s|, Wb */
     real_t te_Nm;             /**< torque kt (psi_r_hat x is_meas), N m */
-    real_t omega_e_rad_s;     /**< electrical speed estimate (unfiltered), rad/s */
     real_t omega_m_rad_s;     /**< mechanical speed estimate, filtered, rad/s */
-    real_t err_A[2];          /**< current error is_meas - is_hat, A */
-    /* predicted for t_{k+1} with the voltage of the coming period */
+    /* predicted for t_{k+1} with the voltage of the coming period. (The
+     * unfiltered speed and the predicted rotor flux are the state's
+     * observer.omega_e_rad_s and psi_r_Wb; issue 11: not copied here, nor the
+     * current error, which nothing read.) */
     real_t is_pred_A[2];      /**< stator current, A */
-    real_t psi_r_pred_Wb[2];  /**< rotor flux, Wb */
     real_t psi_s_pred_Wb[2];  /**< stator flux, Wb */
     real_t te_pred_Nm;        /**< torque, N m */
     real_t dte0_Nm_s;         /**< dTe/dt at t_{k+1} under a zero voltage, N m/s */

@@ -112,7 +112,6 @@ enum rbfn_learn {
 typedef struct {
     real_t w[RBFN_NODES_MAX];   /**< output weights W */
     real_t zeta_bar;            /**< adaptive bound of the robust term, rad/s^2 */
-    real_t eps_hat;             /**< last network output, rad/s^2 */
     real_t z[RBFN_NODES_MAX];   /**< basis of the last command (for its learning), Z / z_scale */
     real_t z_scale;             /**< Z = z x z_scale (rbfn_grid_eval leaves the normalisation to the learning) */
     real_t e_learn;             /**< speed error e_x of the last command, rad/s */
