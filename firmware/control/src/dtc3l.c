@@ -368,24 +368,32 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
                                                      &push0_known, &push0_VA);
     real_t v_h[2]; /* the pulse state's voltage, for both its flux rate and its torque slope */
     state_voltage(g, sth, v_h);
-    real_t rate = flux_rate(in, pr, v_h, psi);
-    real_t d = rate > R(0.0) ? num_div(in->psi_ref_Wb - psi, num_mul(rate, dt_s)) : R(1.0);
     real_t s_h = voltage_slope(pr, v_h);
-    real_t s_z = pr->dte0_Nm_s;
     real_t hi = in->te_ref_Nm + b, lo = in->te_ref_Nm - b;
-    /* d >= 0 here and every bound below is positive (psi < psi_ref, rate > 0;
-     * lo - end0 and ds of one sign), so only the upper bound can act: a
-     * minimum, not num_sat's two compares (issue 11) */
-    /* a rising pulse peaks at its end */
-    if (s_h > R(0.0))
-        d = upto(d, dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s));
-    /* the period ends at Te + s_z T + (s_h - s_z) d T, inside the band */
-    real_t end0 = pr->te_pred_Nm + num_mul(s_z, dt_s);
-    real_t ds = num_mul(s_h - s_z, dt_s);
-    if (ds < R(0.0) && end0 > lo)
-        d = upto(d, num_div(lo - end0, ds));
-    else if (ds > R(0.0) && end0 < hi)
-        d = upto(d, num_div(hi - end0, ds));
+    /* a rising pulse peaks at its end. That bound first: below dmin it cuts
+     * the pulse whatever the others give (they only shorten it; the flux's d
+     * is never NaN: psi below a finite reference, rate > 0), so the flux's
+     * duty is not worked out in those periods (issue 11). Its 2 when the
+     * pulse does not rise is no bound: any d >= 2 > 1 - dmin is a whole
+     * period (duty_min 0..0.45) */
+    real_t d_up = s_h > R(0.0) ? dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s) : R(2.0);
+    real_t d = R(0.0); /* when d_up < dmin (so dmin > 0): no pulse */
+    if (!(d_up < dmin)) {
+        real_t rate = flux_rate(in, pr, v_h, psi);
+        d = rate > R(0.0) ? num_div(in->psi_ref_Wb - psi, num_mul(rate, dt_s)) : R(1.0);
+        /* d >= 0 here and every bound is positive (psi < psi_ref, rate > 0;
+         * lo - end0 and ds of one sign), so only the upper bound can act: a
+         * minimum, not num_sat's two compares (issue 11) */
+        d = upto(d, d_up);
+        /* the period ends at Te + s_z T + (s_h - s_z) d T, inside the band */
+        real_t s_z = pr->dte0_Nm_s;
+        real_t end0 = pr->te_pred_Nm + num_mul(s_z, dt_s);
+        real_t ds = num_mul(s_h - s_z, dt_s);
+        if (ds < R(0.0) && end0 > lo)
+            d = upto(d, num_div(lo - end0, ds));
+        else if (ds > R(0.0) && end0 < hi)
+            d = upto(d, num_div(hi - end0, ds));
+    }
     if (d < dmin) {
         /* no pulse: the plan's zero state after all, its NP look-ahead
          * reusing the pulse choice's product when the state in force is
