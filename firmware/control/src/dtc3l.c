@@ -489,9 +489,15 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
         bool far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V);
         if (!(wrong_way || far))
             return; /* kept whatever the other state does: its NP current not needed (issue 11) */
-        /* of the vector's two states, the one that leaves the link nearer to balance */
-        real_t n0 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[0], g->i_abc_A), in->np_dev_V));
-        real_t n1 = num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[1], g->i_abc_A), in->np_dev_V));
+        /* of the vector's two states, the one that leaves the link nearer to
+         * balance; the chosen state's n_chosen when it is one of them (the
+         * same expression, issue 11) */
+        real_t n0 = p->st0 == st[0] ? n_chosen
+                                    : num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[0], g->i_abc_A),
+                                                      in->np_dev_V));
+        real_t n1 = p->st0 == st[1] ? n_chosen
+                                    : num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[1], g->i_abc_A),
+                                                      in->np_dev_V));
         target = n1 < n0 ? st[1] : st[0];
         real_t n_target = n1 < n0 ? n1 : n0;
         bool too_far = far && n_chosen > n_target;
