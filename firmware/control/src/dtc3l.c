@@ -515,15 +515,22 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
     uint8_t mid = small ? dtc3l_pn_safe_unchecked(g->prev_state, target) : p->st0;
     if (dtc3l_pn_step_unchecked(mid, target) || dtc3l_pn_step_unchecked(g->prev_state, mid))
         return;
-    real_t dv = num_mul(cfg->np_V_per_A, dtc3l_np_current_unchecked(mid, g->i_abc_A)); /* V per whole period */
-    bool outward = num_mul(dv, in->np_dev_V) > R(0.0);
     real_t d = R(1.0);
-    if (small && !outward) {
-        d = cfg->duty_min; /* the intermediate does not push the link out: as short as the timer allows */
-    } else if (outward || num_abs(in->np_dev_V) > cfg->np_band_V) {
-        real_t room = num_mul(NP_INTERMEDIATE_ROOM_BANDS, cfg->np_band_V) - num_abs(in->np_dev_V);
-        d = num_abs(dv) > R(1e-6) ? num_div(room, num_abs(dv)) : R(1.0);
-        d = num_sat(d, cfg->duty_min, R(1.0));
+    if (small && dtc3l_state_sv_unchecked(mid) == 0u) {
+        /* a zero state draws no NP current (exactly 0 from finite phase
+         * currents: OOO's sum to 0 by construction): not outward, as below,
+         * without its NP current (issue 11) */
+        d = cfg->duty_min;
+    } else {
+        real_t dv = num_mul(cfg->np_V_per_A, dtc3l_np_current_unchecked(mid, g->i_abc_A)); /* V per whole period */
+        bool outward = num_mul(dv, in->np_dev_V) > R(0.0);
+        if (small && !outward) {
+            d = cfg->duty_min; /* the intermediate does not push the link out: as short as the timer allows */
+        } else if (outward || num_abs(in->np_dev_V) > cfg->np_band_V) {
+            real_t room = num_mul(NP_INTERMEDIATE_ROOM_BANDS, cfg->np_band_V) - num_abs(in->np_dev_V);
+            d = num_abs(dv) > R(1e-6) ? num_div(room, num_abs(dv)) : R(1.0);
+            d = num_sat(d, cfg->duty_min, R(1.0));
+        }
     }
     if (d > R(1.0) - cfg->duty_min)
         return;
