@@ -106,6 +106,7 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->dtc.np_V_per_A = cfg->np_V_per_A;
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
     cfg->dead_time_per_T = num_mul(cfg->dead_time_comp_s, cfg->inv_period_per_s); /* the tick's product before: the same bits */
+    cfg->real_inverter = cfg->v_drop_V > R(0.0) || cfg->dead_time_comp_s > R(0.0); /* one byte's test per tick */
     ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
     rs_ident_cfg_derive(&cfg->rsid, m, cfg->period_s, cfg->rs_ident_tol);
     /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */
@@ -438,7 +439,7 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
     /* the levels of the leg codes N, O, P (last_act holds the states' codes) */
     const real_t level_V[3] = {-(x->vc2_V - q), R(0.0), x->vc1_V + q};
     const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
-    if (!(cfg->v_drop_V > R(0.0)) && !(cfg->dead_time_comp_s > R(0.0))) {
+    if (!cfg->real_inverter) {
         /* an ideal inverter: the states' voltages straight in alpha-beta */
         dtc3l_legs_voltage(&s->last_act.vector[1], level_V, v);
         if (st0 != st1) { /* two states: mixed by the duty (one state's d0 x 0 + v1 would be v1 exactly) */
