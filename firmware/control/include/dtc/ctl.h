@@ -250,10 +250,11 @@ typedef struct {
     real_t speed_ref_ramped_rad_s;
     uint32_t faults;
     hal_actuation last_act;   /**< actuation applied during the current period (latched at tick k-1) */
-    hal_actuation prev_act;   /**< actuation of the period that just ended (latched at k-2): its last
-                                   vector starts the current period (dead-time edges, dead_time.h) */
     uint8_t last_state[2];    /**< last_act's two vectors as state numbers 0..26 (kept with it, so the
                                    tick never converts legs back to a state) */
+    uint8_t end_state;        /**< the state 0..26 the period that just ended ended on (the last vector of
+                                   the actuation latched at k-2): the current period's dead-time edges
+                                   start there (dead_time.h); observe() sets it for the next tick */
     uint32_t faults_active;   /**< fault conditions present at the last step (ctl_clear_faults keeps these) */
     real_t psi_ref_ramped_Wb; /**< flux reference after the slew-rate limit */
     real_t te_ref_Nm;         /**< torque command of the last step */
