@@ -503,7 +503,7 @@ static inline void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x
     is[0] = num_mul(R(0.333333333), R(2.0) * i[0] - i[1] - i[2]);
     is[1] = num_mul(NUM_INV_SQRT3, i[1] - i[2]);
     s->obs.te_cmd_Nm = s->te_ref_Nm; /* the command behind the voltage of this period */
-    observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
+    observer_step_ab(&s->obs, &cfg->obs, is[0], is[1], v[0], v[1], &s->obs_out);
 }
 
 /* Lowered flux for regeneration near zero stator frequency. A load driving
