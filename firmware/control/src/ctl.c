@@ -398,10 +398,22 @@ static inline real_t leg_edges(real_t v_V, unsigned sh, uint32_t w_from, uint32_
     return v_V;
 }
 
-/* The fraction of a rising edge that is late, from the leg's current (dead_time.h). */
+/* The fraction of a rising edge that is late, from the leg's current (dead_time.h):
+ * sat(y, 0, 1) for y = 0.5 + i / (2 DROP_BAND_A), on the bits of y (issue 11: two
+ * integer selects instead of two float compares per leg). A negative y (sign bit
+ * set) gives +0, as the clamp's lower bound; a non-negative one orders like its
+ * bits, so the smaller of the bits and 1.0's is the clamp's upper bound. The same
+ * value as num_sat for every y but a NaN (1 here; the phase currents are finite
+ * here: detect_faults() trips SAMPLE_INVALID first; y is never -0). */
 static inline real_t late_up_of(real_t i_A)
 {
-    return num_sat(R(0.5) + i_A / (R(2.0) * DROP_BAND_A), R(0.0), R(1.0));
+    uint32_t u = f32_bits(R(0.5) + i_A / (R(2.0) * DROP_BAND_A));
+    const uint32_t one = 0x3F800000u; /* 1.0f */
+    u = (u & 0x80000000u) != 0u ? 0u : u;
+    u = u < one ? u : one;
+    real_t y;
+    memcpy(&y, &u, sizeof y);
+    return y;
 }
 
 /* The three legs' voltages of a real inverter, V: the commanded ones (the
