@@ -438,13 +438,15 @@ static uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const
     uint32_t w_first = w1;         /* the first state applied: st1 unless duty0 > 0 */
     uint32_t moved_split = 0u;     /* the legs commuting between the two states */
     uint8_t end = st1;
-    /* the legs' voltages as scalars (an array stayed in memory: issue 11) */
-    real_t va = level_V[w1 & 0xFFu], vb = level_V[(w1 >> 8) & 0xFFu], vc = level_V[(w1 >> 16) & 0xFFu];
+    /* the legs' voltages as scalars (an array stayed in memory: issue 11); the codes
+     * read from last_act where they are needed (fewer registers held) */
+    const uint8_t *l0 = s->last_act.vector[0].leg, *l1 = s->last_act.vector[1].leg;
+    real_t va = level_V[l1[0]], vb = level_V[l1[1]], vc = level_V[l1[2]];
     if (st0 != st1) {
         real_t d0 = s->last_act.duty0;
-        va = num_mac(d0, level_V[w0 & 0xFFu] - va, va);
-        vb = num_mac(d0, level_V[(w0 >> 8) & 0xFFu] - vb, vb);
-        vc = num_mac(d0, level_V[(w0 >> 16) & 0xFFu] - vc, vc);
+        va = num_mac(d0, level_V[l0[0]] - va, va);
+        vb = num_mac(d0, level_V[l0[1]] - vb, vb);
+        vc = num_mac(d0, level_V[l0[2]] - vc, vc);
         if (d0 > R(0.0)) {
             if (d0 < R(1.0))
                 moved_split = w0 ^ w1;
