@@ -893,7 +893,10 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
 
     const speed_out *so = &k_speed_none; /* the telemetry's speed-loop outputs (a constant: no test per tick) */
     if (s->run_state == CTL_MAGNETISING) {
-        rs_ident_step(&s->rsid, &cfg->rsid, v_V, is_A, s->obs.omega_e_rad_s);
+        /* copies made here (the magnetising ticks only): with v_V itself GCC kept the voltage
+         * in memory for this call every tick (issue 11) */
+        const real_t v_m[2] = {v_V[0], v_V[1]}, is_m[2] = {is_A[0], is_A[1]};
+        rs_ident_step(&s->rsid, &cfg->rsid, v_m, is_m, s->obs.omega_e_rad_s);
         magnetise(s, cfg);
     }
     if (s->run_state == CTL_RUNNING && cfg->bringup_level == BRINGUP_TORQUE)
