@@ -139,3 +139,29 @@ TEST(DeadTime, EveryEdgeBetweenAnyTwoStatesLegByLeg)
         }
     }
 }
+
+// dead_time_edge_moving (the edge without its a == b test, for ctl.c's observer
+// voltage, which knows the leg moves): for every pair of different codes and a
+// rising, falling and softened current, the late part of the step worked out
+// here: (v_b - v_a) dt_per_T x late_up (rising) or x (1 - late_up) (falling),
+// subtracted from the leg voltage; bit for bit as dead_time_edge_, which adds
+// only the test.
+TEST(DeadTime, EdgeMovingIsTheLatePartOfEveryStep)
+{
+    const float level[3] = {-kVc2, 0.0f, kVc1};
+    for (uint32_t a = 0; a < 3; ++a) {
+        for (uint32_t b = 0; b < 3; ++b) {
+            if (a == b)
+                continue;
+            for (float late_up : {0.0f, 0.25f, 1.0f}) {
+                float late = b > a ? late_up : 1.0f - late_up;
+                float want = 12.0f - (level[b] - level[a]) * kDtPerT * late;
+                float got = dead_time_edge_moving(a, b, late_up, level, kDtPerT, 12.0f);
+                EXPECT_NEAR(got, want, 1e-5f) << a << " -> " << b << " late_up " << late_up;
+                float checked = dead_time_edge_(a, b, late_up, level, kDtPerT, 12.0f);
+                EXPECT_EQ(got, checked);
+            }
+        }
+    }
+    EXPECT_EQ(dead_time_edge_(1u, 1u, 0.5f, level, kDtPerT, 12.0f), 12.0f); // no step: nothing
+}

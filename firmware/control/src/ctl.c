@@ -106,6 +106,7 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->dtc.np_V_per_A = cfg->np_V_per_A;
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
     cfg->dead_time_per_T = num_mul(cfg->dead_time_comp_s, cfg->inv_period_per_s); /* the tick's product before: the same bits */
+    cfg->real_inverter = cfg->v_drop_V > R(0.0) || cfg->dead_time_comp_s > R(0.0); /* one byte's test per tick */
     ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
     rs_ident_cfg_derive(&cfg->rsid, m, cfg->period_s, cfg->rs_ident_tol);
     /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */
@@ -181,8 +182,7 @@ static void act_zero(hal_actuation *a) { *a = k_act_zero; }
 static void gates_off(ctl_state *s)
 {
     act_zero(&s->last_act);
-    act_zero(&s->prev_act);
-    s->last_state[0] = s->last_state[1] = (uint8_t)DTC3L_STATE_OOO;
+    s->last_state[0] = s->last_state[1] = s->end_state = (uint8_t)DTC3L_STATE_OOO;
 }
 
 void ctl_init(ctl_state *s, const ctl_cfg *cfg)
@@ -384,36 +384,93 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
  * conducting devices, against the phase current: v_drop_V per device, with a
  * sign softened over +-DROP_BAND_A so a current at zero does not toggle it. */
 #define DROP_BAND_A R(0.5)
+/* The dead time's edges of one leg (its codes in byte @p sh / 8 of the
+ * packed words): from the last period's end to the first state, then between
+ * the two states when both are applied. */
+static inline real_t leg_edges(real_t v_V, unsigned sh, uint32_t w_from, uint32_t w_first, uint32_t moved_first,
+                               uint32_t w0, uint32_t w1, uint32_t moved_split, real_t late_up, const real_t level_V[3],
+                               real_t dt_per_T)
+{
+    if ((moved_first >> sh) & 0xFFu)
+        v_V = dead_time_edge_moving((w_from >> sh) & 0xFFu, (w_first >> sh) & 0xFFu, late_up, level_V, dt_per_T, v_V);
+    if ((moved_split >> sh) & 0xFFu)
+        v_V = dead_time_edge_moving((w0 >> sh) & 0xFFu, (w1 >> sh) & 0xFFu, late_up, level_V, dt_per_T, v_V);
+    return v_V;
+}
+
+/* The fraction of a rising edge that is late, from the leg's current (dead_time.h):
+ * sat(y, 0, 1) for y = 0.5 + i / (2 DROP_BAND_A), on the bits of y (issue 11: two
+ * integer selects instead of two float compares per leg). A negative y (sign bit
+ * set) gives +0, as the clamp's lower bound; a non-negative one orders like its
+ * bits, so the smaller of the bits and 1.0's is the clamp's upper bound. The same
+ * value as num_sat for every y but a NaN (1 here; the phase currents are finite
+ * here: detect_faults() trips SAMPLE_INVALID first; y is never -0). */
+static inline real_t late_up_of(real_t i_A)
+{
+    uint32_t u = f32_bits(R(0.5) + i_A / (R(2.0) * DROP_BAND_A));
+    const uint32_t one = 0x3F800000u; /* 1.0f */
+    u = (u & 0x80000000u) != 0u ? 0u : u;
+    u = u < one ? u : one;
+    real_t y;
+    memcpy(&y, &u, sizeof y);
+    return y;
+}
+
 /* The three legs' voltages of a real inverter, V: the commanded ones (the
  * duty's mix of the period's two vectors), less the device drops, plus the
  * dead time's error (dead_time.h; with no dead time dt_per_T is 0 and the
  * edges add nothing). The drop: 2 v_drop_V x sat(i / DROP_BAND_A, -1, 1)
  * = 4 v_drop_V x late_up - 2 v_drop_V, with late_up = sat(0.5 + i / (2
  * DROP_BAND_A), 0, 1) the dead time's softened sign; the constant 2 v_drop_V,
- * common to the three legs, drops out of the stator voltage. */
-static void apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const real_t level_V[3], const real_t i[3],
-                                real_t vl[3])
+ * common to the three legs, drops out of the stator voltage. The dead time's
+ * edges: from the state the last period ended on (s->end_state) to the first
+ * one this period applies, then between its two states when it applies both
+ * (0 < duty0 < 1); the legs that commute are the bytes in which the states'
+ * packed leg codes differ (issue 11: no duty compare with one state, no
+ * per-leg code test when nothing commutes). Writes the stator voltage @p v
+ * (alpha-beta: one Clarke transform of the three legs), V; returns the state
+ * this period ends on (st1 unless duty0 is 1). */
+static uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const real_t level_V[3],
+                                   const hal_sample *x, real_t v[2])
 {
-    const hal_actuation *a = &s->last_act;
-    const uint8_t *l0 = a->vector[0].leg, *l1 = a->vector[1].leg;
-    real_t late_up[3];
-    for (int k = 0; k < 3; k++)
-        vl[k] = level_V[l1[k]];
-    if (s->last_state[0] != s->last_state[1]) {
-        real_t d0 = a->duty0;
-        for (int k = 0; k < 3; k++)
-            vl[k] = num_mac(d0, level_V[l0[k]] - vl[k], vl[k]);
+    uint8_t st0 = s->last_state[0], st1 = s->last_state[1];
+    uint32_t w0 = dtc3l_state_legs_packed[st0], w1 = dtc3l_state_legs_packed[st1];
+    uint32_t w_first = w1;         /* the first state applied: st1 unless duty0 > 0 */
+    uint32_t moved_split = 0u;     /* the legs commuting between the two states */
+    uint8_t end = st1;
+    /* the legs' voltages as scalars (an array stayed in memory: issue 11); the codes
+     * read from last_act where they are needed (fewer registers held) */
+    const uint8_t *l0 = s->last_act.vector[0].leg, *l1 = s->last_act.vector[1].leg;
+    real_t va = level_V[l1[0]], vb = level_V[l1[1]], vc = level_V[l1[2]];
+    if (st0 != st1) {
+        real_t d0 = s->last_act.duty0;
+        va = num_mac(d0, level_V[l0[0]] - va, va);
+        vb = num_mac(d0, level_V[l0[1]] - vb, vb);
+        vc = num_mac(d0, level_V[l0[2]] - vc, vc);
+        if (d0 > R(0.0)) {
+            if (d0 < R(1.0))
+                moved_split = w0 ^ w1;
+            w_first = w0;
+        }
+        if (!(d0 < R(1.0)))
+            end = st0;
     }
     real_t drop4_V = num_mul(R(-4.0), cfg->v_drop_V); /* 0 with the drops off */
-    for (int k = 0; k < 3; k++) {
-        late_up[k] = num_sat(R(0.5) + i[k] / (R(2.0) * DROP_BAND_A), R(0.0), R(1.0));
-        vl[k] = num_mac(drop4_V, late_up[k], vl[k]);
+    real_t ua = late_up_of(x->ia_A), ub = late_up_of(x->ib_A), uc = late_up_of(x->ic_A);
+    va = num_mac(drop4_V, ua, va);
+    vb = num_mac(drop4_V, ub, vb);
+    vc = num_mac(drop4_V, uc, vc);
+    uint32_t w_from = dtc3l_state_legs_packed[s->end_state];
+    uint32_t moved_first = w_from ^ w_first;
+    if ((moved_first | moved_split) != 0u) {
+        real_t dt = cfg->dead_time_per_T;
+        va = leg_edges(va, 0u, w_from, w_first, moved_first, w0, w1, moved_split, ua, level_V, dt);
+        vb = leg_edges(vb, 8u, w_from, w_first, moved_first, w0, w1, moved_split, ub, level_V, dt);
+        vc = leg_edges(vc, 16u, w_from, w_first, moved_first, w0, w1, moved_split, uc, level_V, dt);
     }
-    const uint8_t *from = dead_time_from(&s->prev_act)->leg, *first = dead_time_first(a)->leg;
-    bool split = dead_time_split(a);
-    real_t dt_per_T = cfg->dead_time_per_T;
-    for (int k = 0; k < 3; k++)
-        vl[k] = dead_time_leg_add(from[k], first[k], l1[k], split, late_up[k], level_V, dt_per_T, vl[k]);
+    v[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
+    v[1] = num_mul(NUM_INV_SQRT3, vb - vc);
+    return end;
 }
 
 /* Observe: the voltage applied from t_k to t_{k+1} is last_act with the
@@ -422,7 +479,8 @@ static void apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const re
  * with it. Returns that voltage and the sampled current (alpha-beta).
  * Leg by leg (the commanded level, the device drops, the dead time), then one
  * Clarke transform. */
-static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V, real_t v[2],
+/* inline: without the hint GCC stopped inlining it into ctl_step (+20 per tick, issue 11) */
+static inline void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V, real_t v[2],
                     real_t is[2])
 {
     uint8_t st0 = s->last_state[0];
@@ -438,7 +496,8 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
     /* the levels of the leg codes N, O, P (last_act holds the states' codes) */
     const real_t level_V[3] = {-(x->vc2_V - q), R(0.0), x->vc1_V + q};
     const real_t i[3] = {x->ia_A, x->ib_A, x->ic_A};
-    if (!(cfg->v_drop_V > R(0.0)) && !(cfg->dead_time_comp_s > R(0.0))) {
+    uint8_t end = st1; /* the state this period ends on */
+    if (!cfg->real_inverter) {
         /* an ideal inverter: the states' voltages straight in alpha-beta */
         dtc3l_legs_voltage(&s->last_act.vector[1], level_V, v);
         if (st0 != st1) { /* two states: mixed by the duty (one state's d0 x 0 + v1 would be v1 exactly) */
@@ -447,18 +506,18 @@ static void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_
             real_t d0 = s->last_act.duty0;
             v[0] = num_mac(d0, v0[0] - v[0], v[0]);
             v[1] = num_mac(d0, v0[1] - v[1], v[1]);
+            if (!(d0 < R(1.0)))
+                end = st0;
         }
     } else {
         /* leg by leg (the commanded level, the device drops, the dead time), then one Clarke transform */
-        real_t vl[3];
-        apply_real_inverter(s, cfg, level_V, i, vl);
-        v[0] = num_mul(R(0.333333333), R(2.0) * vl[0] - vl[1] - vl[2]);
-        v[1] = num_mul(NUM_INV_SQRT3, vl[1] - vl[2]);
+        end = apply_real_inverter(s, cfg, level_V, x, v);
     }
+    s->end_state = end; /* the next period's dead-time edges start there */
     is[0] = num_mul(R(0.333333333), R(2.0) * i[0] - i[1] - i[2]);
     is[1] = num_mul(NUM_INV_SQRT3, i[1] - i[2]);
     s->obs.te_cmd_Nm = s->te_ref_Nm; /* the command behind the voltage of this period */
-    observer_step(&s->obs, &cfg->obs, is, v, &s->obs_out);
+    observer_step_ab(&s->obs, &cfg->obs, is[0], is[1], v[0], v[1], &s->obs_out);
 }
 
 /* Lowered flux for regeneration near zero stator frequency. A load driving
@@ -736,7 +795,6 @@ static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_ou
     dtc3l_legs_pair_unchecked(a0, a1, &act);
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
-    s->prev_act = s->last_act;
     s->last_act = act;
     s->last_state[0] = a0;
     s->last_state[1] = a1;
@@ -782,7 +840,8 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
     uint8_t a1 = dtc3l_pn_safe(a0, dtc3l_state_of(&act.vector[1]));
     dtc3l_legs(a0, &act.vector[0]);
     dtc3l_legs(a1, &act.vector[1]);
-    s->prev_act = s->last_act;
+    /* the state the period now ending ends on (observe() works it out too, but not at every level) */
+    s->end_state = s->last_act.duty0 < R(1.0) ? s->last_state[1] : s->last_state[0];
     s->last_act = act;
     s->last_state[0] = a0;
     s->last_state[1] = a1;
@@ -834,7 +893,10 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
 
     const speed_out *so = &k_speed_none; /* the telemetry's speed-loop outputs (a constant: no test per tick) */
     if (s->run_state == CTL_MAGNETISING) {
-        rs_ident_step(&s->rsid, &cfg->rsid, v_V, is_A, s->obs.omega_e_rad_s);
+        /* copies made here (the magnetising ticks only): with v_V itself GCC kept the voltage
+         * in memory for this call every tick (issue 11) */
+        const real_t v_m[2] = {v_V[0], v_V[1]}, is_m[2] = {is_A[0], is_A[1]};
+        rs_ident_step(&s->rsid, &cfg->rsid, v_m, is_m, s->obs.omega_e_rad_s);
         magnetise(s, cfg);
     }
     if (s->run_state == CTL_RUNNING && cfg->bringup_level == BRINGUP_TORQUE)

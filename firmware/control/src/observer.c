@@ -285,9 +285,11 @@ void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega
 }
 
 /* restrict as ctl_step: state, configuration, inputs and outputs are distinct objects. */
-void observer_step(observer *restrict s, const observer_cfg *restrict cfg, const real_t is_meas[restrict 2],
-                   const real_t v[restrict 2], observer_out *restrict out)
+void observer_step_ab(observer *restrict s, const observer_cfg *restrict cfg, real_t is_a_A, real_t is_b_A,
+                      real_t v_a_V, real_t v_b_V, observer_out *restrict out)
 {
+    const real_t is_meas[2] = {is_a_A, is_b_A};
+    const real_t v[2] = {v_a_V, v_b_V};
     const observer_model *m = &cfg->m;
     real_t T = m->period_s;
     const real_t p0 = s->psi_r_Wb[0], p1 = s->psi_r_Wb[1];

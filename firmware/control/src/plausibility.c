@@ -95,8 +95,18 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
         /* The two remaining currents cross zero too: the magnitude is judged by its
          * peak over the time the phase has been at ~0 A, not tick by tick. */
         bool open = small && judge_open; /* the rare condition first */
-        p->open_ticks[k] = count(p->open_ticks[k], open);
-        p->open_peak_A[k] = open ? (mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k]) : R(0.0);
+        if (!open) {
+            /* the usual case: both reset, written only when not reset already (open_ticks is
+             * 0 exactly when the phase was not open at the last check, and open_peak_A then
+             * too; issue 11: a load and a test instead of two stores per phase) */
+            if (p->open_ticks[k] != 0u) {
+                p->open_ticks[k] = 0u;
+                p->open_peak_A[k] = R(0.0);
+            }
+            continue;
+        }
+        p->open_ticks[k] = count(p->open_ticks[k], true);
+        p->open_peak_A[k] = mag_A > p->open_peak_A[k] ? mag_A : p->open_peak_A[k];
         /* the half period is at least PLAUS_OPEN_MIN_TICKS: worked out only past that */
         if (p->open_ticks[k] > PLAUS_OPEN_MIN_TICKS && p->open_ticks[k] > half_period_ticks(w, period_s) &&
             p->open_peak_A[k] > PLAUS_CURRENT_A)

@@ -112,6 +112,8 @@ typedef struct {
     real_t np_V_per_A;        /**< period_s / c_dc_F: change of vc1 - vc2 per ampere of NP current over one period */
     real_t inv_period_per_s;  /**< 1 / period_s */
     real_t dead_time_per_T;   /**< dead_time_comp_s x inv_period_per_s: the dead time per period (0..0.5) */
+    bool real_inverter;       /**< v_drop_V > 0 or dead_time_comp_s > 0: the observer's voltage is built leg
+                                   by leg (ctl.c, apply_real_inverter); false: the ideal inverter's */
     real_t te_pullout_Nm_Wb2; /**< pull-out torque per Wb^2 of stator flux: 1.5 p (1 - sigma) / (2 sigma Ls) */
     real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
     real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */
@@ -248,10 +250,11 @@ typedef struct {
     real_t speed_ref_ramped_rad_s;
     uint32_t faults;
     hal_actuation last_act;   /**< actuation applied during the current period (latched at tick k-1) */
-    hal_actuation prev_act;   /**< actuation of the period that just ended (latched at k-2): its last
-                                   vector starts the current period (dead-time edges, dead_time.h) */
     uint8_t last_state[2];    /**< last_act's two vectors as state numbers 0..26 (kept with it, so the
                                    tick never converts legs back to a state) */
+    uint8_t end_state;        /**< the state 0..26 the period that just ended ended on (the last vector of
+                                   the actuation latched at k-2): the current period's dead-time edges
+                                   start there (dead_time.h); observe() sets it for the next tick */
     uint32_t faults_active;   /**< fault conditions present at the last step (ctl_clear_faults keeps these) */
     real_t psi_ref_ramped_Wb; /**< flux reference after the slew-rate limit */
     real_t te_ref_Nm;         /**< torque command of the last step */

@@ -46,14 +46,26 @@ extern "C" {
 void dead_time_leg_error(const hal_actuation *prev, const hal_actuation *act, const real_t i_A[3], real_t vc1_V,
                          real_t vc2_V, real_t dt_per_T, real_t band_A, real_t dv_V[3]);
 
+/**
+ * One edge a -> b (leg codes 0..2, a != b) of a leg: @p v_V (V) less the late
+ * part of the step, (level_V[b] - level_V[a]) dt_per_T x the late fraction
+ * (@p late_up for a rising edge, 1 - late_up for a falling one). For a caller
+ * that knows the leg moves (ctl.c: the legs whose codes differ). Context: ANY (pure).
+ */
+static inline real_t dead_time_edge_moving(uint32_t a, uint32_t b, real_t late_up, const real_t level_V[3],
+                                           real_t dt_per_T, real_t v_V)
+{
+    real_t late = b > a ? late_up : R(1.0) - late_up;
+    return num_mac(-num_mul(dt_per_T, late), level_V[b] - level_V[a], v_V);
+}
+
 /* One edge a -> b of a leg: subtracts the late part of the step from @p v_V. */
 static inline real_t dead_time_edge_(uint32_t a, uint32_t b, real_t late_up, const real_t level_V[3], real_t dt_per_T,
                                      real_t v_V)
 {
     if (a == b)
         return v_V;
-    real_t late = b > a ? late_up : R(1.0) - late_up;
-    return num_mac(-num_mul(dt_per_T, late), level_V[b] - level_V[a], v_V);
+    return dead_time_edge_moving(a, b, late_up, level_V, dt_per_T, v_V);
 }
 
 /**

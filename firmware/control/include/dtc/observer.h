@@ -174,14 +174,27 @@ void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega
                             real_t x_next[4]);
 
 /**
- * One observer period. Context: ISR.
+ * One observer period, the inputs as scalars (they arrive in FPU registers:
+ * no stores and loads through the stack, issue 11). Context: ISR.
+ * @param is_a_A, is_b_A  stator current sampled at t_k, alpha and beta, A
+ * @param v_a_V, v_b_V    mean stator voltage applied from t_k to t_{k+1}, alpha and beta, V
+ * @param[out] out        estimates at t_k and the prediction for t_{k+1}
+ * @p s, @p cfg and @p out are distinct objects (the definition declares them restrict).
+ */
+void observer_step_ab(observer *s, const observer_cfg *cfg, real_t is_a_A, real_t is_b_A, real_t v_a_V, real_t v_b_V,
+                      observer_out *out);
+
+/**
+ * One observer period (observer_step_ab with the inputs as alpha-beta pairs). Context: ISR.
  * @param is_meas_A   stator current sampled at t_k, alpha-beta, A
  * @param v_applied_V mean stator voltage applied from t_k to t_{k+1}, alpha-beta, V
  * @param[out] out    estimates at t_k and the prediction for t_{k+1}
- * All five are distinct objects (the definition declares them restrict).
  */
-void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas_A[2],
-                   const real_t v_applied_V[2], observer_out *out);
+static inline void observer_step(observer *s, const observer_cfg *cfg, const real_t is_meas_A[2],
+                                 const real_t v_applied_V[2], observer_out *out)
+{
+    observer_step_ab(s, cfg, is_meas_A[0], is_meas_A[1], v_applied_V[0], v_applied_V[1], out);
+}
 
 #ifdef __cplusplus
 }
