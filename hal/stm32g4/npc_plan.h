@@ -286,6 +286,38 @@ static inline uint32_t npc_period_classes_at(const npc_timing *tm, uint32_t t0, 
 }
 
 /**
+ * The usual instants of a period, [lo, lo + span) counts: out of the keep-out
+ * (and not 0) and before the last minimum pulse, the instants
+ * npc_period_classes_at takes as they are. Worked out once when the period is
+ * set up (npc_usual_of), so a period's test is one subtraction and one
+ * unsigned compare (issue 11).
+ */
+typedef struct {
+    uint32_t lo;   /**< first usual instant, counts: the keep-out's end, at least 1 */
+    uint32_t span; /**< number of usual instants (0: none) */
+} npc_usual;
+
+/** @return the usual instants of periods of timing @p tm. Context: ANY (pure). */
+static inline npc_usual npc_usual_of(const npc_timing *tm)
+{
+    uint32_t lo = tm->keepout != 0u ? tm->keepout : 1u;
+    uint32_t end = tm->per > tm->min_pulse ? tm->per - tm->min_pulse : 0u; /* first instant whose last pulse is too short */
+    npc_usual u = {lo, end > lo ? end - lo : 0u};
+    return u;
+}
+
+/**
+ * @return true when the requested instant @p t0 (counts) is usual (@p u of
+ * npc_usual_of): then every leg with two states changes at @p t0 (class
+ * NPC_AT_T), every other leg that is not held has class NPC_AT_PER, whose
+ * words are its NPC_AT_T row too. Context: ANY (pure).
+ */
+static inline bool npc_instant_usual(const npc_usual *u, uint32_t t0)
+{
+    return t0 - u->lo < u->span; /* below lo wraps to more than any span */
+}
+
+/**
  * The instant classes of a period none of whose legs has two states (no
  * npc_leg_words.timed): every such leg's class is NPC_AT_PER or NPC_HELD
  * whatever the instants, so the actuation need not work them out (issue 11:

@@ -477,3 +477,84 @@ TEST(NpcPlan, UntimedEntriesAreHeldOrTheWholePeriod)
                     << int(prev) << " " << int(v0) << " " << int(v1);
             }
 }
+
+// The usual instants (npc_usual_of, npc_instant_usual) are exactly those
+// npc_period_classes_at takes as they are (out of the keep-out, not 0, before
+// the last minimum pulse), for every requested instant of timings with and
+// without a keep-out and a minimum pulse and with a period too short for both;
+// at such an instant both kinds of two-state leg change at it.
+TEST(NpcPlan, UsualInstantsAreThoseTakenAsTheyAre)
+{
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}, {100u, 0u, 30u},
+                              {100u, 40u, 0u}, {50u, 40u, 30u}, {1u, 0u, 0u}, {8500u, 1190u, 340u},
+                              {70u, 40u, 30u}, {71u, 40u, 30u}, {30u, 0u, 30u}};
+    const uint32_t usual_classes =
+        uint32_t(NPC_AT_PER) | (uint32_t(NPC_AT_T) << 8) | (uint32_t(NPC_AT_T) << 16) | (uint32_t(NPC_HELD) << 24);
+    for (const npc_timing &tm : tms) {
+        const npc_usual u = npc_usual_of(&tm);
+        std::vector<uint32_t> t0s;
+        for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0++)
+            t0s.push_back(t0);
+        t0s.push_back(0xFFFFFFFFu);
+        t0s.push_back(0x80000000u);
+        int usual_seen = 0;
+        for (uint32_t t0 : t0s) {
+            const std::string m = "per " + std::to_string(tm.per) + " t0 " + std::to_string(t0);
+            const bool want = t0 >= tm.keepout && t0 != 0u && uint64_t(t0) + tm.min_pulse < tm.per;
+            ASSERT_EQ(npc_instant_usual(&u, t0), want) << m;
+            if (!want)
+                continue;
+            ++usual_seen;
+            npc_instants in;
+            npc_instants_of(&tm, t0, &in);
+            ASSERT_EQ(in.keep, t0) << m;
+            ASSERT_EQ(in.drop, t0) << m;
+            ASSERT_EQ(npc_period_classes(&tm, &in), usual_classes) << m;
+        }
+        EXPECT_EQ(usual_seen, int(u.span)) << "per " << tm.per;
+    }
+}
+
+// A period at a usual instant writes, for every leg that is not held, its
+// NPC_AT_T row, its NPC_AT_T end and CMP1 = the instant (the actuation's
+// usual path): the same words and end state as the classes' way for every
+// recorded state (held or not), pair of leg states and usual instant, and
+// CMP1 the same wherever the classes' way writes it (elsewhere the words use
+// no CMP1 event); a leg the classes' way skips is exactly a held one.
+TEST(NpcPlan, UsualPeriodWritesWhatTheClassesWayWrites)
+{
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}, {8500u, 1190u, 340u}};
+    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
+                             NPC_P | NPC_LEG_HELD};
+    for (const npc_timing &tm : tms) {
+        const npc_usual u = npc_usual_of(&tm);
+        for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0 += (tm.per > 1000u ? 13u : 1u)) {
+            if (!npc_instant_usual(&u, t0))
+                continue;
+            uint32_t t = 12345u;
+            const uint32_t classes = npc_period_classes_at(&tm, t0, &t);
+            for (uint8_t prev : prevs)
+                for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+                    for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                        const std::string m = "per " + std::to_string(tm.per) + " t0 " + std::to_string(t0) +
+                                              " prev " + std::to_string(prev) + " v0 " + std::to_string(v0) +
+                                              " v1 " + std::to_string(v1);
+                        const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
+                        const uint32_t c = npc_leg_class(w, classes);
+                        ASSERT_EQ(c == NPC_HELD, npc_leg_held(w)) << m;
+                        if (c == NPC_HELD)
+                            continue;
+                        for (unsigned k = 0; k < 4u; k++)
+                            ASSERT_EQ(w->reg[NPC_AT_T][k], w->reg[c][k]) << m << " word " << k;
+                        ASSERT_EQ(w->end[NPC_AT_T], w->end[c]) << m;
+                        if (c == NPC_AT_T) {
+                            ASSERT_EQ(t, t0) << m;
+                        } else {
+                            ASSERT_EQ(w->timed, 0u) << m;
+                            for (unsigned k = 0; k < 4u; k++)
+                                ASSERT_EQ(w->reg[c][k] & NPC_EV_T, 0u) << m << " word " << k; // no CMP1 event
+                        }
+                    }
+        }
+    }
+}
