@@ -150,10 +150,12 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         return HAL_OK; /* tick not started: nothing to program */
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
-    uint32_t timed = npc_legs_words((const uint8_t *)act->vector, g_pil.last_leg, w3);
+    uint32_t legs = npc_legs_words((const uint8_t *)act->vector, g_pil.last_leg, w3);
+    if (legs == 0u)
+        return HAL_OK; /* every leg alone in its held state again: the timers hold its words (issue 11) */
     uint32_t fixups = 0u;
     g_pil_update_disable |= PIL_UDIS_ALL;
-    if (timed == 0u) {
+    if ((legs & NPC_FLAG_TIMED) == 0u) {
         /* One state per leg (three periods in four): each leg is held or
          * applies its state for the whole period (issue 11: no instants, no
          * classes, no CMP1 test). */

@@ -213,7 +213,8 @@ typedef struct {
                              16 keeps v0, 24 the timers already hold these words (NPC_HELD) */
     uint8_t fixups;     /**< P<->N steps replaced by O (0..2) */
     uint8_t timed;      /**< 1: two states (kind_shift 8 or 16), its class depends on the period's instants */
-    uint8_t pad[10];    /**< 64 bytes: the index is one shift */
+    uint8_t flags;      /**< NPC_FLAG_WRITE unless held (kind_shift 24), | NPC_FLAG_TIMED when timed */
+    uint8_t pad[9];     /**< 64 bytes: the index is one shift */
 } npc_leg_words;
 
 /**
@@ -354,21 +355,28 @@ static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t
     return (p << 4) | (v0 << 2) | v1;
 }
 
+/** npc_leg_words.flags: the leg is not held, the period writes its words */
+#define NPC_FLAG_WRITE 1u
+/** npc_leg_words.flags: the leg has two states (npc_leg_words.timed) */
+#define NPC_FLAG_TIMED 2u
+
 /**
  * The three legs' entries of npc_leg_words_table for an actuation (@p legs,
- * @p prev4 as npc_leg_words_index3) into @p w3; @return non-zero when a leg
- * has two states in the period (npc_leg_words.timed: the period then needs
- * its instants). Both boards' programme writers start here. Context: ANY.
+ * @p prev4 as npc_leg_words_index3) into @p w3; @return the OR of their
+ * npc_leg_words.flags: 0 when every leg stays alone in its held state (the
+ * period writes nothing: issue 11, no update-disable writes either),
+ * NPC_FLAG_TIMED when a leg has two states (the period then needs its
+ * instants). Both boards' programme writers start here. Context: ANY.
  */
 static inline uint32_t npc_legs_words(const uint8_t legs[6], const uint8_t prev4[4], const npc_leg_words *w3[3])
 {
-    uint32_t timed = 0u;
+    uint32_t flags = 0u;
     uint32_t index3 = npc_leg_words_index3(legs, prev4);
     for (uint32_t leg = 0u; leg < 3u; leg++) {
         w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
-        timed |= w3[leg]->timed;
+        flags |= w3[leg]->flags;
     }
-    return timed;
+    return flags;
 }
 
 /** npc_leg_words.kind_shift of an entry whose timers hold its words already (class NPC_HELD in every period) */

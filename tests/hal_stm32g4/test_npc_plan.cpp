@@ -558,3 +558,45 @@ TEST(NpcPlan, UsualPeriodWritesWhatTheClassesWayWrites)
         }
     }
 }
+
+// Every entry's flags say whether the period writes the leg (not held) and
+// whether it has two states; npc_legs_words' OR of the three is 0 exactly
+// when every leg is held (the period writes nothing) and has NPC_FLAG_TIMED
+// exactly when a leg has two states, for every recorded state (held or not)
+// of each leg and every pair of valid vectors.
+TEST(NpcPlan, LegsFlagsAreHeldAndTimedOfEachLeg)
+{
+    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
+                             NPC_P | NPC_LEG_HELD};
+    for (uint8_t prev : prevs)
+        for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+            for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
+                EXPECT_EQ(w->flags, (npc_leg_held(w) ? 0u : NPC_FLAG_WRITE) | (w->timed != 0u ? NPC_FLAG_TIMED : 0u))
+                    << int(prev) << " " << int(v0) << " " << int(v1);
+            }
+    int all_held = 0;
+    for (uint8_t p0 : prevs)
+        for (uint8_t p1 : prevs)
+            for (uint8_t p2 : prevs) {
+                const uint8_t prev4[4] = {p0, p1, p2, 0u};
+                for (int v = 0; v < 729; ++v) {
+                    uint8_t legs[6];
+                    for (int k = 0, r = v; k < 6; ++k, r /= 3)
+                        legs[k] = uint8_t(r % 3);
+                    const npc_leg_words *w3[3];
+                    const uint32_t flags = npc_legs_words(legs, prev4, w3);
+                    bool held = true, timed = false;
+                    for (unsigned leg = 0u; leg < 3u; ++leg) {
+                        const npc_leg_words *w = npc_leg_words_of(prev4[leg], legs[leg], legs[3u + leg]);
+                        ASSERT_EQ(w3[leg], w);
+                        held = held && npc_leg_held(w);
+                        timed = timed || w->timed != 0u;
+                    }
+                    ASSERT_EQ(flags == 0u, held) << v;
+                    ASSERT_EQ((flags & NPC_FLAG_TIMED) != 0u, timed) << v;
+                    all_held += held ? 1 : 0;
+                }
+            }
+    EXPECT_EQ(all_held, 27); // three held states per leg, each with its own (s, s) only
+}
