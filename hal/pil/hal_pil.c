@@ -40,8 +40,8 @@ typedef struct {
 
 /* Stand-ins for the six timers' SET/RST/CMP1 registers and the update-disable
  * bits: hal_actuate programs them as the target programs the HRTIM (with the
- * same read-modify-write of the update-disable bits and the same words, the
- * fault event in every reset word), so the bench counts the target's work. */
+ * same whole-register writes of the update-disable bits and the same words,
+ * the fault event in every reset word), so the bench counts the target's work. */
 #define PIL_UDIS_ALL 0x7Fu           /* HRTIM_CR1 MUDIS, TAUDIS..TFUDIS */
 static volatile uint32_t g_pil_timer[6][3];
 static volatile uint32_t g_pil_update_disable;
@@ -154,7 +154,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     if (legs == 0u)
         return HAL_OK; /* every leg alone in its held state again: the timers hold its words (issue 11) */
     uint32_t fixups = 0u;
-    g_pil_update_disable |= PIL_UDIS_ALL;
+    g_pil_update_disable = PIL_UDIS_ALL; /* as the target: CR1 holds nothing else */
     if ((legs & NPC_FLAG_TIMED) == 0u) {
         /* One state per leg (three periods in four): each leg is held or
          * applies its state for the whole period (issue 11: no instants, no
@@ -196,7 +196,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         g_pil.pn_fixups += fixups;
         g_pil.pn_step_seen = true;
     }
-    g_pil_update_disable &= ~PIL_UDIS_ALL;
+    g_pil_update_disable = 0u;
     return HAL_OK;
 }
 

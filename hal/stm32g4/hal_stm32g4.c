@@ -909,8 +909,10 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
 
     /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
      * while the six programmes are written, so a period never starts with
-     * half of them. */
-    HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
+     * half of them. The binding uses no other CR1 bit (the ADC triggers'
+     * update sources ADxUSRC keep their reset value 0, written nowhere), so
+     * the register is written whole (issue 11: no read-modify-write). */
+    HRTIM_CR1 = HRTIM_CR1_UDIS_ALL;
     if ((legs & NPC_FLAG_TIMED) == 0u) {
         /* One state per leg (three periods in four): each leg is held or
          * applies its state for the whole period (issue 11: no instants, no
@@ -952,7 +954,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         g_board.pn_fixups += fixups;
         g_board.faults |= BOARD_FAULT_PN_STEP;
     }
-    HRTIM_CR1 &= ~HRTIM_CR1_UDIS_ALL;
+    HRTIM_CR1 = 0u;
     return HAL_OK;
 }
 
