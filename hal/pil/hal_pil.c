@@ -120,8 +120,8 @@ int hal_sample_read(hal_sample *out)
 
 /* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to its two
  * timers, CMP1 = @p t when @p cmp1 (issue 11: no plan struct in between).
- * @return the entry's P<->N fixups. */
-static inline uint32_t write_leg(unsigned leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
+ */
+static inline void write_leg(unsigned leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
 {
     const uint32_t *reg = w->reg[c];
     unsigned tim = 2u * leg;
@@ -134,7 +134,6 @@ static inline uint32_t write_leg(unsigned leg, const npc_leg_words *w, uint32_t 
     if (cmp1)
         g_pil_timer[tim + 1u][2] = t;
     g_pil.last_leg[leg] = w->end[c];
-    return w->fixups;
 }
 
 /* The target's work (hal_stm32g4.c program_period): plan each leg's
@@ -153,7 +152,6 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     uint32_t legs = npc_legs_words((const uint8_t *)act->vector, g_pil.last_leg, w3);
     if (legs == 0u)
         return HAL_OK; /* every leg alone in its held state again: the timers hold its words (issue 11) */
-    uint32_t fixups = 0u;
     g_pil_update_disable = PIL_UDIS_ALL; /* as the target: CR1 holds nothing else */
     if ((legs & NPC_FLAG_TIMED) == 0u) {
         /* One state per leg (three periods in four): each leg is held or
@@ -163,7 +161,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
             const npc_leg_words *w = w3[leg];
             if (npc_leg_held(w))
                 continue; /* one state again: the timers hold its words, the leg stays */
-            fixups += write_leg(leg, w, NPC_AT_PER, false, 0u);
+            write_leg(leg, w, NPC_AT_PER, false, 0u);
         }
     } else {
         uint32_t t0 = (uint32_t)(act->duty0 * g_pil.per_f + 0.5f);
@@ -177,7 +175,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
                 const npc_leg_words *w = w3[leg];
                 if (npc_leg_held(w))
                     continue;
-                fixups += write_leg(leg, w, NPC_AT_T, true, t0);
+                write_leg(leg, w, NPC_AT_T, true, t0);
             }
         } else {
             /* in or near the keep-out, or too short a last pulse: the classes of the instants */
@@ -188,12 +186,12 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
                 uint32_t c = npc_leg_class(w, classes);
                 if (c == NPC_HELD)
                     continue;
-                fixups += write_leg(leg, w, c, c == (uint32_t)NPC_AT_T, t);
+                write_leg(leg, w, c, c == (uint32_t)NPC_AT_T, t);
             }
         }
     }
-    if (fixups != 0u) { /* one test per period */
-        g_pil.pn_fixups += fixups;
+    if ((legs & NPC_FLAG_FIXUPS) != 0u) { /* one test per period (a firmware bug if ever true) */
+        g_pil.pn_fixups += npc_legs_fixups(w3);
         g_pil.pn_step_seen = true;
     }
     g_pil_update_disable = 0u;

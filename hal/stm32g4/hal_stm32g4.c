@@ -870,8 +870,8 @@ _Static_assert(NPC_P == (unsigned)HAL_LEG_P && NPC_O == (unsigned)HAL_LEG_O && N
 
 /* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to the
  * preloaded registers of its two timers, CMP1 = @p t when @p cmp1 (issue 11:
- * no plan struct in between). @return the entry's P<->N fixups. */
-static inline uint32_t write_leg(uint32_t leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
+ * no plan struct in between). */
+static inline void write_leg(uint32_t leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
 {
     const uint32_t *reg = w->reg[c];
     uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
@@ -884,7 +884,6 @@ static inline uint32_t write_leg(uint32_t leg, const npc_leg_words *w, uint32_t 
     if (cmp1)
         HRTIM_TIM_REG(tim + 1u, HRTIM_CMP1xR_OFS) = t;
     g_board.last_leg[leg] = w->end[c];
-    return w->fixups;
 }
 
 /* Plan each leg's switching events for the period and write them to the
@@ -905,7 +904,6 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     uint32_t legs = npc_legs_words((const uint8_t *)act->vector, g_board.last_leg, w3);
     if (legs == 0u)
         return HAL_OK; /* every leg alone in its held state again: the timers hold its words (issue 11) */
-    uint32_t fixups = 0u;
 
     /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
      * while the six programmes are written, so a period never starts with
@@ -921,7 +919,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
             const npc_leg_words *w = w3[leg];
             if (npc_leg_held(w))
                 continue; /* one state again: the timers hold its words, the leg stays */
-            fixups += write_leg(leg, w, NPC_AT_PER, false, 0u);
+            write_leg(leg, w, NPC_AT_PER, false, 0u);
         }
     } else {
         uint32_t t0 = (uint32_t)(act->duty0 * g_board.per_f + 0.5f);
@@ -935,7 +933,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
                 const npc_leg_words *w = w3[leg];
                 if (npc_leg_held(w))
                     continue;
-                fixups += write_leg(leg, w, NPC_AT_T, true, t0);
+                write_leg(leg, w, NPC_AT_T, true, t0);
             }
         } else {
             /* in or near the keep-out, or too short a last pulse: the classes of the instants */
@@ -946,12 +944,12 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
                 uint32_t c = npc_leg_class(w, classes);
                 if (c == NPC_HELD)
                     continue;
-                fixups += write_leg(leg, w, c, c == (uint32_t)NPC_AT_T, t);
+                write_leg(leg, w, c, c == (uint32_t)NPC_AT_T, t);
             }
         }
     }
-    if (fixups != 0u) { /* one test per period */
-        g_board.pn_fixups += fixups;
+    if ((legs & NPC_FLAG_FIXUPS) != 0u) { /* one test per period (a firmware bug if ever true) */
+        g_board.pn_fixups += npc_legs_fixups(w3);
         g_board.faults |= BOARD_FAULT_PN_STEP;
     }
     HRTIM_CR1 = 0u;

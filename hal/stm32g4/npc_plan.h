@@ -213,7 +213,8 @@ typedef struct {
                              16 keeps v0, 24 the timers already hold these words (NPC_HELD) */
     uint8_t fixups;     /**< P<->N steps replaced by O (0..2) */
     uint8_t timed;      /**< 1: two states (kind_shift 8 or 16), its class depends on the period's instants */
-    uint8_t flags;      /**< NPC_FLAG_WRITE unless held (kind_shift 24), | NPC_FLAG_TIMED when timed */
+    uint8_t flags;      /**< NPC_FLAG_WRITE unless held (kind_shift 24), | NPC_FLAG_TIMED when timed,
+                             | NPC_FLAG_FIXUPS with fixups */
     uint8_t pad[9];     /**< 64 bytes: the index is one shift */
 } npc_leg_words;
 
@@ -359,6 +360,8 @@ static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t
 #define NPC_FLAG_WRITE 1u
 /** npc_leg_words.flags: the leg has two states (npc_leg_words.timed) */
 #define NPC_FLAG_TIMED 2u
+/** npc_leg_words.flags: the entry replaces a P<->N step (npc_leg_words.fixups > 0) */
+#define NPC_FLAG_FIXUPS 4u
 
 /**
  * The three legs' entries of npc_leg_words_table for an actuation (@p legs,
@@ -366,7 +369,9 @@ static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t
  * npc_leg_words.flags: 0 when every leg stays alone in its held state (the
  * period writes nothing: issue 11, no update-disable writes either),
  * NPC_FLAG_TIMED when a leg has two states (the period then needs its
- * instants). Both boards' programme writers start here. Context: ANY.
+ * instants), NPC_FLAG_FIXUPS when a leg replaces a P<->N step (then count
+ * them with npc_legs_fixups; issue 11: no sum per written leg). Both boards'
+ * programme writers start here. Context: ANY.
  */
 static inline uint32_t npc_legs_words(const uint8_t legs[6], const uint8_t prev4[4], const npc_leg_words *w3[3])
 {
@@ -377,6 +382,15 @@ static inline uint32_t npc_legs_words(const uint8_t legs[6], const uint8_t prev4
         flags |= w3[leg]->flags;
     }
     return flags;
+}
+
+/**
+ * @return the P<->N fixups of the three legs' entries @p w3 (npc_legs_words):
+ * those of the legs a period writes, a held leg's being 0. Context: ANY (pure).
+ */
+static inline uint32_t npc_legs_fixups(const npc_leg_words *const w3[3])
+{
+    return (uint32_t)w3[0]->fixups + w3[1]->fixups + w3[2]->fixups;
 }
 
 /** npc_leg_words.kind_shift of an entry whose timers hold its words already (class NPC_HELD in every period) */

@@ -559,12 +559,14 @@ TEST(NpcPlan, UsualPeriodWritesWhatTheClassesWayWrites)
     }
 }
 
-// Every entry's flags say whether the period writes the leg (not held) and
-// whether it has two states; npc_legs_words' OR of the three is 0 exactly
-// when every leg is held (the period writes nothing) and has NPC_FLAG_TIMED
-// exactly when a leg has two states, for every recorded state (held or not)
-// of each leg and every pair of valid vectors.
-TEST(NpcPlan, LegsFlagsAreHeldAndTimedOfEachLeg)
+// Every entry's flags say whether the period writes the leg (not held),
+// whether it has two states and whether it has P<->N fixups; npc_legs_words'
+// OR of the three is 0 exactly when every leg is held (the period writes
+// nothing), has NPC_FLAG_TIMED exactly when a leg has two states and
+// NPC_FLAG_FIXUPS exactly when a written leg has fixups (npc_legs_fixups
+// counts those), for every recorded state (held or not) of each leg and
+// every pair of valid vectors.
+TEST(NpcPlan, LegsFlagsAreHeldTimedAndFixupsOfEachLeg)
 {
     const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
                              NPC_P | NPC_LEG_HELD};
@@ -572,8 +574,12 @@ TEST(NpcPlan, LegsFlagsAreHeldAndTimedOfEachLeg)
         for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
             for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
                 const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
-                EXPECT_EQ(w->flags, (npc_leg_held(w) ? 0u : NPC_FLAG_WRITE) | (w->timed != 0u ? NPC_FLAG_TIMED : 0u))
+                EXPECT_EQ(w->flags, (npc_leg_held(w) ? 0u : NPC_FLAG_WRITE) | (w->timed != 0u ? NPC_FLAG_TIMED : 0u) |
+                                        (w->fixups != 0u ? NPC_FLAG_FIXUPS : 0u))
                     << int(prev) << " " << int(v0) << " " << int(v1);
+                if (npc_leg_held(w)) {
+                    EXPECT_EQ(w->fixups, 0u); // a held leg, never written, has none to count
+                }
             }
     int all_held = 0;
     for (uint8_t p0 : prevs)
@@ -587,14 +593,18 @@ TEST(NpcPlan, LegsFlagsAreHeldAndTimedOfEachLeg)
                     const npc_leg_words *w3[3];
                     const uint32_t flags = npc_legs_words(legs, prev4, w3);
                     bool held = true, timed = false;
+                    uint32_t fixups = 0u;
                     for (unsigned leg = 0u; leg < 3u; ++leg) {
                         const npc_leg_words *w = npc_leg_words_of(prev4[leg], legs[leg], legs[3u + leg]);
                         ASSERT_EQ(w3[leg], w);
                         held = held && npc_leg_held(w);
                         timed = timed || w->timed != 0u;
+                        fixups += npc_leg_held(w) ? 0u : w->fixups;
                     }
                     ASSERT_EQ(flags == 0u, held) << v;
                     ASSERT_EQ((flags & NPC_FLAG_TIMED) != 0u, timed) << v;
+                    ASSERT_EQ((flags & NPC_FLAG_FIXUPS) != 0u, fixups != 0u) << v;
+                    ASSERT_EQ(npc_legs_fixups(w3), fixups) << v; // the written legs' fixups
                     all_held += held ? 1 : 0;
                 }
             }
