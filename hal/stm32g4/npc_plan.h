@@ -404,7 +404,9 @@ static inline uint32_t npc_legs_fixups(const npc_leg_words *const w3[3])
  */
 static inline bool npc_leg_held(const npc_leg_words *w)
 {
-    return w->kind_shift == NPC_HELD_SHIFT;
+    /* the flags byte npc_legs_words loaded, not kind_shift (issue 11: the
+     * first leg's test reuses the load) */
+    return (w->flags & NPC_FLAG_WRITE) == 0u;
 }
 
 /** @return the instant class of the leg @p w in a period of classes @p classes (npc_period_classes). Context: ANY (pure). */
