@@ -119,8 +119,7 @@ int hal_sample_read(hal_sample *out)
 }
 
 /* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to its two
- * timers, CMP1 = @p t when @p cmp1 (issue 11: no plan struct in between).
- */
+ * timers, CMP1 = @p t when @p cmp1 (issue 11: no plan struct in between). */
 static inline void write_leg(unsigned leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
 {
     const uint32_t *reg = w->reg[c];
