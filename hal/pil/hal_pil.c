@@ -29,6 +29,8 @@ typedef struct {
     bool tick_missed;
     uint32_t millis;
     npc_timing tm;            /* timer counts of the period, keep-out and minimum pulse */
+    float per_f;              /* tm.per as a float (exact: below 2^24), for the instant */
+    npc_usual usual;          /* the period's usual instants (npc_usual_of) */
     uint8_t last_leg[4];      /* leg states at the end of the programmed period (with NPC_LEG_HELD: the timers hold its one-state words); [3] stays 0 (npc_leg_words_index3) */
     uint32_t pn_fixups;       /* P<->N steps the planner replaced (a firmware bug if ever > 0) */
     bool pn_step_seen;        /* as the target's BOARD_FAULT_PN_STEP */
@@ -38,8 +40,8 @@ typedef struct {
 
 /* Stand-ins for the six timers' SET/RST/CMP1 registers and the update-disable
  * bits: hal_actuate programs them as the target programs the HRTIM (with the
- * same read-modify-write of the update-disable bits and the same words, the
- * fault event in every reset word), so the bench counts the target's work. */
+ * same whole-register writes of the update-disable bits and the same words,
+ * the fault event in every reset word), so the bench counts the target's work. */
 #define PIL_UDIS_ALL 0x7Fu           /* HRTIM_CR1 MUDIS, TAUDIS..TFUDIS */
 static volatile uint32_t g_pil_timer[6][3];
 static volatile uint32_t g_pil_update_disable;
@@ -84,6 +86,8 @@ int hal_tick_start(hal_tick_handler handler, void *ctx, uint32_t period_us)
     g_pil.tm.per = (uint32_t)((uint64_t)period_us * PIL_COUNT_HZ / 1000000u);
     g_pil.tm.keepout = (uint32_t)((uint64_t)PIL_KEEPOUT_END_NS * PIL_COUNT_HZ / 1000000000u);
     g_pil.tm.min_pulse = (uint32_t)((uint64_t)PIL_MIN_PULSE_NS * PIL_COUNT_HZ / 1000000000u);
+    g_pil.per_f = (float)g_pil.tm.per;
+    g_pil.usual = npc_usual_of(&g_pil.tm);
     for (unsigned leg = 0u; leg < 3u; leg++)
         g_pil.last_leg[leg] = (uint8_t)HAL_LEG_O;
     g_pil.last_leg[3] = 0u;
@@ -115,22 +119,20 @@ int hal_sample_read(hal_sample *out)
 }
 
 /* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to its two
- * timers, CMP1 = @p t in class NPC_AT_T (issue 11: no plan struct in between).
- * @return the entry's P<->N fixups. */
-static inline uint32_t write_leg(unsigned leg, const npc_leg_words *w, uint32_t c, uint32_t t)
+ * timers, CMP1 = @p t when @p cmp1 (issue 11: no plan struct in between). */
+static inline void write_leg(unsigned leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
 {
     const uint32_t *reg = w->reg[c];
     unsigned tim = 2u * leg;
     g_pil_timer[tim][0] = reg[0];
     g_pil_timer[tim][1] = reg[1];
-    if (c == (uint32_t)NPC_AT_T)
+    if (cmp1)
         g_pil_timer[tim][2] = t;
     g_pil_timer[tim + 1u][0] = reg[2];
     g_pil_timer[tim + 1u][1] = reg[3];
-    if (c == (uint32_t)NPC_AT_T)
+    if (cmp1)
         g_pil_timer[tim + 1u][2] = t;
     g_pil.last_leg[leg] = w->end[c];
-    return w->fixups;
 }
 
 /* The target's work (hal_stm32g4.c program_period): plan each leg's
@@ -146,10 +148,11 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
         return HAL_OK; /* tick not started: nothing to program */
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
-    uint32_t timed = npc_legs_words((const uint8_t *)act->vector, g_pil.last_leg, w3);
-    uint32_t fixups = 0u;
-    g_pil_update_disable |= PIL_UDIS_ALL;
-    if (timed == 0u) {
+    uint32_t legs = npc_legs_words((const uint8_t *)act->vector, g_pil.last_leg, w3);
+    if (legs == 0u)
+        return HAL_OK; /* every leg alone in its held state again: the timers hold its words (issue 11) */
+    g_pil_update_disable = PIL_UDIS_ALL; /* as the target: CR1 holds nothing else */
+    if ((legs & NPC_FLAG_TIMED) == 0u) {
         /* One state per leg (three periods in four): each leg is held or
          * applies its state for the whole period (issue 11: no instants, no
          * classes, no CMP1 test). */
@@ -157,25 +160,40 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
             const npc_leg_words *w = w3[leg];
             if (npc_leg_held(w))
                 continue; /* one state again: the timers hold its words, the leg stays */
-            fixups += write_leg(leg, w, NPC_AT_PER, 0u);
+            write_leg(leg, w, NPC_AT_PER, false, 0u);
         }
     } else {
-        uint32_t t; /* CMP1 of every leg that changes inside the period */
-        uint32_t t0 = (uint32_t)(act->duty0 * (float)g_pil.tm.per + 0.5f);
-        uint32_t classes = npc_period_classes_at(&g_pil.tm, t0, &t); /* once for the three legs */
-        for (unsigned leg = 0u; leg < 3u; leg++) {
-            const npc_leg_words *w = w3[leg];
-            uint32_t c = npc_leg_class(w, classes);
-            if (c == NPC_HELD)
-                continue;
-            fixups += write_leg(leg, w, c, t);
+        uint32_t t0 = (uint32_t)(act->duty0 * g_pil.per_f + 0.5f);
+        if (npc_instant_usual(&g_pil.usual, t0)) {
+            /* The usual instant (issue 11: no classes): every leg that is not
+             * held writes its NPC_AT_T row (a one-state leg's rows are all
+             * alike), and a leg with two states changes at t0. CMP1 = t0 for
+             * a one-state leg too: its words use no CMP1 event (no test per
+             * leg). */
+            for (unsigned leg = 0u; leg < 3u; leg++) {
+                const npc_leg_words *w = w3[leg];
+                if (npc_leg_held(w))
+                    continue;
+                write_leg(leg, w, NPC_AT_T, true, t0);
+            }
+        } else {
+            /* in or near the keep-out, or too short a last pulse: the classes of the instants */
+            uint32_t t; /* CMP1 of every leg that changes inside the period */
+            uint32_t classes = npc_period_classes_at(&g_pil.tm, t0, &t); /* once for the three legs */
+            for (unsigned leg = 0u; leg < 3u; leg++) {
+                const npc_leg_words *w = w3[leg];
+                uint32_t c = npc_leg_class(w, classes);
+                if (c == NPC_HELD)
+                    continue;
+                write_leg(leg, w, c, c == (uint32_t)NPC_AT_T, t);
+            }
         }
     }
-    if (fixups != 0u) { /* one test per period */
-        g_pil.pn_fixups += fixups;
+    if ((legs & NPC_FLAG_FIXUPS) != 0u) { /* one test per period (a firmware bug if ever true) */
+        g_pil.pn_fixups += npc_legs_fixups(w3);
         g_pil.pn_step_seen = true;
     }
-    g_pil_update_disable &= ~PIL_UDIS_ALL;
+    g_pil_update_disable = 0u;
     return HAL_OK;
 }
 

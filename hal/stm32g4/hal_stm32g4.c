@@ -147,6 +147,8 @@ typedef struct {
     uint32_t per_counts;
     uint32_t keepout_counts;
     uint32_t min_pulse_counts;
+    float per_f;              /* per_counts as a float (exact: below 2^16), for the instant */
+    npc_usual usual;          /* the period's usual instants (npc_usual_of) */
     uint8_t last_leg[4];      /* leg state at the end of the last latched period (with NPC_LEG_HELD: the timers hold its one-state words); [3] stays 0 (npc_leg_words_index3) */
     uint32_t pn_fixups;       /* P<->N steps replaced by O (diagnostics) */
     bool idle_held;           /* gates off: the preloaded registers hold idle_req's programme, which repeats itself */
@@ -460,6 +462,9 @@ static int hrtim_start(uint32_t period_us)
     g_board.per_counts = per;
     g_board.keepout_counts = ns_to_counts(BOARD_KEEPOUT_END_NS, count_hz);
     g_board.min_pulse_counts = ns_to_counts(BOARD_MIN_PULSE_NS, count_hz);
+    g_board.per_f = (float)per;
+    const npc_timing tm = {per, g_board.keepout_counts, g_board.min_pulse_counts};
+    g_board.usual = npc_usual_of(&tm);
 
     HRTIM_MCR = (ckpsc << HRTIM_MCR_CK_PSC_SHIFT) | HRTIM_MCR_CONT | HRTIM_MCR_PREEN | HRTIM_MCR_MREPU;
     HRTIM_MPER = per;
@@ -864,22 +869,21 @@ _Static_assert(NPC_P == (unsigned)HAL_LEG_P && NPC_O == (unsigned)HAL_LEG_O && N
                "leg states");
 
 /* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to the
- * preloaded registers of its two timers, CMP1 = @p t in class NPC_AT_T
- * (issue 11: no plan struct in between). @return the entry's P<->N fixups. */
-static inline uint32_t write_leg(uint32_t leg, const npc_leg_words *w, uint32_t c, uint32_t t)
+ * preloaded registers of its two timers, CMP1 = @p t when @p cmp1 (issue 11:
+ * no plan struct in between). */
+static inline void write_leg(uint32_t leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
 {
     const uint32_t *reg = w->reg[c];
     uint32_t tim = 2u * leg; /* A/B: leg a, C/D: leg b, E/F: leg c */
     HRTIM_TIM_REG(tim, HRTIM_SETx1R_OFS) = reg[0];
     HRTIM_TIM_REG(tim, HRTIM_RSTx1R_OFS) = reg[1]; /* with EXTEVNT6: inner off on a fault */
-    if (c == (uint32_t)NPC_AT_T)
+    if (cmp1)
         HRTIM_TIM_REG(tim, HRTIM_CMP1xR_OFS) = t;
     HRTIM_TIM_REG(tim + 1u, HRTIM_SETx1R_OFS) = reg[2];
     HRTIM_TIM_REG(tim + 1u, HRTIM_RSTx1R_OFS) = reg[3];
-    if (c == (uint32_t)NPC_AT_T)
+    if (cmp1)
         HRTIM_TIM_REG(tim + 1u, HRTIM_CMP1xR_OFS) = t;
     g_board.last_leg[leg] = w->end[c];
-    return w->fixups;
 }
 
 /* Plan each leg's switching events for the period and write them to the
@@ -897,14 +901,17 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     const npc_timing tm = {g_board.per_counts, g_board.keepout_counts, g_board.min_pulse_counts};
     /* the legs' words first: the instants only when a leg has two states */
     const npc_leg_words *w3[3];
-    uint32_t timed = npc_legs_words((const uint8_t *)act->vector, g_board.last_leg, w3);
-    uint32_t fixups = 0u;
+    uint32_t legs = npc_legs_words((const uint8_t *)act->vector, g_board.last_leg, w3);
+    if (legs == 0u)
+        return HAL_OK; /* every leg alone in its held state again: the timers hold its words (issue 11) */
 
     /* RM0440, HRTIM chapter, HRTIM_CR1 TxUDIS: hold the preload transfer
      * while the six programmes are written, so a period never starts with
-     * half of them. */
-    HRTIM_CR1 |= HRTIM_CR1_UDIS_ALL;
-    if (timed == 0u) {
+     * half of them. The binding uses no other CR1 bit (the ADC triggers'
+     * update sources ADxUSRC keep their reset value 0, written nowhere), so
+     * the register is written whole (issue 11: no read-modify-write). */
+    HRTIM_CR1 = HRTIM_CR1_UDIS_ALL;
+    if ((legs & NPC_FLAG_TIMED) == 0u) {
         /* One state per leg (three periods in four): each leg is held or
          * applies its state for the whole period (issue 11: no instants, no
          * classes, no CMP1 test). */
@@ -912,25 +919,40 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
             const npc_leg_words *w = w3[leg];
             if (npc_leg_held(w))
                 continue; /* one state again: the timers hold its words, the leg stays */
-            fixups += write_leg(leg, w, NPC_AT_PER, 0u);
+            write_leg(leg, w, NPC_AT_PER, false, 0u);
         }
     } else {
-        uint32_t t; /* CMP1 of every leg that changes inside the period */
-        uint32_t t0 = (uint32_t)(act->duty0 * (float)tm.per + 0.5f);
-        uint32_t classes = npc_period_classes_at(&tm, t0, &t); /* once for the three legs */
-        for (uint32_t leg = 0u; leg < 3u; leg++) {
-            const npc_leg_words *w = w3[leg];
-            uint32_t c = npc_leg_class(w, classes);
-            if (c == NPC_HELD)
-                continue;
-            fixups += write_leg(leg, w, c, t);
+        uint32_t t0 = (uint32_t)(act->duty0 * g_board.per_f + 0.5f);
+        if (npc_instant_usual(&g_board.usual, t0)) {
+            /* The usual instant (issue 11: no classes): every leg that is not
+             * held writes its NPC_AT_T row (a one-state leg's rows are all
+             * alike), and a leg with two states changes at t0. CMP1 = t0 for
+             * a one-state leg too: its words use no CMP1 event (no test per
+             * leg). */
+            for (uint32_t leg = 0u; leg < 3u; leg++) {
+                const npc_leg_words *w = w3[leg];
+                if (npc_leg_held(w))
+                    continue;
+                write_leg(leg, w, NPC_AT_T, true, t0);
+            }
+        } else {
+            /* in or near the keep-out, or too short a last pulse: the classes of the instants */
+            uint32_t t; /* CMP1 of every leg that changes inside the period */
+            uint32_t classes = npc_period_classes_at(&tm, t0, &t); /* once for the three legs */
+            for (uint32_t leg = 0u; leg < 3u; leg++) {
+                const npc_leg_words *w = w3[leg];
+                uint32_t c = npc_leg_class(w, classes);
+                if (c == NPC_HELD)
+                    continue;
+                write_leg(leg, w, c, c == (uint32_t)NPC_AT_T, t);
+            }
         }
     }
-    if (fixups != 0u) { /* one test per period */
-        g_board.pn_fixups += fixups;
+    if ((legs & NPC_FLAG_FIXUPS) != 0u) { /* one test per period (a firmware bug if ever true) */
+        g_board.pn_fixups += npc_legs_fixups(w3);
         g_board.faults |= BOARD_FAULT_PN_STEP;
     }
-    HRTIM_CR1 &= ~HRTIM_CR1_UDIS_ALL;
+    HRTIM_CR1 = 0u;
     return HAL_OK;
 }
 

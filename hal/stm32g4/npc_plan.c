@@ -49,12 +49,18 @@ const npc_leg_rule npc_leg_rules[27] = {RULES_A(0u), RULES_A(1u), RULES_A(2u)};
  * h: the timers hold prev's one-state words, and the leg stays in prev: nothing to write */
 #define KIND(h, p, a, b) \
     (uint8_t)((h) && (a) == (p) && (b) == (p) ? NPC_HELD_SHIFT : (ONE_STATE(p, a, b) ? 0u : (PN(p, V1(p, a, b)) ? 16u : 8u)))
+/* not held: written; two states: timed; a P<->N step replaced: fixups */
+#define FLAGS(h, p, a, b)                                                                   \
+    (uint8_t)((KIND(h, p, a, b) == NPC_HELD_SHIFT ? 0u : NPC_FLAG_WRITE) |                  \
+              (ONE_STATE(p, a, b) ? 0u : NPC_FLAG_TIMED) |                                  \
+              (PN(p, a) || PN(V0(p, a), b) ? NPC_FLAG_FIXUPS : 0u))
 #define WORDS(h, p, a, b)                                                                                       \
     {{WORDS_C(NPC_AT_ZERO, p, a, b), WORDS_C(NPC_AT_T, p, a, b), WORDS_C(NPC_AT_PER, p, a, b)},                 \
      {END(NPC_AT_ZERO, p, a, b), END(NPC_AT_T, p, a, b), END(NPC_AT_PER, p, a, b)},                             \
      KIND(h, p, a, b),                                                                                          \
      (uint8_t)((PN(p, a) ? 1u : 0u) + (PN(V0(p, a), b) ? 1u : 0u)),                                            \
      (uint8_t)(ONE_STATE(p, a, b) ? 0u : 1u),                                                                   \
+     FLAGS(h, p, a, b),                                                                                         \
      {0u}}
 #define WORDS_AT(h, p, a, b) [16u * ((p) | ((h) ? NPC_LEG_HELD : 0u)) + 4u * (a) + (b)] = WORDS(h, p, a, b)
 #define WORDS_B(h, p, a) WORDS_AT(h, p, a, 0u), WORDS_AT(h, p, a, 1u), WORDS_AT(h, p, a, 2u)

@@ -213,7 +213,9 @@ typedef struct {
                              16 keeps v0, 24 the timers already hold these words (NPC_HELD) */
     uint8_t fixups;     /**< P<->N steps replaced by O (0..2) */
     uint8_t timed;      /**< 1: two states (kind_shift 8 or 16), its class depends on the period's instants */
-    uint8_t pad[10];    /**< 64 bytes: the index is one shift */
+    uint8_t flags;      /**< NPC_FLAG_WRITE unless held (kind_shift 24), | NPC_FLAG_TIMED when timed,
+                             | NPC_FLAG_FIXUPS with fixups */
+    uint8_t pad[9];     /**< 64 bytes: the index is one shift */
 } npc_leg_words;
 
 /**
@@ -286,6 +288,38 @@ static inline uint32_t npc_period_classes_at(const npc_timing *tm, uint32_t t0, 
 }
 
 /**
+ * The usual instants of a period, [lo, lo + span) counts: out of the keep-out
+ * (and not 0) and before the last minimum pulse, the instants
+ * npc_period_classes_at takes as they are. Worked out once when the period is
+ * set up (npc_usual_of), so a period's test is one subtraction and one
+ * unsigned compare (issue 11).
+ */
+typedef struct {
+    uint32_t lo;   /**< first usual instant, counts: the keep-out's end, at least 1 */
+    uint32_t span; /**< number of usual instants (0: none) */
+} npc_usual;
+
+/** @return the usual instants of periods of timing @p tm. Context: ANY (pure). */
+static inline npc_usual npc_usual_of(const npc_timing *tm)
+{
+    uint32_t lo = tm->keepout != 0u ? tm->keepout : 1u;
+    uint32_t end = tm->per > tm->min_pulse ? tm->per - tm->min_pulse : 0u; /* first instant whose last pulse is too short */
+    npc_usual u = {lo, end > lo ? end - lo : 0u};
+    return u;
+}
+
+/**
+ * @return true when the requested instant @p t0 (counts) is usual (@p u of
+ * npc_usual_of): then every leg with two states changes at @p t0 (class
+ * NPC_AT_T), every other leg that is not held has class NPC_AT_PER, whose
+ * words are its NPC_AT_T row too. Context: ANY (pure).
+ */
+static inline bool npc_instant_usual(const npc_usual *u, uint32_t t0)
+{
+    return t0 - u->lo < u->span; /* below lo wraps to more than any span */
+}
+
+/**
  * The instant classes of a period none of whose legs has two states (no
  * npc_leg_words.timed): every such leg's class is NPC_AT_PER or NPC_HELD
  * whatever the instants, so the actuation need not work them out (issue 11:
@@ -322,21 +356,41 @@ static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t
     return (p << 4) | (v0 << 2) | v1;
 }
 
+/** npc_leg_words.flags: the leg is not held, the period writes its words */
+#define NPC_FLAG_WRITE 1u
+/** npc_leg_words.flags: the leg has two states (npc_leg_words.timed) */
+#define NPC_FLAG_TIMED 2u
+/** npc_leg_words.flags: the entry replaces a P<->N step (npc_leg_words.fixups > 0) */
+#define NPC_FLAG_FIXUPS 4u
+
 /**
  * The three legs' entries of npc_leg_words_table for an actuation (@p legs,
- * @p prev4 as npc_leg_words_index3) into @p w3; @return non-zero when a leg
- * has two states in the period (npc_leg_words.timed: the period then needs
- * its instants). Both boards' programme writers start here. Context: ANY.
+ * @p prev4 as npc_leg_words_index3) into @p w3; @return the OR of their
+ * npc_leg_words.flags: 0 when every leg stays alone in its held state (the
+ * period writes nothing: issue 11, no update-disable writes either),
+ * NPC_FLAG_TIMED when a leg has two states (the period then needs its
+ * instants), NPC_FLAG_FIXUPS when a leg replaces a P<->N step (then count
+ * them with npc_legs_fixups; issue 11: no sum per written leg). Both boards'
+ * programme writers start here. Context: ANY.
  */
 static inline uint32_t npc_legs_words(const uint8_t legs[6], const uint8_t prev4[4], const npc_leg_words *w3[3])
 {
-    uint32_t timed = 0u;
+    uint32_t flags = 0u;
     uint32_t index3 = npc_leg_words_index3(legs, prev4);
     for (uint32_t leg = 0u; leg < 3u; leg++) {
         w3[leg] = &npc_leg_words_table[(index3 >> (8u * leg)) & 0xFFu];
-        timed |= w3[leg]->timed;
+        flags |= w3[leg]->flags;
     }
-    return timed;
+    return flags;
+}
+
+/**
+ * @return the P<->N fixups of the three legs' entries @p w3 (npc_legs_words):
+ * those of the legs a period writes, a held leg's being 0. Context: ANY (pure).
+ */
+static inline uint32_t npc_legs_fixups(const npc_leg_words *const w3[3])
+{
+    return (uint32_t)w3[0]->fixups + w3[1]->fixups + w3[2]->fixups;
 }
 
 /** npc_leg_words.kind_shift of an entry whose timers hold its words already (class NPC_HELD in every period) */
@@ -350,7 +404,9 @@ static inline uint32_t npc_legs_words(const uint8_t legs[6], const uint8_t prev4
  */
 static inline bool npc_leg_held(const npc_leg_words *w)
 {
-    return w->kind_shift == NPC_HELD_SHIFT;
+    /* the flags byte npc_legs_words loaded, not kind_shift (issue 11: the
+     * first leg's test reuses the load) */
+    return (w->flags & NPC_FLAG_WRITE) == 0u;
 }
 
 /** @return the instant class of the leg @p w in a period of classes @p classes (npc_period_classes). Context: ANY (pure). */

@@ -477,3 +477,136 @@ TEST(NpcPlan, UntimedEntriesAreHeldOrTheWholePeriod)
                     << int(prev) << " " << int(v0) << " " << int(v1);
             }
 }
+
+// The usual instants (npc_usual_of, npc_instant_usual) are exactly those
+// npc_period_classes_at takes as they are (out of the keep-out, not 0, before
+// the last minimum pulse), for every requested instant of timings with and
+// without a keep-out and a minimum pulse and with a period too short for both;
+// at such an instant both kinds of two-state leg change at it.
+TEST(NpcPlan, UsualInstantsAreThoseTakenAsTheyAre)
+{
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}, {100u, 0u, 30u},
+                              {100u, 40u, 0u}, {50u, 40u, 30u}, {1u, 0u, 0u}, {8500u, 1190u, 340u},
+                              {70u, 40u, 30u}, {71u, 40u, 30u}, {30u, 0u, 30u}};
+    const uint32_t usual_classes =
+        uint32_t(NPC_AT_PER) | (uint32_t(NPC_AT_T) << 8) | (uint32_t(NPC_AT_T) << 16) | (uint32_t(NPC_HELD) << 24);
+    for (const npc_timing &tm : tms) {
+        const npc_usual u = npc_usual_of(&tm);
+        std::vector<uint32_t> t0s;
+        for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0++)
+            t0s.push_back(t0);
+        t0s.push_back(0xFFFFFFFFu);
+        t0s.push_back(0x80000000u);
+        int usual_seen = 0;
+        for (uint32_t t0 : t0s) {
+            const std::string m = "per " + std::to_string(tm.per) + " t0 " + std::to_string(t0);
+            const bool want = t0 >= tm.keepout && t0 != 0u && uint64_t(t0) + tm.min_pulse < tm.per;
+            ASSERT_EQ(npc_instant_usual(&u, t0), want) << m;
+            if (!want)
+                continue;
+            ++usual_seen;
+            npc_instants in;
+            npc_instants_of(&tm, t0, &in);
+            ASSERT_EQ(in.keep, t0) << m;
+            ASSERT_EQ(in.drop, t0) << m;
+            ASSERT_EQ(npc_period_classes(&tm, &in), usual_classes) << m;
+        }
+        EXPECT_EQ(usual_seen, int(u.span)) << "per " << tm.per;
+    }
+}
+
+// A period at a usual instant writes, for every leg that is not held, its
+// NPC_AT_T row, its NPC_AT_T end and CMP1 = the instant (the actuation's
+// usual path): the same words and end state as the classes' way for every
+// recorded state (held or not), pair of leg states and usual instant, and
+// CMP1 the same wherever the classes' way writes it (elsewhere the words use
+// no CMP1 event); a leg the classes' way skips is exactly a held one.
+TEST(NpcPlan, UsualPeriodWritesWhatTheClassesWayWrites)
+{
+    const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}, {8500u, 1190u, 340u}};
+    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
+                             NPC_P | NPC_LEG_HELD};
+    for (const npc_timing &tm : tms) {
+        const npc_usual u = npc_usual_of(&tm);
+        for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0 += (tm.per > 1000u ? 13u : 1u)) {
+            if (!npc_instant_usual(&u, t0))
+                continue;
+            uint32_t t = 12345u;
+            const uint32_t classes = npc_period_classes_at(&tm, t0, &t);
+            for (uint8_t prev : prevs)
+                for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+                    for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                        const std::string m = "per " + std::to_string(tm.per) + " t0 " + std::to_string(t0) +
+                                              " prev " + std::to_string(prev) + " v0 " + std::to_string(v0) +
+                                              " v1 " + std::to_string(v1);
+                        const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
+                        const uint32_t c = npc_leg_class(w, classes);
+                        ASSERT_EQ(c == NPC_HELD, npc_leg_held(w)) << m;
+                        if (c == NPC_HELD)
+                            continue;
+                        for (unsigned k = 0; k < 4u; k++)
+                            ASSERT_EQ(w->reg[NPC_AT_T][k], w->reg[c][k]) << m << " word " << k;
+                        ASSERT_EQ(w->end[NPC_AT_T], w->end[c]) << m;
+                        if (c == NPC_AT_T) {
+                            ASSERT_EQ(t, t0) << m;
+                        } else {
+                            ASSERT_EQ(w->timed, 0u) << m;
+                            for (unsigned k = 0; k < 4u; k++)
+                                ASSERT_EQ(w->reg[c][k] & NPC_EV_T, 0u) << m << " word " << k; // no CMP1 event
+                        }
+                    }
+        }
+    }
+}
+
+// Every entry's flags say whether the period writes the leg (not held),
+// whether it has two states and whether it has P<->N fixups; npc_legs_words'
+// OR of the three is 0 exactly when every leg is held (the period writes
+// nothing), has NPC_FLAG_TIMED exactly when a leg has two states and
+// NPC_FLAG_FIXUPS exactly when a written leg has fixups (npc_legs_fixups
+// counts those), for every recorded state (held or not) of each leg and
+// every pair of valid vectors.
+TEST(NpcPlan, LegsFlagsAreHeldTimedAndFixupsOfEachLeg)
+{
+    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
+                             NPC_P | NPC_LEG_HELD};
+    for (uint8_t prev : prevs)
+        for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
+            for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
+                const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
+                EXPECT_EQ(w->flags, (npc_leg_held(w) ? 0u : NPC_FLAG_WRITE) | (w->timed != 0u ? NPC_FLAG_TIMED : 0u) |
+                                        (w->fixups != 0u ? NPC_FLAG_FIXUPS : 0u))
+                    << int(prev) << " " << int(v0) << " " << int(v1);
+                if (npc_leg_held(w)) {
+                    EXPECT_EQ(w->fixups, 0u); // a held leg, never written, has none to count
+                }
+            }
+    int all_held = 0;
+    for (uint8_t p0 : prevs)
+        for (uint8_t p1 : prevs)
+            for (uint8_t p2 : prevs) {
+                const uint8_t prev4[4] = {p0, p1, p2, 0u};
+                for (int v = 0; v < 729; ++v) {
+                    uint8_t legs[6];
+                    for (int k = 0, r = v; k < 6; ++k, r /= 3)
+                        legs[k] = uint8_t(r % 3);
+                    const npc_leg_words *w3[3];
+                    const uint32_t flags = npc_legs_words(legs, prev4, w3);
+                    bool held = true, timed = false;
+                    uint32_t fixups = 0u;
+                    for (unsigned leg = 0u; leg < 3u; ++leg) {
+                        const npc_leg_words *w = npc_leg_words_of(prev4[leg], legs[leg], legs[3u + leg]);
+                        ASSERT_EQ(w3[leg], w);
+                        held = held && npc_leg_held(w);
+                        timed = timed || w->timed != 0u;
+                        fixups += npc_leg_held(w) ? 0u : w->fixups;
+                    }
+                    ASSERT_EQ(flags == 0u, held) << v;
+                    ASSERT_EQ((flags & NPC_FLAG_TIMED) != 0u, timed) << v;
+                    ASSERT_EQ((flags & NPC_FLAG_FIXUPS) != 0u, fixups != 0u) << v;
+                    ASSERT_EQ(npc_legs_fixups(w3), fixups) << v; // the written legs' fixups
+                    all_held += held ? 1 : 0;
+                }
+            }
+    EXPECT_EQ(all_held, 27); // three held states per leg, each with its own (s, s) only
+}
