@@ -315,7 +315,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->monitor_faults = 0u;
     s->fsw_hz = R(0.0);
     s->fsw_changes = 0u;
-    s->band_scale = R(1.0);
+    s->dtc_cmd.band_scale = R(1.0);
     s->te_short_Nm = R(0.0);
     s->fw_trim = R(1.0);
     s->psi_target_Wb = cfg->dtc.psi_ref_Wb; /* at standstill: rated (supervise_flux() takes over within a slot cycle) */
@@ -732,23 +732,24 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V)
 {
     uint8_t st1 = s->last_state[1];
-    /* the prediction is read where the observer left it (s->obs_out) */
-    dtc3l_cmd di;
-    di.te_ref_Nm = s->te_ref_Nm;
-    di.psi_ref_Wb = s->psi_ref_ramped_Wb;
-    di.rs_ohm = s->obs.rs_ohm;
-    di.omega_e_rad_s = s->obs.omega_e_rad_s;
-    di.vc1_V = x->vc1_V;
-    di.vc2_V = x->vc2_V;
-    di.np_dev_V = np_dev_pred_V;
+    /* the prediction is read where the observer left it (s->obs_out); the command is kept
+     * in the state, so its band scale, written by the regulation once per slot cycle, is
+     * not copied every tick (issue 11) */
+    dtc3l_cmd *cmd = &s->dtc_cmd;
+    cmd->te_ref_Nm = s->te_ref_Nm;
+    cmd->psi_ref_Wb = s->psi_ref_ramped_Wb;
+    cmd->rs_ohm = s->obs.rs_ohm;
+    cmd->omega_e_rad_s = s->obs.omega_e_rad_s;
+    cmd->vc1_V = x->vc1_V;
+    cmd->vc2_V = x->vc2_V;
+    cmd->np_dev_V = np_dev_pred_V;
     /* last_state is always a state number: only gates_off() (OOO), actuate() and bringup_step()
      * (P<->N guard outputs, 0..26) write it, so no clamp (issue 11; observe() and
      * predict_np_dev() rely on the same) */
-    di.prev_state = st1;
-    di.band_scale = s->band_scale;
-    di.decide_level = s->slow_slot == CTL_SLOT_LEVEL;
-    dtc3l_step_predicted(&s->dtc, &cfg->dtc, cfg->period_s, &di, &s->obs_out, &s->dtc_out);
-    return di.prev_state;
+    cmd->prev_state = st1;
+    cmd->decide_level = s->slow_slot == CTL_SLOT_LEVEL;
+    dtc3l_step_predicted(&s->dtc, &cfg->dtc, cfg->period_s, cmd, &s->obs_out, &s->dtc_out);
+    return st1;
 }
 
 /* Switching frequency: the leg changes of the actuations latched, summed
@@ -773,12 +774,12 @@ static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8
     real_t f = num_mul(num_mul((real_t)n, cfg->fsw_per_change_hz), R(1.0) / (real_t)CTL_SLOW_SLOTS);
     s->fsw_hz = num_mac(cfg->fsw_lpf_a, f - s->fsw_hz, s->fsw_hz);
     if (!(cfg->fsw_max_hz > R(0.0))) {
-        s->band_scale = R(1.0);
+        s->dtc_cmd.band_scale = R(1.0);
         return;
     }
     real_t rel = num_mul(s->fsw_hz, cfg->inv_fsw_max_s) - R(1.0);
-    real_t k = num_mul(cfg->band_rate_T, s->band_scale);
-    s->band_scale = num_sat(num_mac(k, rel, s->band_scale), R(1.0), cfg->band_scale_max);
+    real_t k = num_mul(cfg->band_rate_T, s->dtc_cmd.band_scale);
+    s->dtc_cmd.band_scale = num_sat(num_mac(k, rel, s->dtc_cmd.band_scale), R(1.0), cfg->band_scale_max);
 }
 
 /* Actuate: the last guard against a P<->N step (the DTC never asks for

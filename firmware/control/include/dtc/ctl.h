@@ -263,7 +263,9 @@ typedef struct {
     real_t te_limit_Nm;       /**< torque limit of the last step (te_max, field weakening), N m */
     real_t fsw_hz;            /**< low-passed device switching frequency of the actuation, Hz */
     uint8_t fsw_changes;      /**< leg changes of the actuations since the last regulation step (0..96) */
-    real_t band_scale;        /**< present widening of the torque bands (1..band_scale_max) */
+    dtc3l_cmd dtc_cmd;        /**< the DTC's command of the last step, kept between steps: its band_scale
+                                   is the present widening of the torque bands (1..band_scale_max, written
+                                   by the regulation only); the other fields are set every step */
     real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
     real_t psi_target_Wb;     /**< flux the reference ramps to (supervise()), Wb */
