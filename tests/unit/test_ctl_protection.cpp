@@ -309,7 +309,7 @@ TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
         c.step(in); // starts magnetising
         ASSERT_EQ(c.s.run_state, CTL_MAGNETISING);
         int steps = 0;
-        float psi_prev = c.s.psi_ref_ramped_Wb;
+        float psi_prev = c.s.dtc_cmd.psi_ref_Wb;
         const int ticks = 3 * (int)CTL_SLOW_SLOTS; // three slot cycles
         for (int k = 0; k < ticks; ++k) {
             const float w_e = 450.0f + 5.0f * (float)k; // a new speed each tick, rad/s electrical (below overspeed)
@@ -327,9 +327,9 @@ TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
             }
             // the reference ramps every tick, by the slew limit at most
             const double dpsi = (double)c.cfg.psi_ramp_Wb_s * c.cfg.period_s;
-            EXPECT_LE(std::abs((double)c.s.psi_ref_ramped_Wb - psi_prev), dpsi * 1.0001);
-            EXPECT_NE(c.s.psi_ref_ramped_Wb, psi_prev) << "tick " << k << ": the ramp stood still";
-            psi_prev = c.s.psi_ref_ramped_Wb;
+            EXPECT_LE(std::abs((double)c.s.dtc_cmd.psi_ref_Wb - psi_prev), dpsi * 1.0001);
+            EXPECT_NE(c.s.dtc_cmd.psi_ref_Wb, psi_prev) << "tick " << k << ": the ramp stood still";
+            psi_prev = c.s.dtc_cmd.psi_ref_Wb;
         }
         EXPECT_EQ(steps, 3);
     }

@@ -308,7 +308,7 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->t_stall_win_s = R(0.0);
     s->t_brake_limit_s = R(0.0);
     s->brake_stall = false;
-    s->psi_ref_ramped_Wb = R(0.0);
+    s->dtc_cmd.psi_ref_Wb = R(0.0);
     s->speed_ref_ramped_rad_s = R(0.0);
     s->te_ref_Nm = R(0.0);
     ctl_guard_reset(&s->guard);
@@ -335,7 +335,7 @@ static void fill_telemetry(const ctl_state *s, const speed_out *so, ctl_out *out
     t->te_ref_Nm = s->te_ref_Nm;
     t->te_est_Nm = s->obs_out.te_Nm;
     t->psi_s_est_Wb = s->obs_out.psi_s_abs_Wb;
-    t->psi_ref_Wb = s->psi_ref_ramped_Wb;
+    t->psi_ref_Wb = s->dtc_cmd.psi_ref_Wb;
     t->eps_hat = so->eps_hat;
     t->w_norm = so->w_norm;
     t->zeta_bar = so->zeta_bar;
@@ -579,7 +579,7 @@ static void supervise_flux(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x
     if (num_mul(target, w) > v_max)
         target = num_div(v_max, w);
     s->psi_target_Wb = target;
-    real_t psi = s->psi_ref_ramped_Wb;
+    real_t psi = s->dtc_cmd.psi_ref_Wb;
     real_t te_po = num_mul(cfg->te_limit_Nm_Wb2, num_mul(psi, psi));
     s->te_limit_Nm = te_po < cfg->speed.te_max_Nm ? te_po : cfg->speed.te_max_Nm;
 }
@@ -591,10 +591,10 @@ static void ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg)
     s->short_sum_Nm += num_abs(s->te_ref_Nm) - num_abs(s->obs_out.te_Nm);
     /* at the target (most ticks) the clamp would return the target's very bits: skipped,
      * judged on the bits (a NaN stays NaN, -0 stays -0; issue 11) */
-    if (f32_bits(s->psi_target_Wb) == f32_bits(s->psi_ref_ramped_Wb))
+    if (f32_bits(s->psi_target_Wb) == f32_bits(s->dtc_cmd.psi_ref_Wb))
         return;
     real_t dpsi = cfg->psi_ramp_step_Wb;
-    s->psi_ref_ramped_Wb = num_sat(s->psi_target_Wb, s->psi_ref_ramped_Wb - dpsi, s->psi_ref_ramped_Wb + dpsi);
+    s->dtc_cmd.psi_ref_Wb = num_sat(s->psi_target_Wb, s->dtc_cmd.psi_ref_Wb - dpsi, s->dtc_cmd.psi_ref_Wb + dpsi);
 }
 
 /* Magnetising: zero torque until premag_s, then RUNNING from the estimated speed. */
@@ -733,11 +733,11 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
 {
     uint8_t st1 = s->last_state[1];
     /* the prediction is read where the observer left it (s->obs_out); the command is kept
-     * in the state, so its band scale, written by the regulation once per slot cycle, is
-     * not copied every tick (issue 11) */
+     * in the state, so its band scale, written by the regulation once per slot cycle, and
+     * its flux reference, the ramp's (which stands still at its target), are not copied
+     * every tick (issue 11) */
     dtc3l_cmd *cmd = &s->dtc_cmd;
     cmd->te_ref_Nm = s->te_ref_Nm;
-    cmd->psi_ref_Wb = s->psi_ref_ramped_Wb;
     cmd->rs_ohm = s->obs.rs_ohm;
     cmd->omega_e_rad_s = s->obs.omega_e_rad_s;
     cmd->vc1_V = x->vc1_V;
@@ -878,7 +878,7 @@ void ctl_step(ctl_state *restrict s, const ctl_cfg *restrict cfg, const ctl_in *
     observe(s, cfg, &in->sample, np_dev_pred_V, v_V, is_A);
     if ((s->slow_slot & (CTL_MONITOR_SLOTS - 1u)) == CTL_SLOT_GUARD) { /* its window closes: the check of the ticks before this one */
         bool trip = ctl_guard_check(&s->guard, &cfg->guard, cfg->period_s, is_A, s->obs.rs_ohm,
-                                    s->obs_out.psi_s_Wb, s->psi_ref_ramped_Wb, s->run_state == CTL_RUNNING);
+                                    s->obs_out.psi_s_Wb, s->dtc_cmd.psi_ref_Wb, s->run_state == CTL_RUNNING);
         s->monitor_faults = (s->monitor_faults & ~(uint32_t)CTL_FAULT_LOSS_OF_CONTROL) |
                             (trip ? (uint32_t)CTL_FAULT_LOSS_OF_CONTROL : 0u);
         /* in this branch, so that the compiler sees the sums just reset to -0.0: it

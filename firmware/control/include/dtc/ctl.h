@@ -256,7 +256,6 @@ typedef struct {
                                    the actuation latched at k-2): the current period's dead-time edges
                                    start there (dead_time.h); observe() sets it for the next tick */
     uint32_t faults_active;   /**< fault conditions present at the last step (ctl_clear_faults keeps these) */
-    real_t psi_ref_ramped_Wb; /**< flux reference after the slew-rate limit */
     real_t te_ref_Nm;         /**< torque command of the last step */
     observer_out obs_out;     /**< observer outputs of the last step */
     dtc3l_out dtc_out;        /**< DTC outputs of the last step */
@@ -265,7 +264,9 @@ typedef struct {
     uint8_t fsw_changes;      /**< leg changes of the actuations since the last regulation step (0..96) */
     dtc3l_cmd dtc_cmd;        /**< the DTC's command of the last step, kept between steps: its band_scale
                                    is the present widening of the torque bands (1..band_scale_max, written
-                                   by the regulation only); the other fields are set every step */
+                                   by the regulation only), its psi_ref_Wb the flux reference after the
+                                   slew-rate limit, Wb (written by the ramp only); the other fields are
+                                   set every step */
     real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
     real_t psi_target_Wb;     /**< flux the reference ramps to (supervise()), Wb */
