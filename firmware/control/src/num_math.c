@@ -61,9 +61,11 @@ float num_expf_not_nan(float x)
     return num_expf_in_range(x);
 }
 
-float num_expf_in_range(float x)
+/* e^x's Cody-Waite reduction and polynomial: e^x = p 2^k, k into *k_out. */
+static inline float exp_reduced(float x, int32_t *k_out)
 {
     int32_t k = round_i32(x * LOG2_E); /* -126..128 */
+    *k_out = k;
     float kf = (float)k;
     float r = fmaf(-kf, LN2_LO, fmaf(-kf, LN2_HI, x)); /* |r| <= ln2/2 + a little */
     /* e^r = 1 + r + r^2/2! + ... + r^7/7!: truncation below 6e-9 relative; Horner
@@ -75,9 +77,22 @@ float num_expf_in_range(float x)
     p = fmaf(p, r, 0.1666666716337204f);
     p = fmaf(p, r, 0.5f);
     p = fmaf(p, r, 1.0f);
-    p = fmaf(p, r, 1.0f);
+    return fmaf(p, r, 1.0f);
+}
+
+float num_expf_in_range(float x)
+{
+    int32_t k;
+    float p = exp_reduced(x, &k);
     if (k > 127)
         return (p * pow2i(k - 1)) * 2.0f;
+    return p * pow2i(k);
+}
+
+float num_expf_to_88(float x)
+{
+    int32_t k;
+    float p = exp_reduced(x, &k); /* x <= 88 gives k <= 127 (x log2 e < 127.5) */
     return p * pow2i(k);
 }
 

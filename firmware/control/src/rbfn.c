@@ -77,12 +77,6 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
 static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, bool weighted,
                                 const real_t *w, real_t *v_out, real_t *wv)
 {
-    if (!(x == x)) {
-        for (uint32_t k = 0u; k < n; k++)
-            v_out[k] = x;
-        *wv = x;
-        return x;
-    }
     /* nearest node (written so that huge |x| never reaches the integer conversion),
      * and r: z[k + 1] / z[k] going up from it (rho below: z[k - 1] / z[k] going
      * down, r rho = q), r = exp(u d - d^2 / 2) with u = (x - m_ks) / s */
@@ -96,11 +90,20 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
          * centres' tolerance in rbfn_grid_derive), so |u| <= (1/2 + delta) d
          * with delta = 1e-5 ks (no clamp needed) and the argument lies in
          * [-(1 + delta) d^2, delta d^2]: inside [-87.3, 88.7] for d^2 <=
-         * RBFN_GRID_D2_MAX = 80 and any grid below 9,000 nodes. The exp
-         * without its range tests (issue 11). */
+         * RBFN_GRID_D2_MAX = 80 and any grid below 9,000 nodes (at most
+         * 7.2 above 0: inside num_expf_to_88's range). The exp without its
+         * range tests (issue 11). */
         real_t u = num_mul(x - centre[ks], g->inv_width);
-        r = num_expf_in_range(num_mul(u, g->d) - g->half_d2);
+        r = num_expf_to_88(num_mul(u, g->d) - g->half_d2);
     } else {
+        /* A NaN x fails the test above too: tested here only, off the
+         * common path between the outer nodes (issue 11). */
+        if (!(x == x)) {
+            for (uint32_t k = 0u; k < n; k++)
+                v_out[k] = x;
+            *wv = x;
+            return x;
+        }
         ks = t > R(0.0) ? n - 1u : 0u;
         /* Beyond the outer nodes u is not bounded: clamped so that u d stays
          * finite; x is not NaN here and u is bounded, so the argument is not

@@ -33,8 +33,17 @@ static uint32_t node_count(const rbfn_cfg *cfg)
  * boundary layer |e| < phi (continuous, so no chattering at e = 0). */
 static real_t robust_switch(real_t e, real_t phi)
 {
-    if (phi > R(0.0))
-        return num_limit(num_div(e, phi), R(1.0));
+    if (phi > R(0.0)) {
+        /* num_limit(e / phi, 1) with the tests on e, the same bits: outside
+         * [-phi, phi] the limit gives +-1 however e / phi rounds; inside, the
+         * rounded quotient stays within [-1, 1]. One instruction fewer, and
+         * the division only inside the layer (issue 11). */
+        if (e > phi)
+            return R(1.0);
+        if (e < -phi)
+            return R(-1.0);
+        return num_div(e, phi);
+    }
     return num_sign(e);
 }
 
@@ -58,13 +67,24 @@ void speed_rbfn_command(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m
     /* B_n^-1 [...] = J [...]; -A_n X / B_n = B X. */
     real_t acc = num_mac(cfg->k, e, in->domega_ref_rad_s2 - eps_hat) + robust; /* rad/s^2 */
     real_t u = num_mac(m->J_kgm2, acc, num_mul(m->B_Nms, x));
-    real_t te = num_limit(u, te_max_Nm);
-
-    /* Adapt unless limited in the direction the error pushes (anti-windup):
-     * at +limit with e > 0 both laws would raise U further. */
-    int wind_up = (u > te_max_Nm && e > R(0.0)) || (u < -te_max_Nm && e < R(0.0));
+    /* te = num_limit(u, te_max_Nm), and adapt unless limited in the direction
+     * the error pushes (anti-windup): at +limit with e > 0 both laws would
+     * raise U further. Written as one chain of tests (GCC repeated the
+     * compare of u with -te_max: issue 11); the same results for any
+     * te_max, even a negative one, where both limits can hold. */
+    real_t te = u;
+    uint32_t learn = RBFN_LEARN_STEP;
+    if (u < -te_max_Nm) {
+        te = -te_max_Nm;
+        if (e < R(0.0) || (u > te_max_Nm && e > R(0.0)))
+            learn = RBFN_LEARN_PROJECT;
+    } else if (u > te_max_Nm) {
+        te = te_max_Nm;
+        if (e > R(0.0))
+            learn = RBFN_LEARN_PROJECT;
+    }
     s->e_learn = e;
-    s->learn = wind_up ? RBFN_LEARN_PROJECT : RBFN_LEARN_STEP;
+    s->learn = learn;
 
     out->te_ref_Nm = te;
     out->eps_hat = eps_hat;
