@@ -488,6 +488,8 @@ static int hrtim_start(uint32_t period_us)
     g_board.last_leg[3] = 0u;
     g_board.idle_held = false;
 
+    /* The ADC trigger's update source stays the master timer (HRTIM_CR1 ADxUSRC at reset):
+     * program_period writes CR1 whole, so an update source set in CR1 would be cleared there. */
     HRTIM_ADC2R = HRTIM_ADC2R_AD2MC1;
     HRTIM_MICR = HRTIM_MICR_MCMP1C;
     HRTIM_CR2 = HRTIM_CR2_SWU_ALL; /* preload -> active now, before the counters run */

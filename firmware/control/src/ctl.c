@@ -476,10 +476,11 @@ static uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const
 /* Observe: the voltage applied from t_k to t_{k+1} is last_act with the
  * capacitors' mean voltages over the period (from this tick's vc1, vc2 and
  * the predicted neutral point at t_{k+1}); the observer advances to t_{k+1}
- * with it. Returns that voltage and the sampled current (alpha-beta).
- * Leg by leg (the commanded level, the device drops, the dead time), then one
- * Clarke transform. */
-/* inline: without the hint GCC stopped inlining it into ctl_step (+20 per tick, issue 11) */
+ * with it. Returns that voltage and the sampled current (alpha-beta), and
+ * sets s->end_state, the state that period ends in (the next period's dead-time
+ * edges start from it). Leg by leg (the commanded level, the device drops, the
+ * dead time), then one Clarke transform. Inline: without the hint GCC stopped
+ * inlining it into ctl_step (+20 per tick, issue 11). */
 static inline void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x, real_t np_dev_pred_V, real_t v[2],
                     real_t is[2])
 {
@@ -745,7 +746,8 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
     cmd->np_dev_V = np_dev_pred_V;
     /* last_state is always a state number: only gates_off() (OOO), actuate() and bringup_step()
      * (P<->N guard outputs, 0..26) write it, so no clamp (issue 11; observe() and
-     * predict_np_dev() rely on the same) */
+     * predict_np_dev() rely on the same, and so does end_state, which gates_off(), observe()
+     * and bringup_step() write from last_state values only) */
     cmd->prev_state = st1;
     cmd->decide_level = s->slow_slot == CTL_SLOT_LEVEL;
     dtc3l_step_predicted(&s->dtc, &cfg->dtc, cfg->period_s, cmd, &s->obs_out, &s->dtc_out);

@@ -264,9 +264,9 @@ typedef struct {
     uint8_t fsw_changes;      /**< leg changes of the actuations since the last regulation step (0..96) */
     dtc3l_cmd dtc_cmd;        /**< the DTC's command of the last step, kept between steps: its band_scale
                                    is the present widening of the torque bands (1..band_scale_max, written
-                                   by the regulation only), its psi_ref_Wb the flux reference after the
-                                   slew-rate limit, Wb (written by the ramp only); the other fields are
-                                   set every step */
+                                   by the regulation only, reset by start()), its psi_ref_Wb the flux
+                                   reference after the slew-rate limit, Wb (written by the ramp only,
+                                   reset by start()); the other fields are set every step */
     real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
     real_t psi_target_Wb;     /**< flux the reference ramps to (supervise()), Wb */

@@ -15,7 +15,9 @@
  * current's sign is softened over +-band_A (at zero current the leg floats
  * between the two levels during the blanking).
  *
- * Context: ISR (called from ctl_step), or anywhere: a pure function.
+ * Context: any (a pure function). ctl_step works the same edges out inline, leg by
+ * leg (ctl.c apply_real_inverter); this function is the reference the unit tests
+ * hold the model to.
  */
 #ifndef DTC_DEAD_TIME_H
 #define DTC_DEAD_TIME_H
