@@ -120,10 +120,10 @@ int hal_sample_read(hal_sample *out)
 
 /* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to its two
  * timers, CMP1 = @p t when @p cmp1 (issue 11: no plan struct in between). */
-static inline void write_leg(unsigned leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
+static inline void write_leg(uint32_t leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
 {
     const uint32_t *reg = w->reg[c];
-    unsigned tim = 2u * leg;
+    uint32_t tim = 2u * leg;
     g_pil_timer[tim][0] = reg[0];
     g_pil_timer[tim][1] = reg[1];
     if (cmp1)
@@ -152,43 +152,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     if (legs == 0u)
         return HAL_OK; /* every leg alone in its held state again: the timers hold its words (issue 11) */
     g_pil_update_disable = PIL_UDIS_ALL; /* as the target: CR1 holds nothing else */
-    if ((legs & NPC_FLAG_TIMED) == 0u) {
-        /* One state per leg (three periods in four): each leg is held or
-         * applies its state for the whole period (issue 11: no instants, no
-         * classes, no CMP1 test). */
-        for (unsigned leg = 0u; leg < 3u; leg++) {
-            const npc_leg_words *w = w3[leg];
-            if (npc_leg_held(w))
-                continue; /* one state again: the timers hold its words, the leg stays */
-            write_leg(leg, w, NPC_AT_PER, false, 0u);
-        }
-    } else {
-        uint32_t t0 = (uint32_t)(act->duty0 * g_pil.per_f + 0.5f);
-        if (npc_instant_usual(&g_pil.usual, t0)) {
-            /* The usual instant (issue 11: no classes): every leg that is not
-             * held writes its NPC_AT_T row (a one-state leg's rows are all
-             * alike), and a leg with two states changes at t0. CMP1 = t0 for
-             * a one-state leg too: its words use no CMP1 event (no test per
-             * leg). */
-            for (unsigned leg = 0u; leg < 3u; leg++) {
-                const npc_leg_words *w = w3[leg];
-                if (npc_leg_held(w))
-                    continue;
-                write_leg(leg, w, NPC_AT_T, true, t0);
-            }
-        } else {
-            /* in or near the keep-out, or too short a last pulse: the classes of the instants */
-            uint32_t t; /* CMP1 of every leg that changes inside the period */
-            uint32_t classes = npc_period_classes_at(&g_pil.tm, t0, &t); /* once for the three legs */
-            for (unsigned leg = 0u; leg < 3u; leg++) {
-                const npc_leg_words *w = w3[leg];
-                uint32_t c = npc_leg_class(w, classes);
-                if (c == NPC_HELD)
-                    continue;
-                write_leg(leg, w, c, c == (uint32_t)NPC_AT_T, t);
-            }
-        }
-    }
+    npc_program_legs(w3, legs, act->duty0, g_pil.per_f, &g_pil.usual, &g_pil.tm, write_leg);
     if ((legs & NPC_FLAG_FIXUPS) != 0u) { /* one test per period (a firmware bug if ever true) */
         g_pil.pn_fixups += npc_legs_fixups(w3);
         g_pil.pn_step_seen = true;

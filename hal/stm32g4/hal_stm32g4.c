@@ -913,43 +913,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
      * update sources ADxUSRC keep their reset value 0, written nowhere), so
      * the register is written whole (issue 11: no read-modify-write). */
     HRTIM_CR1 = HRTIM_CR1_UDIS_ALL;
-    if ((legs & NPC_FLAG_TIMED) == 0u) {
-        /* One state per leg (three periods in four): each leg is held or
-         * applies its state for the whole period (issue 11: no instants, no
-         * classes, no CMP1 test). */
-        for (uint32_t leg = 0u; leg < 3u; leg++) {
-            const npc_leg_words *w = w3[leg];
-            if (npc_leg_held(w))
-                continue; /* one state again: the timers hold its words, the leg stays */
-            write_leg(leg, w, NPC_AT_PER, false, 0u);
-        }
-    } else {
-        uint32_t t0 = (uint32_t)(act->duty0 * g_board.per_f + 0.5f);
-        if (npc_instant_usual(&g_board.usual, t0)) {
-            /* The usual instant (issue 11: no classes): every leg that is not
-             * held writes its NPC_AT_T row (a one-state leg's rows are all
-             * alike), and a leg with two states changes at t0. CMP1 = t0 for
-             * a one-state leg too: its words use no CMP1 event (no test per
-             * leg). */
-            for (uint32_t leg = 0u; leg < 3u; leg++) {
-                const npc_leg_words *w = w3[leg];
-                if (npc_leg_held(w))
-                    continue;
-                write_leg(leg, w, NPC_AT_T, true, t0);
-            }
-        } else {
-            /* in or near the keep-out, or too short a last pulse: the classes of the instants */
-            uint32_t t; /* CMP1 of every leg that changes inside the period */
-            uint32_t classes = npc_period_classes_at(&tm, t0, &t); /* once for the three legs */
-            for (uint32_t leg = 0u; leg < 3u; leg++) {
-                const npc_leg_words *w = w3[leg];
-                uint32_t c = npc_leg_class(w, classes);
-                if (c == NPC_HELD)
-                    continue;
-                write_leg(leg, w, c, c == (uint32_t)NPC_AT_T, t);
-            }
-        }
-    }
+    npc_program_legs(w3, legs, act->duty0, g_board.per_f, &g_board.usual, &tm, write_leg);
     if ((legs & NPC_FLAG_FIXUPS) != 0u) { /* one test per period (a firmware bug if ever true) */
         g_board.pn_fixups += npc_legs_fixups(w3);
         g_board.faults |= BOARD_FAULT_PN_STEP;

@@ -416,6 +416,60 @@ static inline uint32_t npc_leg_class(const npc_leg_words *w, uint32_t classes)
 }
 
 /**
+ * Writes one leg's words of class @p c (not NPC_HELD) to its timers, and CMP1 =
+ * @p t when @p cmp1; records the leg's end state. Each board's own.
+ */
+typedef void (*npc_write_leg_fn)(uint32_t leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t);
+
+/**
+ * The programme of a period for the three legs, the same on both boards (the
+ * PIL board counts the target's work): @p w3 and @p legs from npc_legs_words
+ * (legs != 0), @p duty0 the checked split (npc_duty_valid), @p per_f the period
+ * in counts as a float, @p u and @p tm the period's usual instants and timing.
+ * A period without two-state legs writes each leg that is not held for the
+ * whole period; a timed one at a usual instant writes every such leg's
+ * NPC_AT_T row with CMP1 = t0 (a one-state leg's words use no CMP1 event:
+ * issue 11, no class work); any other instant takes the classes of the
+ * instants. Inline with @p write a constant, so the board's writer is inlined
+ * too. Context: ISR (the board's actuation).
+ */
+static inline __attribute__((always_inline)) void npc_program_legs(const npc_leg_words *w3[3], uint32_t legs,
+                                                                    float duty0, float per_f, const npc_usual *u,
+                                                                    const npc_timing *tm, npc_write_leg_fn write)
+{
+    if ((legs & NPC_FLAG_TIMED) == 0u) {
+        /* one state per leg (three periods in four) */
+        for (uint32_t leg = 0u; leg < 3u; leg++) {
+            const npc_leg_words *w = w3[leg];
+            if (npc_leg_held(w))
+                continue; /* a held leg: the timers hold its words */
+            write(leg, w, NPC_AT_PER, false, 0u);
+        }
+    } else {
+        uint32_t t0 = (uint32_t)(duty0 * per_f + 0.5f);
+        if (npc_instant_usual(u, t0)) {
+            for (uint32_t leg = 0u; leg < 3u; leg++) {
+                const npc_leg_words *w = w3[leg];
+                if (npc_leg_held(w))
+                    continue;
+                write(leg, w, NPC_AT_T, true, t0);
+            }
+        } else {
+            /* in or near the keep-out, or too short a last pulse */
+            uint32_t t; /* CMP1 of every leg that changes inside the period */
+            uint32_t classes = npc_period_classes_at(tm, t0, &t); /* once for the three legs */
+            for (uint32_t leg = 0u; leg < 3u; leg++) {
+                const npc_leg_words *w = w3[leg];
+                uint32_t c = npc_leg_class(w, classes);
+                if (c == NPC_HELD)
+                    continue;
+                write(leg, w, c, c == (uint32_t)NPC_AT_T, t);
+            }
+        }
+    }
+}
+
+/**
  * Plan one leg. @p prev is the leg state at the end of the previous period,
  * @p v0 / @p v1 the requested states (each <= NPC_P), @p t0 the requested
  * switching instant in counts (0..per). Context: ANY (pure function).
