@@ -22,7 +22,6 @@
 #ifndef DTC_DEAD_TIME_H
 #define DTC_DEAD_TIME_H
 
-#include <stdbool.h>
 #include <stdint.h>
 
 #include "dtc/num.h"
@@ -68,49 +67,6 @@ static inline real_t dead_time_edge_(uint32_t a, uint32_t b, real_t late_up, con
     if (a == b)
         return v_V;
     return dead_time_edge_moving(a, b, late_up, level_V, dt_per_T, v_V);
-}
-
-/**
- * The core of dead_time_leg_error for one leg: @p v_V (V) plus the leg's mean
- * voltage error over the period. Inline: the observer's voltage reconstruction
- * (ctl.c) calls it leg by leg with the softened sign it shares with the
- * device drops.
- *
- * @param from       the leg's code in the vector the last period ended on
- * @param first      its code in the first vector applied in this period
- * @param second     its code in vector[1] (used when @p split)
- * @param split      both vectors of the period are applied (0 < duty0 < 1)
- * @param late_up    the fraction of a rising edge that is late:
- *                   sat(0.5 + i_A / (2 band_A), 0, 1) (a falling edge: 1 - that)
- * @param level_V    the levels of the leg codes N, O, P, V (-vc2, 0, vc1)
- * @param dt_per_T   dead time divided by the period (0..0.05)
- * Context: ANY (pure).
- */
-static inline real_t dead_time_leg_add(uint32_t from, uint32_t first, uint32_t second, bool split, real_t late_up,
-                                       const real_t level_V[3], real_t dt_per_T, real_t v_V)
-{
-    v_V = dead_time_edge_(from, first, late_up, level_V, dt_per_T, v_V);
-    if (split)
-        v_V = dead_time_edge_(first, second, late_up, level_V, dt_per_T, v_V);
-    return v_V;
-}
-
-/** The vector the period before @p prev's successor starts from: its last applied one. Context: ANY. */
-static inline const hal_vector *dead_time_from(const hal_actuation *prev)
-{
-    return &prev->vector[prev->duty0 < R(1.0) ? 1 : 0];
-}
-
-/** The first vector @p act applies (vector[1] when duty0 is 0). Context: ANY. */
-static inline const hal_vector *dead_time_first(const hal_actuation *act)
-{
-    return &act->vector[act->duty0 > R(0.0) ? 0 : 1];
-}
-
-/** True when @p act applies both of its vectors (0 < duty0 < 1). Context: ANY. */
-static inline bool dead_time_split(const hal_actuation *act)
-{
-    return act->duty0 > R(0.0) && act->duty0 < R(1.0);
 }
 
 #ifdef __cplusplus
