@@ -360,6 +360,13 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
     for (int k = 0; k < SCENARIO_EV_KINDS; k++)
         e->factor[k] = 1.0;
     double last_ref_rpm = NAN;
+    /* The speed reference as the engine left it after its own writes of a tick
+     * (profile and [events]); found different at the next tick, the drive's
+     * bus (SDO, RPDO, CiA 402 halt) wrote it, and from then on the master owns
+     * the reference: the profile no longer overrides a set point a tuner has
+     * just written (the README's session starts during CASE1's ramp). */
+    float ref_left_rad_s = NAN;
+    bool ref_from_bus = false;
     bool started = false;
     drive_snapshot snap;
     memset(&snap, 0, sizeof snap);
@@ -396,6 +403,8 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         e->board.t_s = t;
 
         /* 2. events whose time has come */
+        if (firmware && !ref_from_bus && !isnan(ref_left_rad_s) && e->drv.speed_ref_rad_s != ref_left_rad_s)
+            ref_from_bus = true;
         apply_params(e, sc, t + T_EPS);
         double tl = scenario_load_nm(sc, t + T_EPS);
         if (tl != load_nm)
@@ -404,9 +413,11 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         if (o->on_plant != NULL)
             o->on_plant(o->user, t, &e->ps);
         double ref_rpm = scenario_ref_rpm(sc, t + T_EPS);
-        if (firmware && ref_rpm != last_ref_rpm)
+        if (firmware && !ref_from_bus && ref_rpm != last_ref_rpm)
             drive_set_speed_ref(&e->drv, (float)(ref_rpm * RPM_TO_RAD_S));
         last_ref_rpm = ref_rpm;
+        if (firmware)
+            ref_left_rad_s = e->drv.speed_ref_rad_s;
         if (firmware && !started && t + T_EPS >= o->start_delay_s) {
             drive_set_run(&e->drv, true); /* the run command (--start-delay) */
             started = true;

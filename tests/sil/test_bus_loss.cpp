@@ -2,7 +2,8 @@
 // speed (the sample's speed_meas is the plant's shaft speed in the SIL):
 // heartbeat lost, NMT stop, NMT reset while running, and the abort connection
 // option 0x6007 (0 none, 1 fault, 3 quick stop). The motor runs at 500 rpm;
-// the quick stop ramp is the default 0x6049 = 900 rpm per 1 s.
+// the quick stop ramp is the default 0x6049 = 900 rpm per 1 s. Last, the
+// master's own set point against the scenario's reference profile.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,6 +39,7 @@ struct Bus {
     double t = 0.0;
     // What the drive did, sampled each tick.
     std::vector<double> t_s, true_rpm;
+    std::vector<double> ref_rpm; // the drive's speed reference (before its ramp limiter)
     std::vector<bool> gates;
     double t_gates_off = -1.0;  // first tick with the gates off after they were on
     double t_bootup = -1.0;     // a boot-up message after the first
@@ -64,12 +66,13 @@ struct Bus {
         send(0x600 + kNode, {uint8_t(0x23 | ((4 - len) << 2)), uint8_t(index), uint8_t(index >> 8), sub, uint8_t(v),
                              uint8_t(v >> 8), uint8_t(v >> 16), uint8_t(v >> 24)});
     }
-    double rpm_at(double when) const
+    double rpm_at(double when) const { return at(true_rpm, when); }
+    double at(const std::vector<double> &v, double when) const
     {
         for (size_t i = 0; i < t_s.size(); i++)
             if (t_s[i] >= when)
-                return true_rpm[i];
-        return true_rpm.back();
+                return v[i];
+        return v.back();
     }
 };
 
@@ -95,6 +98,7 @@ void on_tick(void *user, double t_s, drive *d)
     double rpm = d->snap.omega_meas_rad_s * kRpmPerRadS;
     b.t_s.push_back(t_s);
     b.true_rpm.push_back(rpm);
+    b.ref_rpm.push_back(d->speed_ref_rad_s * kRpmPerRadS);
     bool on = d->out.gate_enable;
     if (on)
         b.was_on = true;
@@ -325,4 +329,35 @@ TEST(BusLoss, BusOffWithOptionNoneKeepsRunningOptionFaultCoastsIntoTheFaultState
     EXPECT_NEAR(fault.t_gates_off, 1.5, 0.01) << "0x6007 = 1: gates off at the bus-off";
     EXPECT_TRUE(has(fault.emcy, 0x8100));
     EXPECT_EQ(fault.statusword, CO_CIA402_FAULT);
+}
+
+// A tuner's `dtctune set speed_ref_rpm 200` (SDO 0x2000:1, REAL32 rpm) lands
+// during the scenario's ramp (0.3 .. 0.8 s to 500 rpm): from then on the master
+// owns the reference, the profile no longer overrides it (before: the ramp's
+// next tick wrote 0..500 rpm over it, the README's session read back 486.9).
+TEST(BusLoss, ReferenceWrittenOverTheBusHoldsAgainstTheScenarioProfile)
+{
+    Bus b;
+    b.script = [](Bus &bb, double t) {
+        master_until(bb, t, 3.0);
+        if (std::fabs(t - 0.5) < 1e-9) {
+            float rpm = 200.0f;
+            uint32_t bits;
+            std::memcpy(&bits, &rpm, sizeof bits);
+            bb.sdo_write(0x2000, 1, bits, 4);
+        }
+    };
+    sim_result r = run(b);
+    ASSERT_EQ(r.status, SIM_OK) << r.error;
+    // The profile's ramp before the write: (0.45 - 0.3) / 0.5 x 500 rpm.
+    EXPECT_NEAR(b.at(b.ref_rpm, 0.45), 150.0, 0.5);
+    // The write, then nothing else: the ramp would have reached 500 rpm at 0.8 s.
+    EXPECT_NEAR(b.at(b.ref_rpm, 0.52), 200.0, 1e-3);
+    EXPECT_NEAR(b.at(b.ref_rpm, 1.0), 200.0, 1e-3);
+    EXPECT_NEAR(b.ref_rpm.back(), 200.0, 1e-3);
+    // ... and the motor follows the master's 200 rpm.
+    EXPECT_NEAR(b.rpm_at(2.9), 200.0, 10.0);
+    std::printf("bus write of 200 rpm at 0.5 s during the 0.3..0.8 s ramp to 500 rpm: reference %.2f rpm at "
+                "1.0 s, true speed %.1f rpm at 2.9 s\n",
+                b.at(b.ref_rpm, 1.0), b.rpm_at(2.9));
 }
