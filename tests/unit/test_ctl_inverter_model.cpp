@@ -1,0 +1,173 @@
+// The stator voltage ctl_step hands the observer and the loss-of-control
+// monitor with a real inverter (ctl.c, apply_real_inverter: the legs' levels,
+// the device drops and the dead-time edges worked out inline, on packed leg
+// codes) against a reference built here from the parts the unit tests check
+// on their own: the commanded leg voltages mixed by the duty, the drop
+// 2 v_drop sat(i / 0.5 A) against the current, dead_time_leg_error (hand-derived
+// cases in test_dead_time.cpp), then the Clarke transform, in double.
+//
+// The voltage is read from the monitor's window sum (ctl_guard.sum_v_V), which
+// ctl_step adds it to once per tick: from zero, one step leaves exactly it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <random>
+
+#include "dtc/ctl.h"
+#include "dtc/dead_time.h"
+#include "dtc/dtc3l.h"
+
+namespace {
+
+constexpr double kBandA = 0.5; // ctl.c DROP_BAND_A: the drop's and the dead time's softened sign
+
+struct Case {
+    uint8_t end, st0, st1; // state the last period ended on, this period's two states
+    float duty0;           // share of st0, 0..1
+    float i[3];            // phase currents, A (sum 0)
+    float vc1, vc2;        // capacitor voltages, V
+};
+
+double sat(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
+
+// The reference stator voltage (alpha, beta), V.
+void reference(const Case &c, double v_drop_V, double dt_per_T, double v_ab[2])
+{
+    hal_actuation prev{}, act{};
+    dtc3l_legs(c.end, &prev.vector[0]);
+    dtc3l_legs(c.end, &prev.vector[1]);
+    prev.duty0 = 0.5f; // both vectors the end state: it ends there
+    dtc3l_legs(c.st0, &act.vector[0]);
+    dtc3l_legs(c.st1, &act.vector[1]);
+    act.duty0 = c.duty0;
+    float dv[3];
+    dead_time_leg_error(&prev, &act, c.i, c.vc1, c.vc2, float(dt_per_T), float(kBandA), dv);
+    const double level[3] = {-double(c.vc2), 0.0, double(c.vc1)}; // N, O, P
+    double leg[3];
+    for (int k = 0; k < 3; ++k) {
+        double cmd = c.duty0 * level[act.vector[0].leg[k]] + (1.0 - c.duty0) * level[act.vector[1].leg[k]];
+        leg[k] = cmd - 2.0 * v_drop_V * sat(c.i[k] / kBandA, -1.0, 1.0) + dv[k];
+    }
+    v_ab[0] = (2.0 * leg[0] - leg[1] - leg[2]) / 3.0;
+    v_ab[1] = (leg[1] - leg[2]) / std::sqrt(3.0);
+}
+
+struct Core {
+    ctl_cfg cfg;
+    ctl_state s;
+    ctl_out out;
+    explicit Core(float dead_time_s, float v_drop_V)
+    {
+        ctl_cfg_default(&cfg);
+        cfg.dead_time_comp_s = dead_time_s;
+        cfg.v_drop_V = v_drop_V;
+        ctl_cfg_derive(&cfg);
+        cfg.np_V_per_A = 0.0f; // the capacitors' mean voltages are then the sampled ones
+    }
+    // ctl_step's voltage for @p c: a running core whose latched actuation is c's.
+    void voltage(const Case &c, double v_ab[2])
+    {
+        ctl_init(&s, &cfg);
+        s.run_state = CTL_RUNNING;
+        s.end_state = c.end;
+        s.last_state[0] = c.st0;
+        s.last_state[1] = c.st1;
+        dtc3l_legs(c.st0, &s.last_act.vector[0]);
+        dtc3l_legs(c.st1, &s.last_act.vector[1]);
+        s.last_act.duty0 = c.duty0;
+        s.slow_slot = 1u; // not the monitor's window close (CTL_SLOT_GUARD): the sum only adds
+        s.guard.sum_v_V[0] = s.guard.sum_v_V[1] = 0.0f;
+        ctl_in in;
+        std::memset(&in, 0, sizeof in);
+        in.sample.ia_A = c.i[0];
+        in.sample.ib_A = c.i[1];
+        in.sample.ic_A = c.i[2];
+        in.sample.vc1_V = c.vc1;
+        in.sample.vc2_V = c.vc2;
+        in.sample_fresh = true;
+        in.run = true;
+        std::memset(&out, 0, sizeof out);
+        ctl_step(&s, &cfg, &in, &out);
+        ASSERT_EQ(s.faults, 0u) << "the step tripped: the voltage was not summed";
+        v_ab[0] = s.guard.sum_v_V[0];
+        v_ab[1] = s.guard.sum_v_V[1];
+    }
+};
+
+// Random periods: every pair of states, duty 0, 1 or between, currents of
+// either sign and inside the softened band, unequal capacitors.
+std::vector<Case> cases(unsigned n)
+{
+    std::mt19937 rng(20261128u);
+    std::uniform_int_distribution<int> state(0, 26);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f), amp(-40.0f, 40.0f), small(-0.6f, 0.6f),
+        vc(140.0f, 170.0f);
+    std::vector<Case> out;
+    for (unsigned k = 0; k < n; ++k) {
+        Case c{};
+        c.end = uint8_t(state(rng));
+        c.st0 = uint8_t(state(rng));
+        c.st1 = k % 5 == 0 ? c.st0 : uint8_t(state(rng)); // one vector only, now and then
+        float pick = u01(rng);
+        c.duty0 = pick < 0.15f ? 0.0f : (pick < 0.3f ? 1.0f : u01(rng));
+        c.i[0] = k % 3 == 0 ? small(rng) : amp(rng);
+        c.i[1] = k % 4 == 0 ? small(rng) : amp(rng);
+        c.i[2] = -c.i[0] - c.i[1];
+        c.vc1 = vc(rng);
+        c.vc2 = vc(rng);
+        out.push_back(c);
+    }
+    return out;
+}
+
+void check_all(float dead_time_s, float v_drop_V)
+{
+    Core core(dead_time_s, v_drop_V);
+    ASSERT_TRUE(core.cfg.real_inverter);
+    const double dt_per_T = core.cfg.dead_time_per_T;
+    double worst = 0.0;
+    int edges = 0; // periods whose dead time moved the voltage (the test reaches the edges)
+    for (const Case &c : cases(4000)) {
+        double got[2] = {0.0, 0.0}, want[2], ideal[2];
+        core.voltage(c, got);
+        if (::testing::Test::HasFatalFailure()) {
+            return;
+        }
+        reference(c, v_drop_V, dt_per_T, want);
+        reference(c, v_drop_V, 0.0, ideal);
+        if (std::hypot(want[0] - ideal[0], want[1] - ideal[1]) > 0.1)
+            edges++;
+        double err = std::hypot(got[0] - want[0], got[1] - want[1]);
+        worst = std::max(worst, err);
+        // float arithmetic on voltages of about 170 V (an ulp is 1.5e-5 V); a wrong edge costs >= 0.5 V
+        ASSERT_LT(err, 1e-3) << "end " << int(c.end) << ", states " << int(c.st0) << "/" << int(c.st1)
+                             << ", duty0 " << c.duty0 << ", i " << c.i[0] << " " << c.i[1] << " " << c.i[2]
+                             << ": ctl " << got[0] << " " << got[1] << " V, reference " << want[0] << " "
+                             << want[1] << " V";
+    }
+    if (dead_time_s > 0.0f) {
+        EXPECT_GT(edges, 1000) << "too few periods with dead-time edges to judge";
+    }
+    std::printf("dead time %.1f us, drop %.1f V: 4000 periods, %d with dead-time edges, worst |v_ctl - v_ref| "
+                "%.2e V\n",
+                dead_time_s * 1e6, v_drop_V, edges, worst);
+}
+
+} // namespace
+
+TEST(CtlInverterModel, VoltageMatchesTheDeadTimeReferenceWithDrops)
+{
+    check_all(2e-6f, 1.0f);
+}
+
+TEST(CtlInverterModel, VoltageMatchesTheDeadTimeReferenceWithoutDrops)
+{
+    check_all(3e-6f, 0.0f);
+}
+
+TEST(CtlInverterModel, VoltageMatchesTheDropsWithoutDeadTime)
+{
+    check_all(0.0f, 1.5f);
+}
