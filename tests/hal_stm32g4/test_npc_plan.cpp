@@ -20,6 +20,8 @@ extern "C" {
 namespace {
 
 const npc_timing kTm = {34000u, 1190u, 340u}; // 200 us at 170 MHz, 7 us, 2 us
+// Every state a leg's record can hold: each level, with and without NPC_LEG_HELD.
+const uint8_t kPrevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD, NPC_P | NPC_LEG_HELD};
 
 // Leg state from the output-1 levels of pair 0 (S3; S1 is its complement) and
 // pair 1 (S2; S4 is its complement); -1 = S1 and S4 on.
@@ -393,12 +395,10 @@ TEST(NpcPlan, LegsWordIsOneToOne)
 // valid vectors; the fourth byte of the word is 0.
 TEST(NpcPlan, LegWordsIndex3EqualsTheIndexOfEachLeg)
 {
-    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
-                             NPC_P | NPC_LEG_HELD};
     int checked = 0;
-    for (uint8_t p0 : prevs)
-        for (uint8_t p1 : prevs)
-            for (uint8_t p2 : prevs) {
+    for (uint8_t p0 : kPrevs)
+        for (uint8_t p1 : kPrevs)
+            for (uint8_t p2 : kPrevs) {
                 const uint8_t prev4[4] = {p0, p1, p2, 0u};
                 for (int v = 0; v < 729; ++v) { // six leg codes 0..2
                     uint8_t legs[6];
@@ -460,9 +460,7 @@ TEST(NpcPlan, LegsValidSeesEveryPairOfCodes)
 // with two states is never held.
 TEST(NpcPlan, UntimedEntriesAreHeldOrTheWholePeriod)
 {
-    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
-                             NPC_P | NPC_LEG_HELD};
-    for (uint8_t prev : prevs)
+    for (uint8_t prev : kPrevs)
         for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
             for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
                 const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
@@ -524,8 +522,6 @@ TEST(NpcPlan, UsualInstantsAreThoseTakenAsTheyAre)
 TEST(NpcPlan, UsualPeriodWritesWhatTheClassesWayWrites)
 {
     const npc_timing tms[] = {kTm, {100u, 40u, 30u}, {34000u, 0u, 0u}, {8500u, 1190u, 340u}};
-    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
-                             NPC_P | NPC_LEG_HELD};
     for (const npc_timing &tm : tms) {
         const npc_usual u = npc_usual_of(&tm);
         for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0 += (tm.per > 1000u ? 13u : 1u)) {
@@ -533,7 +529,7 @@ TEST(NpcPlan, UsualPeriodWritesWhatTheClassesWayWrites)
                 continue;
             uint32_t t = 12345u;
             const uint32_t classes = npc_period_classes_at(&tm, t0, &t);
-            for (uint8_t prev : prevs)
+            for (uint8_t prev : kPrevs)
                 for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
                     for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
                         const std::string m = "per " + std::to_string(tm.per) + " t0 " + std::to_string(t0) +
@@ -568,9 +564,7 @@ TEST(NpcPlan, UsualPeriodWritesWhatTheClassesWayWrites)
 // every pair of valid vectors.
 TEST(NpcPlan, LegsFlagsAreHeldTimedAndFixupsOfEachLeg)
 {
-    const uint8_t prevs[] = {NPC_N, NPC_O, NPC_P, NPC_N | NPC_LEG_HELD, NPC_O | NPC_LEG_HELD,
-                             NPC_P | NPC_LEG_HELD};
-    for (uint8_t prev : prevs)
+    for (uint8_t prev : kPrevs)
         for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
             for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
                 const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
@@ -582,9 +576,9 @@ TEST(NpcPlan, LegsFlagsAreHeldTimedAndFixupsOfEachLeg)
                 }
             }
     int all_held = 0;
-    for (uint8_t p0 : prevs)
-        for (uint8_t p1 : prevs)
-            for (uint8_t p2 : prevs) {
+    for (uint8_t p0 : kPrevs)
+        for (uint8_t p1 : kPrevs)
+            for (uint8_t p2 : kPrevs) {
                 const uint8_t prev4[4] = {p0, p1, p2, 0u};
                 for (int v = 0; v < 729; ++v) {
                     uint8_t legs[6];

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 
 #include "dtc/num_math.h"
@@ -23,6 +24,33 @@ template <typename F> void walk_floats(float max_mag, uint32_t step, F f)
         f(x);
         f(-x);
     }
+}
+
+// A variant of num_expf against num_expf itself, bit for bit, over every
+// step-th float up to walk_mag that lies in [lo, hi], then the @p extra points
+// (those too only inside [lo, hi]): how many were compared, how many differ,
+// and the first that does.
+struct SameBits {
+    uint64_t n = 0, differ = 0;
+    float first = 0.0f;
+};
+template <typename F>
+SameBits compare_with_expf(F variant, float lo, float hi, float walk_mag, uint32_t step,
+                           std::initializer_list<float> extra)
+{
+    SameBits r;
+    auto check = [&](float x) {
+        if (!(x >= lo && x <= hi))
+            return;
+        float a = num_expf(x), b = variant(x);
+        if (std::memcmp(&a, &b, sizeof a) != 0 && r.differ++ == 0)
+            r.first = x;
+        r.n++;
+    };
+    walk_floats(walk_mag, step, check);
+    for (float x : extra)
+        check(x);
+    return r;
 }
 
 TEST(NumMath, ExpRelativeErrorBound)
@@ -66,23 +94,12 @@ TEST(NumMath, ExpEdges)
 // infinities and the saturating ends included).
 TEST(NumMath, ExpNotNanGivesTheSameBitsAsExp)
 {
-    uint64_t n = 0, differ = 0;
-    float first = 0.0f;
-    walk_floats(std::numeric_limits<float>::infinity(), 997u, [&](float x) {
-        float a = num_expf(x), b = num_expf_not_nan(x);
-        if (std::memcmp(&a, &b, sizeof a) != 0 && differ++ == 0)
-            first = x;
-        n++;
-    });
-    for (float x : {0.0f, -0.0f, 88.72f, 88.8f, -87.5f, -1e30f, 1e30f, std::numeric_limits<float>::infinity(),
-                    -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::denorm_min()}) {
-        float a = num_expf(x), b = num_expf_not_nan(x);
-        if (std::memcmp(&a, &b, sizeof a) != 0 && differ++ == 0)
-            first = x;
-        n++;
-    }
-    EXPECT_GT(n, 4000000u);
-    EXPECT_EQ(differ, 0u) << "first at x = " << first;
+    const float inf = std::numeric_limits<float>::infinity();
+    SameBits r = compare_with_expf([](float x) { return num_expf_not_nan(x); }, -inf, inf, inf, 997u,
+                                   {0.0f, -0.0f, 88.72f, 88.8f, -87.5f, -1e30f, 1e30f, inf, -inf,
+                                    std::numeric_limits<float>::denorm_min()});
+    EXPECT_GT(r.n, 4000000u);
+    EXPECT_EQ(r.differ, 0u) << "first at x = " << r.first;
     EXPECT_EQ(num_expf_not_nan(0.0f), 1.0f);
     EXPECT_EQ(num_expf_not_nan(-std::numeric_limits<float>::infinity()), 0.0f);
     EXPECT_TRUE(std::isinf(num_expf_not_nan(std::numeric_limits<float>::infinity())));
@@ -93,42 +110,22 @@ TEST(NumMath, ExpNotNanGivesTheSameBitsAsExp)
 // small step, the ends and zero included).
 TEST(NumMath, ExpInRangeGivesTheSameBitsAsExpInItsRange)
 {
-    uint64_t n = 0, differ = 0;
-    float first = 0.0f;
-    auto check = [&](float x) {
-        if (!(x >= -87.3f && x <= 88.7f))
-            return;
-        float a = num_expf(x), b = num_expf_in_range(x);
-        if (std::memcmp(&a, &b, sizeof a) != 0 && differ++ == 0)
-            first = x;
-        n++;
-    };
-    walk_floats(88.7f, 97u, check);
-    for (float x : {0.0f, -0.0f, -87.3f, 88.7f, -80.0f, -1.78f, 1e-30f, std::numeric_limits<float>::denorm_min()})
-        check(x);
-    EXPECT_GT(n, 20000000u);
-    EXPECT_EQ(differ, 0u) << "first at x = " << first;
+    SameBits r = compare_with_expf([](float x) { return num_expf_in_range(x); }, -87.3f, 88.7f, 88.7f, 97u,
+                                   {0.0f, -0.0f, -87.3f, 88.7f, -80.0f, -1.78f, 1e-30f,
+                                    std::numeric_limits<float>::denorm_min()});
+    EXPECT_GT(r.n, 20000000u);
+    EXPECT_EQ(r.differ, 0u) << "first at x = " << r.first;
 }
 
 // num_expf_to_88 (num_expf_in_range without the 2^128 test) against num_expf:
 // the same bits for every float in [-87.3, 88.0], the ends and zero included.
 TEST(NumMath, ExpTo88GivesTheSameBitsAsExpInItsRange)
 {
-    uint64_t n = 0, differ = 0;
-    float first = 0.0f;
-    auto check = [&](float x) {
-        if (!(x >= -87.3f && x <= 88.0f))
-            return;
-        float a = num_expf(x), b = num_expf_to_88(x);
-        if (std::memcmp(&a, &b, sizeof a) != 0 && differ++ == 0)
-            first = x;
-        n++;
-    };
-    walk_floats(88.0f, 97u, check);
-    for (float x : {0.0f, -0.0f, -87.3f, 88.0f, -80.0f, 7.2f, 1e-30f, std::numeric_limits<float>::denorm_min()})
-        check(x);
-    EXPECT_GT(n, 20000000u);
-    EXPECT_EQ(differ, 0u) << "first at x = " << first;
+    SameBits r = compare_with_expf([](float x) { return num_expf_to_88(x); }, -87.3f, 88.0f, 88.0f, 97u,
+                                   {0.0f, -0.0f, -87.3f, 88.0f, -80.0f, 7.2f, 1e-30f,
+                                    std::numeric_limits<float>::denorm_min()});
+    EXPECT_GT(r.n, 20000000u);
+    EXPECT_EQ(r.differ, 0u) << "first at x = " << r.first;
 }
 
 void check_trig(float max_mag, uint32_t step, double bound)
