@@ -360,12 +360,13 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
     for (int k = 0; k < SCENARIO_EV_KINDS; k++)
         e->factor[k] = 1.0;
     double last_ref_rpm = NAN;
-    /* The speed reference as the engine left it after its own writes of a tick
-     * (profile and [events]); found different at the next tick, the drive's
-     * bus (SDO, RPDO, CiA 402 halt) wrote it, and from then on the master owns
-     * the reference: the profile no longer overrides a set point a tuner has
-     * just written (the README's session starts during CASE1's ramp). */
-    float ref_left_rad_s = NAN;
+    /* Until the bus takes it the drive's reference is the profile's last value
+     * (the engine writes every change, the first tick's included); found
+     * different at a tick, the drive's bus (SDO, RPDO, a CiA 402 halt) changed
+     * it, and from then on the master owns the reference for the rest of the
+     * run: the profile no longer overrides a set point a tuner has just written
+     * (the README's session starts during CASE1's ramp). A halt counts too: the
+     * master that stopped the motor also gives the next reference. */
     bool ref_from_bus = false;
     bool started = false;
     drive_snapshot snap;
@@ -403,7 +404,8 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         e->board.t_s = t;
 
         /* 2. events whose time has come */
-        if (firmware && !ref_from_bus && !isnan(ref_left_rad_s) && e->drv.speed_ref_rad_s != ref_left_rad_s)
+        if (firmware && !ref_from_bus && !isnan(last_ref_rpm) &&
+            e->drv.speed_ref_rad_s != (float)(last_ref_rpm * RPM_TO_RAD_S))
             ref_from_bus = true;
         apply_params(e, sc, t + T_EPS);
         double tl = scenario_load_nm(sc, t + T_EPS);
@@ -416,8 +418,6 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         if (firmware && !ref_from_bus && ref_rpm != last_ref_rpm)
             drive_set_speed_ref(&e->drv, (float)(ref_rpm * RPM_TO_RAD_S));
         last_ref_rpm = ref_rpm;
-        if (firmware)
-            ref_left_rad_s = e->drv.speed_ref_rad_s;
         if (firmware && !started && t + T_EPS >= o->start_delay_s) {
             drive_set_run(&e->drv, true); /* the run command (--start-delay) */
             started = true;

@@ -568,10 +568,13 @@ TEST(NpcPlan, LegsFlagsAreHeldTimedAndFixupsOfEachLeg)
         for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
             for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
                 const npc_leg_words *w = npc_leg_words_of(prev, v0, v1);
-                EXPECT_EQ(w->flags, (npc_leg_held(w) ? 0u : NPC_FLAG_WRITE) | (w->timed != 0u ? NPC_FLAG_TIMED : 0u) |
+                // held by its class (kind_shift), not by the flags under test
+                const bool held = w->kind_shift == NPC_HELD_SHIFT;
+                EXPECT_EQ(npc_leg_held(w), held) << int(prev) << " " << int(v0) << " " << int(v1);
+                EXPECT_EQ(w->flags, (held ? 0u : NPC_FLAG_WRITE) | (w->timed != 0u ? NPC_FLAG_TIMED : 0u) |
                                         (w->fixups != 0u ? NPC_FLAG_FIXUPS : 0u))
                     << int(prev) << " " << int(v0) << " " << int(v1);
-                if (npc_leg_held(w)) {
+                if (held) {
                     EXPECT_EQ(w->fixups, 0u); // a held leg, never written, has none to count
                 }
             }
@@ -591,9 +594,10 @@ TEST(NpcPlan, LegsFlagsAreHeldTimedAndFixupsOfEachLeg)
                     for (unsigned leg = 0u; leg < 3u; ++leg) {
                         const npc_leg_words *w = npc_leg_words_of(prev4[leg], legs[leg], legs[3u + leg]);
                         ASSERT_EQ(w3[leg], w);
-                        held = held && npc_leg_held(w);
+                        const bool leg_held = w->kind_shift == NPC_HELD_SHIFT;
+                        held = held && leg_held;
                         timed = timed || w->timed != 0u;
-                        fixups += npc_leg_held(w) ? 0u : w->fixups;
+                        fixups += leg_held ? 0u : w->fixups;
                     }
                     ASSERT_EQ(flags == 0u, held) << v;
                     ASSERT_EQ((flags & NPC_FLAG_TIMED) != 0u, timed) << v;

@@ -65,8 +65,8 @@ struct Core {
         ctl_cfg_default(&cfg);
         cfg.dead_time_comp_s = dead_time_s;
         cfg.v_drop_V = v_drop_V;
+        cfg.c_dc_F = 0.0f; // no NP prediction (np_V_per_A 0): the capacitors' mean voltages are the sampled ones
         ctl_cfg_derive(&cfg);
-        cfg.np_V_per_A = 0.0f; // the capacitors' mean voltages are then the sampled ones
     }
     // ctl_step's voltage for @p c: a running core whose latched actuation is
     // c's. False when the step tripped (then the voltage was not summed).
@@ -127,7 +127,7 @@ std::vector<Case> cases(unsigned n)
 
 // ctl_step against the reference over 4000 random periods.
 struct Result {
-    bool real_inverter = false; // the configuration builds the voltage leg by leg
+    bool real_inverter = false; // the configuration builds the voltage leg by leg, without NP prediction
     int tripped = 0;            // periods whose step tripped (their voltage not summed)
     int edges = 0;              // periods whose dead time moved the voltage (the cases reach the edges)
     double worst_V = 0.0;       // largest |v_ctl - v_ref|
@@ -138,7 +138,7 @@ Result compare(float dead_time_s, float v_drop_V)
 {
     Result r;
     Core core(dead_time_s, v_drop_V);
-    r.real_inverter = core.cfg.real_inverter;
+    r.real_inverter = core.cfg.real_inverter && core.cfg.np_V_per_A == 0.0f;
     const double dt_per_T = core.cfg.dead_time_per_T;
     for (const Case &c : cases(4000)) {
         double got[2] = {0.0, 0.0}, want[2], ideal[2];

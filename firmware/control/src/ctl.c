@@ -107,6 +107,7 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->inv_period_per_s = cfg->period_s > R(0.0) ? num_div(R(1.0), cfg->period_s) : R(0.0);
     cfg->dead_time_per_T = num_mul(cfg->dead_time_comp_s, cfg->inv_period_per_s); /* the tick's product before: the same bits */
     cfg->real_inverter = cfg->v_drop_V > R(0.0) || cfg->dead_time_comp_s > R(0.0); /* one byte's test per tick */
+    cfg->drop4_V = num_mul(R(-4.0), cfg->v_drop_V); /* exact (a power of 2): the tick's product before */
     ctl_guard_cfg_derive(&cfg->guard, cfg->period_s);
     rs_ident_cfg_derive(&cfg->rsid, m, cfg->period_s, cfg->rs_ident_tol);
     /* stator-flux-oriented pull-out torque: Te_max = 1.5 p psi_s^2 (1 - sigma) / (2 sigma Ls) */
@@ -380,6 +381,14 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
     return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
 }
 
+/* The state a period applying st0 for duty0 of it, then st1, ends on: st1
+ * unless duty0 is 1 (st0 alone; a NaN duty counts as 1, as everywhere the
+ * duty is tested against 1). */
+static inline uint8_t period_end_state(uint8_t st0, uint8_t st1, real_t duty0)
+{
+    return duty0 < R(1.0) ? st1 : st0;
+}
+
 /* The leg voltage is lower than the state says by the on-state drop of the two
  * conducting devices, against the phase current: v_drop_V per device, with a
  * sign softened over +-DROP_BAND_A so a current at zero does not toggle it. */
@@ -452,10 +461,9 @@ static uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const
                 moved_split = w0 ^ w1;
             w_first = w0;
         }
-        if (!(d0 < R(1.0)))
-            end = st0;
+        end = period_end_state(st0, st1, d0);
     }
-    real_t drop4_V = num_mul(R(-4.0), cfg->v_drop_V); /* 0 with the drops off */
+    real_t drop4_V = cfg->drop4_V; /* 0 with the drops off */
     real_t ua = late_up_of(x->ia_A), ub = late_up_of(x->ib_A), uc = late_up_of(x->ic_A);
     va = num_mac(drop4_V, ua, va);
     vb = num_mac(drop4_V, ub, vb);
@@ -507,8 +515,7 @@ static inline void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x
             real_t d0 = s->last_act.duty0;
             v[0] = num_mac(d0, v0[0] - v[0], v[0]);
             v[1] = num_mac(d0, v0[1] - v[1], v[1]);
-            if (!(d0 < R(1.0)))
-                end = st0;
+            end = period_end_state(st0, st1, d0);
         }
     } else {
         /* leg by leg (the commanded level, the device drops, the dead time), then one Clarke transform */
@@ -844,7 +851,7 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
     dtc3l_legs(a0, &act.vector[0]);
     dtc3l_legs(a1, &act.vector[1]);
     /* the state the period now ending ends on (observe() works it out too, but not at every level) */
-    s->end_state = s->last_act.duty0 < R(1.0) ? s->last_state[1] : s->last_state[0];
+    s->end_state = period_end_state(s->last_state[0], s->last_state[1], s->last_act.duty0);
     s->last_act = act;
     s->last_state[0] = a0;
     s->last_state[1] = a1;

@@ -455,6 +455,12 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
         p->st1 = dtc3l_choose_state_unchecked(sv_b, p->st0, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
 }
 
+/* |vc1 - vc2| after a whole period drawing @p inp_A from the neutral point, V. */
+static inline real_t np_left(const dtc3l_cfg *cfg, const dtc3l_cmd *in, real_t inp_A)
+{
+    return num_abs(num_mac(cfg->np_V_per_A, inp_A, in->np_dev_V));
+}
+
 /* The P<->N rule forces an intermediate state when the wanted state is a
  * P<->N step away: between two adjacent large vectors the medium one (PNN ->
  * PON -> PPN), which draws its O-leg's phase current, up to the rated peak,
@@ -484,7 +490,7 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
          * chosen state pushes it further, or it would take the link beyond the
          * room of an intermediate */
         real_t inp_chosen = dtc3l_np_current_unchecked(p->st0, g->i_abc_A);
-        real_t n_chosen = num_abs(num_mac(cfg->np_V_per_A, inp_chosen, in->np_dev_V));
+        real_t n_chosen = np_left(cfg, in, inp_chosen);
         bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
         bool far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V);
         if (!(wrong_way || far))
@@ -492,12 +498,8 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
         /* of the vector's two states, the one that leaves the link nearer to
          * balance; the chosen state's n_chosen when it is one of them (the
          * same expression, issue 11) */
-        real_t n0 = p->st0 == st[0] ? n_chosen
-                                    : num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[0], g->i_abc_A),
-                                                      in->np_dev_V));
-        real_t n1 = p->st0 == st[1] ? n_chosen
-                                    : num_abs(num_mac(cfg->np_V_per_A, dtc3l_np_current_unchecked(st[1], g->i_abc_A),
-                                                      in->np_dev_V));
+        real_t n0 = p->st0 == st[0] ? n_chosen : np_left(cfg, in, dtc3l_np_current_unchecked(st[0], g->i_abc_A));
+        real_t n1 = p->st0 == st[1] ? n_chosen : np_left(cfg, in, dtc3l_np_current_unchecked(st[1], g->i_abc_A));
         target = n1 < n0 ? st[1] : st[0];
         real_t n_target = n1 < n0 ? n1 : n0;
         bool too_far = far && n_chosen > n_target;

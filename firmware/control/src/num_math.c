@@ -52,13 +52,15 @@ float num_expf(float x)
     return num_expf_not_nan(x);
 }
 
+static float exp_in_range(float x);
+
 float num_expf_not_nan(float x)
 {
     if (x > EXP_X_MAX)
         return INFINITY;
     if (x < EXP_X_MIN)
         return 0.0f;
-    return num_expf_in_range(x);
+    return exp_in_range(x);
 }
 
 /* e^x's Cody-Waite reduction and polynomial: e^x = p 2^k, k into *k_out. */
@@ -80,7 +82,8 @@ static inline float exp_reduced(float x, int32_t *k_out)
     return fmaf(p, r, 1.0f);
 }
 
-float num_expf_in_range(float x)
+/* num_expf for x in [EXP_X_MIN, EXP_X_MAX]: no NaN nor range test. */
+static float exp_in_range(float x)
 {
     int32_t k;
     float p = exp_reduced(x, &k);

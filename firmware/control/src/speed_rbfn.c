@@ -70,13 +70,13 @@ void speed_rbfn_command(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m
     /* te = num_limit(u, te_max_Nm), and adapt unless limited in the direction
      * the error pushes (anti-windup): at +limit with e > 0 both laws would
      * raise U further. Written as one chain of tests (GCC repeated the
-     * compare of u with -te_max: issue 11); the same results for any
-     * te_max, even a negative one, where both limits can hold. */
+     * compare of u with -te_max: issue 11); te_max_Nm >= 0 (speed_ctl_run
+     * clamps it), so at most one limit holds. */
     real_t te = u;
     uint32_t learn = RBFN_LEARN_STEP;
     if (u < -te_max_Nm) {
         te = -te_max_Nm;
-        if (e < R(0.0) || (u > te_max_Nm && e > R(0.0)))
+        if (e < R(0.0))
             learn = RBFN_LEARN_PROJECT;
     } else if (u > te_max_Nm) {
         te = te_max_Nm;

@@ -114,6 +114,8 @@ typedef struct {
     real_t dead_time_per_T;   /**< dead_time_comp_s x inv_period_per_s: the dead time per period (0..0.5) */
     bool real_inverter;       /**< v_drop_V > 0 or dead_time_comp_s > 0: the observer's voltage is built leg
                                    by leg (ctl.c, apply_real_inverter); false: the ideal inverter's */
+    real_t drop4_V;           /**< -4 v_drop_V: the drop's slope in the late fraction of a leg's current
+                                   (ctl.c, apply_real_inverter), V */
     real_t te_pullout_Nm_Wb2; /**< pull-out torque per Wb^2 of stator flux: 1.5 p (1 - sigma) / (2 sigma Ls) */
     real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
     real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */

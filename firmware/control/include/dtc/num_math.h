@@ -38,16 +38,10 @@ float num_expf(float x);
  *  Context: ANY. */
 float num_expf_not_nan(float x);
 
-/** num_expf for an argument known to lie in [-87.3, 88.7] (the same bits; no
- *  NaN nor range test: six instructions fewer per call on the Cortex-M4F).
+/** num_expf for an argument known to lie in [-87.3, 88.0] (the same bits; no
+ *  NaN nor range test, and none for 2^128, which only x above 88.37 needs).
  *  Outside that range the result is undefined: callers that cannot bound the
  *  argument call num_expf_not_nan or num_expf. Context: ANY. */
-float num_expf_in_range(float x);
-
-/** num_expf for an argument known to lie in [-87.3, 88.0] (the same bits;
- *  num_expf_in_range without its test for 2^128, which only x above 88.37
- *  needs: two instructions fewer per call on the Cortex-M4F). Outside that
- *  range the result is undefined. Context: ANY. */
 float num_expf_to_88(float x);
 
 /** sin(x), x in rad (see the bounds above). Context: ANY. */

@@ -240,15 +240,16 @@ void speed_nominal_step(const nominal_cfg *cfg, const motor_model *m, real_t te_
                         const speed_in *in, speed_out *out);
 
 /**
- * RBFN step (eq. 8-14, 21): output U = U_o + U_p limited to +-te_max, then
- * the weight and bound updates (frozen in the winding-up direction while the
- * command is limited). Context: ISR.
+ * RBFN step (eq. 8-14, 21): output U = U_o + U_p limited to +-te_max_Nm
+ * (>= 0, N m), then the weight and bound updates (frozen in the winding-up
+ * direction while the command is limited). Context: ISR.
  */
 void speed_rbfn_step(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m, real_t te_max_Nm,
                      real_t dt_s, const speed_in *in, speed_out *out);
 
 /**
- * The RBFN step in two halves, for a caller that spreads them over two ticks:
+ * The RBFN step in two halves, for a caller that spreads them over two ticks
+ * (te_max_Nm >= 0, N m, as for speed_rbfn_step):
  * speed_rbfn_command computes the basis, the output and the limited command
  * (out: te_ref_Nm, eps_hat; w_norm and zeta_bar of the last learning) and
  * keeps the basis and error; speed_rbfn_learn then does that command's weight
