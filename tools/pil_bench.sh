@@ -25,6 +25,10 @@
 # usage: tools/pil_bench.sh
 # env:   DTC_PIL_NO_BUILD=1   use the existing builds (build/stm32g4, build/host)
 #        DTC_PIL_REC_DIR      where to keep the recordings (default build/host/pil-rec)
+#        DTC_PIL_CFLAGS       C flags added to the target's (all of dtc-pil's C code), for
+#                             measuring a compiler option: dtc-pil.elf is then built afresh
+#                             in build/stm32g4-cflags (the shipped build is not touched);
+#                             the recordings still come from build/host
 # exit:  dtc-pil's status (0 ok, 1 counter self-check failed, 2 bad recording or usage,
 #        3 exception on the emulated core, 4 outputs differ from the host
 #        build's), 124 on timeout, 127 missing tools, or dtc-sim's status.
@@ -57,6 +61,16 @@ fi
 if [ "${DTC_PIL_NO_BUILD:-0}" != 1 ]; then
   (cd "$root" && cmake --preset stm32g4 >/dev/null && cmake --build --preset stm32g4 --target dtc-pil) >&2
   (cd "$root" && cmake --preset host >/dev/null && cmake --build --preset host --target dtc-sim) >&2
+fi
+if [ -n "${DTC_PIL_CFLAGS:-}" ]; then
+  # flags of a first configure only (CMAKE_C_FLAGS_INIT): a fresh directory every time
+  cflags_build=$root/build/stm32g4-cflags
+  rm -rf "$cflags_build"
+  cmake -S "$root" -B "$cflags_build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="$root/cmake/arm-none-eabi.cmake" \
+    -DCMAKE_BUILD_TYPE=Release "-DDTC_EXTRA_C_FLAGS=$DTC_PIL_CFLAGS" >/dev/null >&2
+  cmake --build "$cflags_build" --target dtc-pil >&2
+  elf=$cflags_build/dtc-pil.elf
+  echo "dtc-pil.elf built with the target's C flags and: $DTC_PIL_CFLAGS"
 fi
 for f in "$elf" "$sim"; do
   if [ ! -x "$f" ] && [ ! -f "$f" ]; then
