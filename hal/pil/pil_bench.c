@@ -150,6 +150,7 @@ static const char *const k_mode_name[3] = {"ip", "nominal", "rbfn"};
 
 typedef struct {
     pil_stat cls[CLS_N];
+    pil_stat slot[CTL_SLOW_SLOTS]; /* running and field-weakening ticks by the slow tasks' slot (ctl.h) */
     uint32_t worst_tick;
     uint8_t worst_state;
     char worst_file[TICK_REC_NAME_LEN + 1u];
@@ -347,6 +348,8 @@ static int replay(const char *path, uint32_t site_overhead)
             if (st == (uint8_t)CTL_RUNNING && d->out.tel.psi_ref_Wb < PIL_FW_FRAC * psi_nom)
                 cls = CLS_FIELD_WEAKENING;
             stat_add(&ms->cls[cls], cnt);
+            if (st == (uint8_t)CTL_RUNNING) /* the tick's slot: detect_faults advanced it first */
+                stat_add(&ms->slot[d->ctl.slow_slot & (CTL_SLOW_SLOTS - 1u)], cnt);
             if (cnt > ms->cls[CLS_ALL].max) {
                 ms->worst_tick = want.tick;
                 ms->worst_state = (uint8_t)cls;
@@ -439,6 +442,37 @@ static void print_table(void)
             line_str(&l, " |");
             line_flush(&l);
         }
+    }
+    /* Where the slow tasks' turns (ctl.h) put the load: the worst tick is the
+     * DTC's worst path in the heaviest slot it meets. */
+    line_str(&l, "running ticks (field weakening included) by slow-task slot, mean / max:");
+    line_flush(&l);
+    line_str(&l, "| controller |");
+    for (unsigned k = 0u; k < CTL_SLOW_SLOTS; k++) {
+        line_str(&l, " slot ");
+        line_u32(&l, k);
+        line_str(&l, " |");
+    }
+    line_flush(&l);
+    line_str(&l, "|---|");
+    for (unsigned k = 0u; k < CTL_SLOW_SLOTS; k++)
+        line_str(&l, "---:|");
+    line_flush(&l);
+    for (unsigned m = 0u; m < 3u; m++) {
+        if (g_stats[m].cls[CLS_ALL].n == 0u)
+            continue;
+        line_str(&l, "| ");
+        line_str(&l, k_mode_name[m]);
+        line_str(&l, " |");
+        for (unsigned k = 0u; k < CTL_SLOW_SLOTS; k++) {
+            const pil_stat *s = &g_stats[m].slot[k];
+            line_str(&l, " ");
+            line_tenths(&l, stat_mean_tenths(s));
+            line_str(&l, " / ");
+            line_u32(&l, s->n != 0u ? s->max : 0u);
+            line_str(&l, " |");
+        }
+        line_flush(&l);
     }
     line_str(&l, "worst ticks:");
     line_flush(&l);
@@ -582,6 +616,8 @@ int main(void)
     for (unsigned m = 0u; m < 3u; m++) {
         for (unsigned c = 0u; c < CLS_N; c++)
             stat_reset(&g_stats[m].cls[c]);
+        for (unsigned k = 0u; k < CTL_SLOW_SLOTS; k++)
+            stat_reset(&g_stats[m].slot[k]);
         g_stats[m].worst_tick = 0u;
         g_stats[m].worst_file[0] = '\0';
     }
