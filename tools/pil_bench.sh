@@ -11,7 +11,10 @@
 #    the loss-of-control trip (runaway_trip with that rotation off, as
 #    LossOfControl.SensorlessRunawayTrips forces it), CASE2 with an over-current
 #    trip at 3 s (faulted) and
-#    CASE2 with the run command 0.3 s late (stopped).
+#    CASE2 with the run command 0.3 s late (stopped); and the first six
+#    again as flashed (NAME_flashed: the firmware's default parameters, with
+#    the real inverter's compensation, against a plant with the 1 V device
+#    drop; the scenarios themselves set an ideal inverter).
 # 2. Replays all recordings in one run of dtc-pil.elf (Cortex-M4F, same
 #    toolchain and flags as the target image) under qemu-system-arm mps2-an386
 #    with exact instruction counting (-icount shift=7): the real interrupt path
@@ -44,7 +47,7 @@ sim=$root/build/host/bin/dtc-sim
 rec=${DTC_PIL_REC_DIR:-$root/build/host/pil-rec}
 
 missing=""
-for tool in arm-none-eabi-gcc qemu-system-arm cmake ninja; do
+for tool in arm-none-eabi-gcc qemu-system-arm cmake ninja python3; do
   command -v "$tool" >/dev/null 2>&1 || missing="$missing $tool"
 done
 if [ -n "$missing" ]; then
@@ -81,7 +84,16 @@ done
 
 mkdir -p "$rec"
 scn=$root/host_sim/scenarios
-names="case2 nameplate field_weakening low_speed_30rpm rated_step_500 regen_300rpm runaway_trip case2_overcurrent case2_stopped"
+# NAME_flashed: the scenario as the image runs it when flashed (tools/scenario_as_flashed.py:
+# the firmware's default parameters, so the real inverter's compensation on, against the plant's
+# 1 V device drop), where the scenario itself sets an ideal inverter (v_drop_V = 0)
+flashed="case2_flashed nameplate_flashed field_weakening_flashed low_speed_30rpm_flashed rated_step_500_flashed runaway_trip_flashed"
+names="case2 nameplate field_weakening low_speed_30rpm rated_step_500 regen_300rpm runaway_trip case2_overcurrent case2_stopped $flashed"
+for name in $flashed; do
+  base=${name%_flashed}
+  python3 -c 'import sys; sys.path.insert(0, sys.argv[1]); from scenario_as_flashed import as_flashed; as_flashed(sys.argv[2], sys.argv[3])' \
+    "$root/tools" "$scn/$base.ini" "$rec/$name.ini"
+done
 # record NAME CONTROLLER: one closed-loop SIL run into $rec/NAME_CONTROLLER.rec
 record() {
   out=$rec/$1_$2.rec
@@ -89,6 +101,8 @@ record() {
     case2_overcurrent) set -- "$scn/case2.ini" --controller "$2" --set "faults.offset=3.0 a 120" ;;
     case2_stopped) set -- "$scn/case2.ini" --controller "$2" --start-delay 0.3 --duration 1.0 ;;
     runaway_trip) set -- "$scn/runaway_trip.ini" --controller "$2" --set control.obs_regen_angle_rad=0 ;;
+    runaway_trip_flashed) set -- "$rec/$1.ini" --controller "$2" --set control.obs_regen_angle_rad=0 ;;
+    *_flashed) set -- "$rec/$1.ini" --controller "$2" ;;
     *) set -- "$scn/$1.ini" --controller "$2" ;;
   esac
   "$sim" run "$@" --quiet --record-samples "$out"

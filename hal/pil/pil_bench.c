@@ -48,8 +48,8 @@
 
 enum { EXIT_OK = 0, EXIT_COUNTER = 1, EXIT_USAGE = 2, EXIT_MISMATCH = 4 };
 
-#define PIL_MAX_FILES 36u
-#define PIL_CMDLINE_BYTES 4096u
+#define PIL_MAX_FILES 64u
+#define PIL_CMDLINE_BYTES 8192u
 #define PIL_CHUNK_RECORDS 128u
 #define PIL_CFG_WORDS_MAX 128u
 #define PIL_FW_FRAC 0.98f /* running with the flux reference below 98 % of nominal: field weakening */
@@ -553,7 +553,7 @@ int main(void)
     const char *files[PIL_MAX_FILES];
     uint32_t n_files;
     if (parse_files(files, &n_files) != 0) {
-        line_str(&l, "pil_bench: usage: dtc-pil REC [REC...] (recordings of dtc-sim run --record-samples; at most 36)");
+        line_str(&l, "pil_bench: usage: dtc-pil REC [REC...] (recordings of dtc-sim run --record-samples; at most 64)");
         line_flush(&l);
         return EXIT_USAGE;
     }
