@@ -14,7 +14,8 @@
 #    CASE2 with the run command 0.3 s late (stopped); and the first six
 #    again as flashed (NAME_flashed: the firmware's default parameters, with
 #    the real inverter's compensation, against a plant with the 1 V device
-#    drop; the scenarios themselves set an ideal inverter).
+#    drop; the scenarios themselves set an ideal inverter), with the warm
+#    stator run as flashed and its Rs adaptation on.
 # 2. Replays all recordings in one run of dtc-pil.elf (Cortex-M4F, same
 #    toolchain and flags as the target image) under qemu-system-arm mps2-an386
 #    with exact instruction counting (-icount shift=7): the real interrupt path
@@ -86,8 +87,10 @@ mkdir -p "$rec"
 scn=$root/host_sim/scenarios
 # NAME_flashed: the scenario as the image runs it when flashed (tools/scenario_as_flashed.py:
 # the firmware's default parameters, so the real inverter's compensation on, against the plant's
-# 1 V device drop), where the scenario itself sets an ideal inverter (v_drop_V = 0)
-flashed="case2_flashed nameplate_flashed field_weakening_flashed low_speed_30rpm_flashed rated_step_500_flashed runaway_trip_flashed"
+# 1 V device drop), where the scenario itself sets an ideal inverter (v_drop_V = 0);
+# warm_stator_flashed with the user's option that costs most per tick on: the stator-resistance
+# adaptation (obs_ki_rs = 0.1, docs/envelope.md section 6: its terms worked out every tick)
+flashed="case2_flashed nameplate_flashed field_weakening_flashed low_speed_30rpm_flashed rated_step_500_flashed runaway_trip_flashed warm_stator_flashed"
 names="case2 nameplate field_weakening low_speed_30rpm rated_step_500 regen_300rpm runaway_trip case2_overcurrent case2_stopped $flashed"
 for name in $flashed; do
   base=${name%_flashed}
@@ -102,6 +105,7 @@ record() {
     case2_stopped) set -- "$scn/case2.ini" --controller "$2" --start-delay 0.3 --duration 1.0 ;;
     runaway_trip) set -- "$scn/runaway_trip.ini" --controller "$2" --set control.obs_regen_angle_rad=0 ;;
     runaway_trip_flashed) set -- "$rec/$1.ini" --controller "$2" --set control.obs_regen_angle_rad=0 ;;
+    warm_stator_flashed) set -- "$rec/$1.ini" --controller "$2" --set control.obs_ki_rs=0.1 ;;
     *_flashed) set -- "$rec/$1.ini" --controller "$2" ;;
     *) set -- "$scn/$1.ini" --controller "$2" ;;
   esac
