@@ -38,15 +38,17 @@ void scope_arm(scope *s, const scope_src *src, uint8_t n_src)
     }
     for (uint32_t ch = k; ch < SCOPE_CHANNELS; ch++)
         s->armed_channel[ch] = 0u;
-    bool all_f32 = true;
-    for (uint32_t i = 0u; i < n; i++) {
-        s->src[i] = src[i];
-        all_f32 = all_f32 && src[i].kind == (uint8_t)SCOPE_SRC_F32;
+    for (uint32_t i = 0u; i < SCOPE_CHANNELS; i++) {
+        /* the channels not in use: read (the base's first word) but never shown */
+        uint16_t at = i < n ? src[i].offset : 0u;
+        uint8_t kind = i < n ? src[i].kind : (uint8_t)SCOPE_SRC_F32;
+        /* a byte: the aligned word that holds it, the byte picked by the reader */
+        uint8_t byte = kind == (uint8_t)SCOPE_SRC_U8 ? (uint8_t)(at & 3u) : 0u;
+        s->word_at[i] = (uint16_t)(at - byte);
+        s->kind[i] = kind;
+        s->byte_in_word[i] = byte;
     }
-    for (uint32_t i = n; i < SCOPE_CHANNELS; i++) /* read (the base's first word) but never shown */
-        s->src[i] = (scope_src){.offset = 0u, .kind = (uint8_t)SCOPE_SRC_F32};
     s->n_ch = n;
-    s->all_f32 = all_f32;
     s->trigger = s->cfg.trigger;
     s->pretrigger = s->cfg.pretrigger < SCOPE_SAMPLES ? s->cfg.pretrigger : (uint16_t)(SCOPE_SAMPLES - 1u);
     s->decimation = s->cfg.decimation >= 1u ? s->cfg.decimation : 1u;
@@ -69,30 +71,25 @@ float scope_value(const scope *s, uint32_t ch, uint32_t j)
 {
     if (s->state != SCOPE_DONE || ch >= s->n_ch || j >= SCOPE_SAMPLES)
         return 0.0f;
-    return s->buf[(s->start + j) % SCOPE_SAMPLES][ch];
+    uint32_t w = s->buf[(s->start + j) % SCOPE_SAMPLES][ch];
+    switch (s->kind[ch]) {
+    case SCOPE_SRC_U32:
+        return (float)w;
+    case SCOPE_SRC_U8: {
+        uint8_t bytes[4]; /* the word as it lay in memory: the byte's place in it needs no byte order */
+        memcpy(bytes, &w, sizeof bytes);
+        return (float)bytes[s->byte_in_word[ch]];
+    }
+    default: {
+        float f;
+        memcpy(&f, &w, sizeof f);
+        return f;
+    }
+    }
 }
 
 void scope_publish_done(scope *s)
 {
     publish_fence(); /* the capture's stores before the state that publishes them */
     s->state = SCOPE_DONE;
-}
-
-float scope_read_src(const void *base, scope_src src)
-{
-    const uint8_t *b = (const uint8_t *)base;
-    switch (src.kind) {
-    case SCOPE_SRC_U32: {
-        uint32_t u;
-        memcpy(&u, b + src.offset, sizeof u);
-        return (float)u;
-    }
-    case SCOPE_SRC_U8:
-        return (float)b[src.offset];
-    default: {
-        float f;
-        memcpy(&f, b + src.offset, sizeof f);
-        return f;
-    }
-    }
 }

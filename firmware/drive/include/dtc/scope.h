@@ -53,7 +53,7 @@ typedef enum {
     SCOPE_TRIG_FAULT = 2, /**< a fault bit latched (0 -> non-zero) */
 } scope_trigger;
 
-/** How the interrupt reads one channel from the snapshot. */
+/** What one channel's snapshot field holds (the reader converts it: the interrupt copies words). */
 typedef enum {
     SCOPE_SRC_F32 = 0,
     SCOPE_SRC_U32 = 1,
@@ -69,10 +69,13 @@ typedef struct {
     scope_cfg cfg;                      /**< settings (BG only) */
 
     /* capture settings: written by BG in IDLE/DONE, read by the ISR */
-    scope_src src[SCOPE_CHANNELS];
+    uint16_t word_at[SCOPE_CHANNELS];   /**< byte offset of the 4-byte word the ISR copies per channel (a U8
+                                             source's aligned word; 0 for the channels not in use) */
+    /* for the reader only (BG) */
+    uint8_t kind[SCOPE_CHANNELS];       /**< scope_src_kind of each channel in use */
+    uint8_t byte_in_word[SCOPE_CHANNELS]; /**< a U8 source's byte within its word, 0..3 */
     uint8_t armed_channel[SCOPE_CHANNELS]; /**< signal numbers of the capture (for the reader) */
     uint8_t n_ch;                       /**< channels in use */
-    bool all_f32;                       /**< every channel in use is SCOPE_SRC_F32: stored as read */
     uint8_t trigger;                    /**< scope_trigger of the capture */
     uint16_t pretrigger;
     uint16_t decimation;
@@ -94,7 +97,8 @@ typedef struct {
     real_t last_ref_rad_s;
     uint32_t last_faults;
     uint32_t trigger_tick;              /**< tick counter at the trigger sample */
-    float buf[SCOPE_SAMPLES][SCOPE_CHANNELS]; /**< ring of samples, the channels of one side by side */
+    uint32_t buf[SCOPE_SAMPLES][SCOPE_CHANNELS]; /**< ring of samples, the channels of one side by side, each
+                                                      the source's word as it was (scope_value converts it) */
 } scope;
 
 /** Idle, no channels; settings untouched. Context: BG. */
@@ -103,7 +107,10 @@ void scope_init(scope *s);
 /**
  * Arm a capture with the present settings and the given sources (one per
  * cfg.channel that is not 0, in channel order; @p n_src of them); a running
- * capture is discarded. Context: BG.
+ * capture is discarded. A source's word (a U8 source's: the aligned word that
+ * holds it) must lie inside the snapshot scope_sample is given: F32 and U32
+ * fields are whole words, and a struct with a float member is a whole number
+ * of 4-byte words. Context: BG.
  */
 void scope_arm(scope *s, const scope_src *src, uint8_t n_src);
 
@@ -117,21 +124,20 @@ void scope_stop(scope *s);
 uint8_t scope_get_state(const scope *s);
 
 /**
- * Sample j (0 = oldest) of capture channel @p ch of a DONE record, as stored
- * (SI units); 0 when not DONE or out of range. Context: BG.
+ * Sample j (0 = oldest) of capture channel @p ch of a DONE record, converted
+ * from the stored word by the channel's kind (SI units, or the integer's
+ * value); 0 when not DONE or out of range. Context: BG.
  */
 float scope_value(const scope *s, uint32_t ch, uint32_t j);
 
 /** Publish the record: DONE after every store of the capture (once per capture). Context: ISR. */
 void scope_publish_done(scope *s);
 
-/** One source's value as a float (the slow path of scope_sample for integer channels). Context: ISR. */
-float scope_read_src(const void *base, scope_src src);
-
 /**
  * Interrupt part: trigger detection and one store per channel every
- * decimation ticks. Constant time. @p base is the telemetry snapshot the
- * source offsets refer to (at least 4 bytes: with float channels only, the
+ * decimation ticks. Constant time, the same whatever the channels' kinds (each
+ * channel's word copied as it is; the reader converts). @p base is the
+ * telemetry snapshot the source offsets refer to (at least 4 bytes: the
  * unused channels read its first word), @p ref_cmd_rad_s the commanded (not ramped) speed
  * reference, @p faults the latched fault bits, @p tick the tick counter.
  * Inline (issue 11: the interrupt's one call site pays no call, no argument
@@ -171,27 +177,21 @@ static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s
     s->dec_left = s->decimation;
 
     uint16_t pos = s->pos;
-    float *row = s->buf[pos]; /* one sample's channels side by side: one address for the stores */
-    if (s->all_f32) {
-        /* The usual case: the values as they are, every channel (scope_arm
-         * points the unused ones at the base's first word; the reader never
-         * reads their columns), no loop and no conversion to choose. Copied
-         * as words: a float load and store would do the same. */
-        const uint8_t *b = (const uint8_t *)base;
-        uint32_t w0, w1, w2, w3;
-        memcpy(&w0, b + s->src[0].offset, sizeof w0);
-        memcpy(&w1, b + s->src[1].offset, sizeof w1);
-        memcpy(&w2, b + s->src[2].offset, sizeof w2);
-        memcpy(&w3, b + s->src[3].offset, sizeof w3);
-        memcpy(&row[0], &w0, sizeof w0);
-        memcpy(&row[1], &w1, sizeof w1);
-        memcpy(&row[2], &w2, sizeof w2);
-        memcpy(&row[3], &w3, sizeof w3);
-    } else {
-        uint32_t n_ch = s->n_ch; /* read once: the stores below are float stores, which cannot change it */
-        for (uint32_t ch = 0u; ch < n_ch; ch++) /* at most SCOPE_CHANNELS stores */
-            row[ch] = scope_read_src(base, s->src[ch]);
-    }
+    uint32_t *row = s->buf[pos]; /* one sample's channels side by side: one address for the stores */
+    /* Every channel's word as it is (the unused ones read the base's first
+     * word; the reader never reads their columns): no conversion and no
+     * per-kind path here, so an integer channel costs what a float one does
+     * (issue 11: the converting loop cost about 70 more per tick). */
+    const uint8_t *b = (const uint8_t *)base;
+    uint32_t w0, w1, w2, w3;
+    memcpy(&w0, b + s->word_at[0], sizeof w0);
+    memcpy(&w1, b + s->word_at[1], sizeof w1);
+    memcpy(&w2, b + s->word_at[2], sizeof w2);
+    memcpy(&w3, b + s->word_at[3], sizeof w3);
+    row[0] = w0;
+    row[1] = w1;
+    row[2] = w2;
+    row[3] = w3;
     s->pos = (uint16_t)((pos + 1u) % SCOPE_SAMPLES);
 
     if (st == (uint8_t)SCOPE_ARMED) {
