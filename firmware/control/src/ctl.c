@@ -393,18 +393,40 @@ static inline uint8_t period_end_state(uint8_t st0, uint8_t st1, real_t duty0)
  * conducting devices, against the phase current: v_drop_V per device, with a
  * sign softened over +-DROP_BAND_A so a current at zero does not toggle it. */
 #define DROP_BAND_A R(0.5)
-/* The dead time's edges of one leg (its codes in byte @p sh / 8 of the
- * packed words): from the last period's end to the first state, then between
- * the two states when both are applied. */
-static inline real_t leg_edges(real_t v_V, unsigned sh, uint32_t w_from, uint32_t w_first, uint32_t moved_first,
-                               uint32_t w0, uint32_t w1, uint32_t moved_split, real_t late_up, const real_t level_V[3],
+/* Bit 7 of each byte set where the leg code in @p w_to is at least the one in
+ * @p w_from, for the three legs at once. Exact: with codes 0..2 each byte is
+ * 0x80 + to - from, 0x7E..0x82, so no byte borrows from the next; where the
+ * codes differ, bit 7 is dead_time_edge_moving's to > from. */
+static inline uint32_t rising_bytes(uint32_t w_from, uint32_t w_to)
+{
+    return (w_to | 0x80808080u) - w_from;
+}
+
+/* The dead time's edge of one leg (byte @p sh / 8 of the packed words), when it
+ * commutes (its byte of @p moved set), between the levels @p from_V -> @p to_V,
+ * rising when its byte of @p up (rising_bytes) has bit 7. */
+static inline real_t leg_edge_on_levels(real_t v_V, unsigned sh, uint32_t moved, uint32_t up, real_t late_up,
+                                        real_t from_V, real_t to_V, real_t dt_per_T)
+{
+    if ((moved >> sh) & 0xFFu)
+        v_V = dead_time_edge_levels(((up >> sh) & 0x80u) != 0u, late_up, from_V, to_V, dt_per_T, v_V);
+    return v_V;
+}
+
+/* The period's first edges, from the state the last one ended on (packed codes
+ * @p w_from) to the first one it applies (@p w_first, whose levels @p la, @p lb,
+ * @p lc were read for the mix: only the edges' starting levels are read here). */
+static inline void first_edges(real_t *va, real_t *vb, real_t *vc, uint32_t w_from, uint32_t w_first, real_t la,
+                               real_t lb, real_t lc, real_t ua, real_t ub, real_t uc, const real_t level_V[3],
                                real_t dt_per_T)
 {
-    if ((moved_first >> sh) & 0xFFu)
-        v_V = dead_time_edge_moving((w_from >> sh) & 0xFFu, (w_first >> sh) & 0xFFu, late_up, level_V, dt_per_T, v_V);
-    if ((moved_split >> sh) & 0xFFu)
-        v_V = dead_time_edge_moving((w0 >> sh) & 0xFFu, (w1 >> sh) & 0xFFu, late_up, level_V, dt_per_T, v_V);
-    return v_V;
+    uint32_t moved = w_from ^ w_first;
+    if (moved != 0u) {
+        uint32_t up = rising_bytes(w_from, w_first);
+        *va = leg_edge_on_levels(*va, 0u, moved, up, ua, level_V[w_from & 0xFFu], la, dt_per_T);
+        *vb = leg_edge_on_levels(*vb, 8u, moved, up, ub, level_V[(w_from >> 8) & 0xFFu], lb, dt_per_T);
+        *vc = leg_edge_on_levels(*vc, 16u, moved, up, uc, level_V[(w_from >> 16) & 0xFFu], lc, dt_per_T);
+    }
 }
 
 /* The fraction of a rising edge that is late, from the leg's current (dead_time.h):
@@ -436,45 +458,56 @@ static inline real_t late_up_of(real_t i_A)
  * one this period applies, then between its two states when it applies both
  * (0 < duty0 < 1); the legs that commute are the bytes in which the states'
  * packed leg codes differ (issue 11: no duty compare with one state, no
- * per-leg code test when nothing commutes). Writes the stator voltage @p v
+ * per-leg code test when nothing commutes). Each leg takes its mix, drop, first
+ * edge and split edge in that order, the legs apart from one another; the
+ * path that applies st0 first is apart from the others, and the levels read
+ * for the mix (last_act's codes: the states' own, ctl_step writes them
+ * together) are the edges' end levels (issue 11: -13.6 per tick as flashed,
+ * results bit-identical). Writes the stator voltage @p v
  * (alpha-beta: one Clarke transform of the three legs), V; returns the state
- * this period ends on (st1 unless duty0 is 1). */
-static uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const real_t level_V[3],
-                                   const hal_sample *x, real_t v[2])
+ * this period ends on (st1 unless duty0 is 1). Inline: without the hint GCC
+ * kept it out of ctl_step (issue 11). */
+static inline uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg, const real_t level_V[3],
+                                          const hal_sample *x, real_t v[2])
 {
     uint8_t st0 = s->last_state[0], st1 = s->last_state[1];
-    uint32_t w0 = dtc3l_state_legs_packed[st0], w1 = dtc3l_state_legs_packed[st1];
-    uint32_t w_first = w1;         /* the first state applied: st1 unless duty0 > 0 */
-    uint32_t moved_split = 0u;     /* the legs commuting between the two states */
+    uint32_t w1 = dtc3l_state_legs_packed[st1];
+    uint32_t w_from = dtc3l_state_legs_packed[s->end_state];
     uint8_t end = st1;
+    real_t drop4_V = cfg->drop4_V; /* 0 with the drops off */
+    real_t dt = cfg->dead_time_per_T;
+    real_t ua = late_up_of(x->ia_A), ub = late_up_of(x->ib_A), uc = late_up_of(x->ic_A);
     /* the legs' voltages as scalars (an array stayed in memory: issue 11); the codes
      * read from last_act where they are needed (fewer registers held) */
     const uint8_t *l0 = s->last_act.vector[0].leg, *l1 = s->last_act.vector[1].leg;
-    real_t va = level_V[l1[0]], vb = level_V[l1[1]], vc = level_V[l1[2]];
+    real_t la1 = level_V[l1[0]], lb1 = level_V[l1[1]], lc1 = level_V[l1[2]];
+    real_t d0 = s->last_act.duty0;
+    real_t va = la1, vb = lb1, vc = lc1;
+    real_t la0 = R(0.0), lb0 = R(0.0), lc0 = R(0.0); /* st0's levels: read, and used, only when st0 != st1 */
     if (st0 != st1) {
-        real_t d0 = s->last_act.duty0;
-        va = num_mac(d0, level_V[l0[0]] - va, va);
-        vb = num_mac(d0, level_V[l0[1]] - vb, vb);
-        vc = num_mac(d0, level_V[l0[2]] - vc, vc);
-        if (d0 > R(0.0)) {
-            if (d0 < R(1.0))
-                moved_split = w0 ^ w1;
-            w_first = w0;
-        }
-        end = period_end_state(st0, st1, d0);
+        la0 = level_V[l0[0]], lb0 = level_V[l0[1]], lc0 = level_V[l0[2]];
+        va = num_mac(d0, la0 - la1, la1);
+        vb = num_mac(d0, lb0 - lb1, lb1);
+        vc = num_mac(d0, lc0 - lc1, lc1);
     }
-    real_t drop4_V = cfg->drop4_V; /* 0 with the drops off */
-    real_t ua = late_up_of(x->ia_A), ub = late_up_of(x->ib_A), uc = late_up_of(x->ic_A);
     va = num_mac(drop4_V, ua, va);
     vb = num_mac(drop4_V, ub, vb);
     vc = num_mac(drop4_V, uc, vc);
-    uint32_t w_from = dtc3l_state_legs_packed[s->end_state];
-    uint32_t moved_first = w_from ^ w_first;
-    if ((moved_first | moved_split) != 0u) {
-        real_t dt = cfg->dead_time_per_T;
-        va = leg_edges(va, 0u, w_from, w_first, moved_first, w0, w1, moved_split, ua, level_V, dt);
-        vb = leg_edges(vb, 8u, w_from, w_first, moved_first, w0, w1, moved_split, ub, level_V, dt);
-        vc = leg_edges(vc, 16u, w_from, w_first, moved_first, w0, w1, moved_split, uc, level_V, dt);
+    if (st0 == st1 || !(d0 > R(0.0))) { /* the period starts on st1 */
+        first_edges(&va, &vb, &vc, w_from, w1, la1, lb1, lc1, ua, ub, uc, level_V, dt);
+        if (st0 != st1)
+            end = period_end_state(st0, st1, d0); /* st0 for a NaN duty */
+    } else { /* st0 first */
+        uint32_t w0 = dtc3l_state_legs_packed[st0];
+        first_edges(&va, &vb, &vc, w_from, w0, la0, lb0, lc0, ua, ub, uc, level_V, dt);
+        if (d0 < R(1.0)) { /* then st0 -> st1, on the levels read for the mix */
+            uint32_t moved = w0 ^ w1, up = rising_bytes(w0, w1);
+            va = leg_edge_on_levels(va, 0u, moved, up, ua, la0, la1, dt);
+            vb = leg_edge_on_levels(vb, 8u, moved, up, ub, lb0, lb1, dt);
+            vc = leg_edge_on_levels(vc, 16u, moved, up, uc, lc0, lc1, dt);
+        } else {
+            end = st0;
+        }
     }
     v[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
     v[1] = num_mul(NUM_INV_SQRT3, vb - vc);

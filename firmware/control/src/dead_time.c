@@ -48,7 +48,7 @@ static bool period_split(const hal_actuation *act)
 
 /* Leg by leg (leg_add) on zeros, with the softened signs worked out here; the
  * observer's reconstruction (ctl.c apply_real_inverter) works the same edges out
- * inline with dead_time_edge_moving. */
+ * inline with dead_time_edge_levels. */
 void dead_time_leg_error(const hal_actuation *prev, const hal_actuation *act, const real_t i_A[3], real_t vc1_V,
                          real_t vc2_V, real_t dt_per_T, real_t band_A, real_t dv_V[3])
 {

@@ -22,6 +22,7 @@
 #ifndef DTC_DEAD_TIME_H
 #define DTC_DEAD_TIME_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "dtc/num.h"
@@ -48,16 +49,23 @@ void dead_time_leg_error(const hal_actuation *prev, const hal_actuation *act, co
                          real_t vc2_V, real_t dt_per_T, real_t band_A, real_t dv_V[3]);
 
 /**
- * One edge a -> b (leg codes 0..2, a != b) of a leg: @p v_V (V) less the late
- * part of the step, (level_V[b] - level_V[a]) dt_per_T x the late fraction
- * (@p late_up for a rising edge, 1 - late_up for a falling one). For a caller
- * that knows the leg moves (ctl.c: the legs whose codes differ). Context: ANY (pure).
+ * One edge of a leg between the levels @p from_V -> @p to_V (V): @p v_V (V) less
+ * the late part of the step, (to_V - from_V) dt_per_T x the late fraction
+ * (@p late_up when @p rising, 1 - late_up otherwise). For a caller that has the
+ * levels read already (ctl.c). Context: ANY (pure).
  */
+static inline real_t dead_time_edge_levels(bool rising, real_t late_up, real_t from_V, real_t to_V, real_t dt_per_T,
+                                           real_t v_V)
+{
+    real_t late = rising ? late_up : R(1.0) - late_up;
+    return num_mac(-num_mul(dt_per_T, late), to_V - from_V, v_V);
+}
+
+/* One edge a -> b (leg codes 0..2, a != b) of a leg, on the levels of the codes. */
 static inline real_t dead_time_edge_moving(uint32_t a, uint32_t b, real_t late_up, const real_t level_V[3],
                                            real_t dt_per_T, real_t v_V)
 {
-    real_t late = b > a ? late_up : R(1.0) - late_up;
-    return num_mac(-num_mul(dt_per_T, late), level_V[b] - level_V[a], v_V);
+    return dead_time_edge_levels(b > a, late_up, level_V[a], level_V[b], dt_per_T, v_V);
 }
 
 /* One edge a -> b of a leg: subtracts the late part of the step from @p v_V. */
