@@ -9,8 +9,8 @@ set(CMAKE_SIZE arm-none-eabi-size CACHE FILEPATH "")
 set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 
 set(DTC_CPU_FLAGS "-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard")
-# DTC_EXTRA_C_FLAGS (cache, empty by default): C flags added to these on a
-# first configure, for measuring compiler options (tools/pil_bench.sh's
+# DTC_EXTRA_C_FLAGS (-D at a first configure; none when not given): C flags
+# added to these, for measuring compiler options (tools/pil_bench.sh's
 # DTC_PIL_CFLAGS builds into its own directory with them).
 set(CMAKE_C_FLAGS_INIT "${DTC_CPU_FLAGS} -ffunction-sections -fdata-sections -fno-math-errno -fsingle-precision-constant ${DTC_EXTRA_C_FLAGS}")
 set(CMAKE_CXX_FLAGS_INIT "${DTC_CPU_FLAGS} -ffunction-sections -fdata-sections")

@@ -31,15 +31,16 @@
 #        DTC_PIL_REC_DIR      where to keep the recordings (default build/host/pil-rec)
 #        DTC_PIL_CFLAGS       C flags added to the target's (all of dtc-pil's C code), for
 #                             measuring a compiler option: dtc-pil.elf is then built afresh
-#                             in build/stm32g4-cflags (the shipped build is not touched);
-#                             the recordings still come from build/host
+#                             in build/stm32g4-cflags every time, even with DTC_PIL_NO_BUILD
+#                             (the shipped build is not touched); the recordings still come
+#                             from build/host (built unless DTC_PIL_NO_BUILD=1)
 # exit:  dtc-pil's status (0 ok, 1 counter self-check failed, 2 bad recording or usage,
 #        3 exception on the emulated core, 4 outputs differ from the host
 #        build's), 124 on timeout, 127 missing tools, or dtc-sim's status.
 set -eu
 
 if [ $# -ne 0 ]; then
-  echo "usage: tools/pil_bench.sh   (no arguments; env DTC_PIL_NO_BUILD, DTC_PIL_REC_DIR)" >&2
+  echo "usage: tools/pil_bench.sh   (no arguments; env DTC_PIL_NO_BUILD, DTC_PIL_REC_DIR, DTC_PIL_CFLAGS)" >&2
   exit 2
 fi
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -55,9 +56,9 @@ if [ -n "$missing" ]; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
     echo "pil_bench.sh: installing missing tools:$missing" >&2
     apt-get update -qq
-    apt-get install -y -qq gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm cmake ninja-build >&2
+    apt-get install -y -qq gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm cmake ninja-build python3 >&2
   else
-    echo "pil_bench.sh: missing:$missing (apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm cmake ninja-build)" >&2
+    echo "pil_bench.sh: missing:$missing (apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm cmake ninja-build python3)" >&2
     exit 127
   fi
 fi
@@ -71,7 +72,7 @@ if [ -n "${DTC_PIL_CFLAGS:-}" ]; then
   cflags_build=$root/build/stm32g4-cflags
   rm -rf "$cflags_build"
   cmake -S "$root" -B "$cflags_build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="$root/cmake/arm-none-eabi.cmake" \
-    -DCMAKE_BUILD_TYPE=Release "-DDTC_EXTRA_C_FLAGS=$DTC_PIL_CFLAGS" >/dev/null >&2
+    -DCMAKE_BUILD_TYPE=Release "-DDTC_EXTRA_C_FLAGS=$DTC_PIL_CFLAGS" >/dev/null
   cmake --build "$cflags_build" --target dtc-pil >&2
   elf=$cflags_build/dtc-pil.elf
   echo "dtc-pil.elf built with the target's C flags and: $DTC_PIL_CFLAGS"
@@ -116,15 +117,16 @@ files=""
 for ctl in ip nominal rbfn; do
   for name in $names; do
     record "$name" "$ctl"
-    files="$files,arg=$rec/${name}_$ctl.rec"
+    files="$files,arg=${name}_$ctl.rec" # relative to QEMU's directory (below): no path in the
+    # semihosting command line, whose commas and spaces separate its arguments
   done
 done
 
 echo "recorded with $sim; replaying on $elf"
 status=0
-timeout 1800 qemu-system-arm -M mps2-an386 -nographic -monitor none -serial none \
+(cd "$rec" && timeout 1800 qemu-system-arm -M mps2-an386 -nographic -monitor none -serial none \
   -semihosting-config "enable=on,target=native,arg=dtc-pil$files" \
-  -icount shift=7 -kernel "$elf" 2>&1 || status=$?
+  -icount shift=7 -kernel "$elf" 2>&1) || status=$?
 if [ "$status" = 124 ]; then
   echo "pil_bench.sh: QEMU timed out" >&2
 fi

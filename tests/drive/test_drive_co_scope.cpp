@@ -119,6 +119,66 @@ TEST(DriveCoScope, ManualTriggerDecimationAndIntegerSignals)
     }
 }
 
+// Every kind in one capture: two byte signals sharing a word (the vector at
+// byte 0, the run state at byte 1), two 32-bit ones. The interrupt stores each
+// channel's word as it is; the reader must pick each byte out of its word.
+TEST(DriveCoScope, EveryKindInOneCaptureEachValueItsOwn)
+{
+    Bench b;
+    set_channels(b, {20, 21, 23, 22}); // vector, run state (UNSIGNED8), tick, faults (UNSIGNED32)
+    ASSERT_FALSE(b.download(0x2600, 5, {0}).aborted());    // manual
+    ASSERT_FALSE(b.download(0x2600, 6, {0, 0}).aborted()); // no pretrigger
+    ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted());
+    ASSERT_FALSE(b.download(0x2600, 8, {2}).aborted()); // trigger now
+    drive_snapshot &s = b.d->snap;
+    for (int i = 0; i < 1100 && b.read_u32(0x2600, 9) != SCOPE_DONE; i++) {
+        s.tick++;
+        s.tel.vector_index = uint8_t((s.tick * 7u) % 27u);
+        s.tel.state = uint8_t(s.tick % 4u);
+        s.tel.faults = (1u << 20) | s.tick; // exact as a float (below 2^24)
+        scope_sample(&b.d->scope, &b.d->snap, 0.0f, 0u, s.tick);
+    }
+    ASSERT_EQ(b.read_u32(0x2600, 9), uint32_t(SCOPE_DONE));
+    auto data = as_floats(b.upload_segmented(0x2601, 0));
+    ASSERT_EQ(data.size(), 4u * 1024u);
+    for (uint32_t j = 0; j < 1024; j++) {
+        uint32_t tick = uint32_t(data[2048 + j]);
+        EXPECT_EQ(data[j], float((tick * 7u) % 27u)) << j;
+        EXPECT_EQ(data[1024 + j], float(tick % 4u)) << j;
+        EXPECT_EQ(data[3072 + j], float((1u << 20) | tick)) << j;
+        if (j > 0) {
+            EXPECT_EQ(data[2048 + j] - data[2048 + j - 1], 1.0f) << j;
+        }
+    }
+}
+
+// Every telemetry signal the scope can capture: the word the interrupt copies
+// is an aligned one inside the snapshot, and holds the signal (a byte signal
+// at its place in it), against the object dictionary's offset.
+TEST(DriveCoScope, EverySignalsWordIsAlignedAndInsideTheSnapshot)
+{
+    int armed = 0;
+    for (uint8_t sig = 1; sig <= CO_TEL_COUNT; sig++) {
+        SCOPED_TRACE(int(sig));
+        Bench b;
+        set_channels(b, {sig});
+        const co_param *p = co_od_find(&drive_od, uint16_t(CO_TEL_INDEX), sig, nullptr);
+        ASSERT_NE(p, nullptr);
+        if (p->bind != DRIVE_BIND_SNAP) {
+            EXPECT_TRUE(b.download(0x2600, 8, {1}).aborted()) << "a signal not in the snapshot cannot be armed";
+            continue;
+        }
+        ASSERT_FALSE(b.download(0x2600, 8, {1}).aborted());
+        const scope &sc = b.d->scope;
+        EXPECT_EQ(sc.word_at[0] % 4u, 0u);
+        EXPECT_LE(sc.word_at[0] + 4u, sizeof(drive_snapshot));
+        EXPECT_EQ(uint32_t(sc.word_at[0]) + sc.byte_in_word[0], uint32_t(p->offset));
+        EXPECT_EQ(sc.byte_in_word[0] != 0u, p->csize == 1u && p->offset % 4u != 0u);
+        armed++;
+    }
+    EXPECT_GE(armed, 20);
+}
+
 TEST(DriveCoScope, FaultTriggerOnTheRisingEdge)
 {
     Bench b;

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -70,6 +71,7 @@ struct Core {
     }
     // ctl_step's voltage for @p c: a running core whose latched actuation is
     // c's. False when the step tripped (then the voltage was not summed).
+    // s.end_state is then the state that period ended on.
     bool voltage(const Case &c, double v_ab[2])
     {
         ctl_init(&s, &cfg);
@@ -130,6 +132,7 @@ struct Result {
     bool real_inverter = false; // the configuration builds the voltage leg by leg, without NP prediction
     int tripped = 0;            // periods whose step tripped (their voltage not summed)
     int edges = 0;              // periods whose dead time moved the voltage (the cases reach the edges)
+    int wrong_end = 0;          // periods whose end state (the next period's edges start there) is not the last applied
     double worst_V = 0.0;       // largest |v_ctl - v_ref|
     std::string worst_case;     // ... and where
 };
@@ -146,6 +149,9 @@ Result compare(float dead_time_s, float v_drop_V)
             r.tripped++;
             continue;
         }
+        // the state applied last: st1 after a split or st1 alone, st0 alone at duty 1
+        if (core.s.end_state != (c.duty0 < 1.0f ? c.st1 : c.st0))
+            r.wrong_end++;
         reference(c, v_drop_V, dt_per_T, want);
         reference(c, v_drop_V, 0.0, ideal);
         if (std::hypot(want[0] - ideal[0], want[1] - ideal[1]) > 0.1)
@@ -176,6 +182,7 @@ TEST(CtlInverterModel, VoltageMatchesTheDeadTimeReferenceWithDrops)
     Result r = compare(2e-6f, 1.0f);
     ASSERT_TRUE(r.real_inverter);
     EXPECT_EQ(r.tripped, 0);
+    EXPECT_EQ(r.wrong_end, 0);
     EXPECT_LT(r.worst_V, kBoundV) << r.worst_case;
     EXPECT_GT(r.edges, 1000) << "too few periods with dead-time edges to judge";
 }
@@ -185,6 +192,7 @@ TEST(CtlInverterModel, VoltageMatchesTheDeadTimeReferenceWithoutDrops)
     Result r = compare(3e-6f, 0.0f);
     ASSERT_TRUE(r.real_inverter);
     EXPECT_EQ(r.tripped, 0);
+    EXPECT_EQ(r.wrong_end, 0);
     EXPECT_LT(r.worst_V, kBoundV) << r.worst_case;
     EXPECT_GT(r.edges, 1000) << "too few periods with dead-time edges to judge";
 }
@@ -194,6 +202,29 @@ TEST(CtlInverterModel, VoltageMatchesTheDropsWithoutDeadTime)
     Result r = compare(0.0f, 1.5f);
     ASSERT_TRUE(r.real_inverter);
     EXPECT_EQ(r.tripped, 0);
+    EXPECT_EQ(r.wrong_end, 0);
     EXPECT_LT(r.worst_V, kBoundV) << r.worst_case;
     EXPECT_EQ(r.edges, 0) << "no dead time: no edges";
+}
+
+// A NaN duty counts as 1 (st0 applied alone), as wherever the duty is tested
+// against 1: the period ends on st0, and the next one's edges start there.
+TEST(CtlInverterModel, NanDutyEndsOnTheFirstState)
+{
+    Core core(2e-6f, 1.0f);
+    Case c{};
+    c.end = 13; // OOO
+    c.st0 = 22; // POO
+    c.st1 = 12; // OON
+    c.duty0 = std::numeric_limits<float>::quiet_NaN();
+    c.i[0] = 5.0f;
+    c.i[1] = -2.0f;
+    c.i[2] = -3.0f;
+    c.vc1 = c.vc2 = 155.5f;
+    double v[2];
+    (void)core.voltage(c, v); // the voltage is NaN; the end state is what is judged here
+    EXPECT_EQ(core.s.end_state, c.st0);
+    c.duty0 = 0.25f;
+    (void)core.voltage(c, v);
+    EXPECT_EQ(core.s.end_state, c.st1);
 }

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 
+#include "dtc/bringup.h"
 #include "dtc/ctl.h"
 #include "dtc/dtc3l.h"
 
@@ -140,6 +141,54 @@ TEST(CtlRunState, FirstVectorsAfterStartAreSafe)
         EXPECT_FALSE(dtc3l_pn_step(prev, s0));
         EXPECT_FALSE(dtc3l_pn_step(s0, s1));
         prev = s1;
+    }
+}
+
+// The latched actuation's leg codes are its states' (last_act.vector[k] is
+// last_state[k]) after every tick, whatever path wrote them: running,
+// magnetising, gates off after a stop or a fault, and every bring-up level.
+// The real inverter's voltage (ctl.c apply_real_inverter) reads levels from
+// the codes and edge directions from the states and relies on it.
+bool latched_codes_match(const ctl_state &s)
+{
+    return dtc3l_state_of(&s.last_act.vector[0]) == s.last_state[0] &&
+           dtc3l_state_of(&s.last_act.vector[1]) == s.last_state[1];
+}
+
+TEST(CtlRunState, LatchedActuationIsTheLatchedStatesOnEveryPath)
+{
+    for (uint32_t level = BRINGUP_GATE_TEST; level <= BRINGUP_SPEED; ++level) {
+        SCOPED_TRACE(level);
+        Core c; // the defaults: the real inverter's compensation on
+        c.cfg.bringup_level = level;
+        ctl_cfg_derive(&c.cfg);
+        ASSERT_TRUE(c.cfg.real_inverter);
+        ctl_init(&c.s, &c.cfg);
+        ctl_in in = Core::nominal();
+        int n_on = 0;
+        for (int i = 0; i < 3000; ++i) { // through magnetising (or the bring-up steps) into running
+            in.sample.ia_A = 4.0f * std::sin(0.01f * float(i));
+            in.sample.ib_A = 4.0f * std::sin(0.01f * float(i) - 2.0944f);
+            in.sample.ic_A = -in.sample.ia_A - in.sample.ib_A;
+            c.step(in);
+            ASSERT_TRUE(latched_codes_match(c.s)) << "tick " << i;
+            n_on += c.out.gate_enable ? 1 : 0;
+        }
+        if (level == BRINGUP_ADC) {
+            EXPECT_EQ(n_on, 0) << "the ADC readout never switches";
+        } else {
+            EXPECT_GT(n_on, 1000);
+        }
+        in.run = false; // a stop: gates off
+        c.step(in);
+        EXPECT_TRUE(latched_codes_match(c.s));
+        in.run = true;
+        for (int i = 0; i < 20; ++i)
+            c.step(in);
+        in.overrun = true; // a fault: gates off
+        c.step(in);
+        EXPECT_NE(c.out.tel.faults, 0u);
+        EXPECT_TRUE(latched_codes_match(c.s));
     }
 }
 

@@ -485,7 +485,9 @@ static inline uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg
     real_t va = la1, vb = lb1, vc = lc1;
     real_t la0 = R(0.0), lb0 = R(0.0), lc0 = R(0.0); /* st0's levels: read, and used, only when st0 != st1 */
     if (st0 != st1) {
-        la0 = level_V[l0[0]], lb0 = level_V[l0[1]], lc0 = level_V[l0[2]];
+        la0 = level_V[l0[0]];
+        lb0 = level_V[l0[1]];
+        lc0 = level_V[l0[2]];
         va = num_mac(d0, la0 - la1, la1);
         vb = num_mac(d0, lb0 - lb1, lb1);
         vc = num_mac(d0, lc0 - lc1, lc1);

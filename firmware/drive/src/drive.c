@@ -128,6 +128,9 @@ static inline void snapshot_derive(drive_snapshot *s, uint32_t which)
         s->vdc_V = s->vc1_V + s->vc2_V;
 }
 
+/* The scope copies whole 4-byte words of the snapshot (a byte signal's: the aligned
+ * word that holds it, scope_arm), so the snapshot must be whole words. */
+_Static_assert(sizeof(drive_snapshot) % 4u == 0u, "the snapshot is a whole number of words");
 #define SNAP_AT(f) offsetof(drive_snapshot, f)
 #define SAMPLE_AT(f) (offsetof(drive_snapshot, in) + offsetof(ctl_in, sample) + offsetof(hal_sample, f))
 _Static_assert(SNAP_AT(ia_A) == SAMPLE_AT(ia_A) && SNAP_AT(ib_A) == SAMPLE_AT(ib_A) &&

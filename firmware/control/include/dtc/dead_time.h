@@ -61,7 +61,8 @@ static inline real_t dead_time_edge_levels(bool rising, real_t late_up, real_t f
     return num_mac(-num_mul(dt_per_T, late), to_V - from_V, v_V);
 }
 
-/* One edge a -> b (leg codes 0..2, a != b) of a leg, on the levels of the codes. */
+/** One edge a -> b (leg codes 0..2, a != b) of a leg, on the codes' levels
+ *  @p level_V (V): dead_time_edge_levels. Context: ANY (pure). */
 static inline real_t dead_time_edge_moving(uint32_t a, uint32_t b, real_t late_up, const real_t level_V[3],
                                            real_t dt_per_T, real_t v_V)
 {

@@ -71,14 +71,14 @@ typedef struct {
     /* capture settings: written by BG in IDLE/DONE, read by the ISR */
     uint16_t word_at[SCOPE_CHANNELS];   /**< byte offset of the 4-byte word the ISR copies per channel (a U8
                                              source's aligned word; 0 for the channels not in use) */
-    /* for the reader only (BG) */
-    uint8_t kind[SCOPE_CHANNELS];       /**< scope_src_kind of each channel in use */
-    uint8_t byte_in_word[SCOPE_CHANNELS]; /**< a U8 source's byte within its word, 0..3 */
-    uint8_t armed_channel[SCOPE_CHANNELS]; /**< signal numbers of the capture (for the reader) */
-    uint8_t n_ch;                       /**< channels in use */
     uint8_t trigger;                    /**< scope_trigger of the capture */
     uint16_t pretrigger;
     uint16_t decimation;
+    /* the capture's description, for the reader (BG) */
+    uint8_t kind[SCOPE_CHANNELS];       /**< scope_src_kind of each channel (F32 for those not in use) */
+    uint8_t byte_in_word[SCOPE_CHANNELS]; /**< a U8 source's byte within its word, 0..3 */
+    uint8_t armed_channel[SCOPE_CHANNELS]; /**< signal numbers of the capture */
+    uint8_t n_ch;                       /**< channels in use */
 
     /* hand-over */
     volatile uint8_t state;             /**< scope_state */
