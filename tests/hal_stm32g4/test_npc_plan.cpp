@@ -99,56 +99,74 @@ void reference_plan(const npc_timing &tm, uint8_t prev, uint8_t v0, uint8_t v1, 
     out.end = t == tm.per ? v0 : v1;
 }
 
-void expect_same_as_reference(const npc_timing &tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0)
+// The case's name in a failure message.
+std::string case_of(uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0)
+{
+    return "prev " + std::to_string(int(prev)) + " v0 " + std::to_string(int(v0)) + " v1 " + std::to_string(int(v1)) +
+           " t0 " + std::to_string(t0) + ": ";
+}
+
+// npc_plan_leg's plan equals the rules' (reference_plan) field by field.
+::testing::AssertionResult same_as_reference(const npc_timing &tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0)
 {
     npc_leg_plan p, r;
     npc_plan_leg(&tm, prev, v0, v1, t0, &p);
     reference_plan(tm, prev, v0, v1, t0, r);
-    SCOPED_TRACE(::testing::Message() << "prev " << int(prev) << " v0 " << int(v0) << " v1 " << int(v1) << " t0 " << t0);
+    const std::string at = case_of(prev, v0, v1, t0);
     for (unsigned k = 0; k < 2; k++) {
-        ASSERT_EQ(p.set[k], r.set[k]) << "pair " << k;
-        ASSERT_EQ(p.rst[k], r.rst[k]) << "pair " << k;
+        if (p.set[k] != r.set[k] || p.rst[k] != r.rst[k])
+            return ::testing::AssertionFailure() << at << "pair " << k << " set/rst " << int(p.set[k]) << "/"
+                                                 << int(p.rst[k]) << ", the rules " << int(r.set[k]) << "/"
+                                                 << int(r.rst[k]);
     }
-    ASSERT_EQ(p.t, r.t);
-    ASSERT_EQ(p.v0, r.v0);
-    ASSERT_EQ(p.v1, r.v1);
-    ASSERT_EQ(p.end, r.end);
-    ASSERT_EQ(p.fixups, r.fixups);
+    if (p.t != r.t || p.v0 != r.v0 || p.v1 != r.v1 || p.end != r.end || p.fixups != r.fixups)
+        return ::testing::AssertionFailure() << at << "t " << p.t << " v0 " << int(p.v0) << " v1 " << int(p.v1)
+                                             << " end " << int(p.end) << " fixups " << p.fixups << ", the rules t "
+                                             << r.t << " v0 " << int(r.v0) << " v1 " << int(r.v1) << " end "
+                                             << int(r.end) << " fixups " << r.fixups;
+    return ::testing::AssertionSuccess();
 }
 
-void check_one(uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0)
+// The plan for one case is safe on the simulated leg (no S1 and S4 together, no
+// P<->N step), switches outside the keep-outs, and applies what was asked
+// unless that was a P<->N step (then it says it fixed it up).
+::testing::AssertionResult plan_is_safe(uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0)
 {
     npc_leg_plan p;
     npc_plan_leg(&kTm, prev, v0, v1, t0, &p);
     std::vector<int> seq = simulate(prev, p);
-    SCOPED_TRACE(::testing::Message() << "prev " << int(prev) << " v0 " << int(v0) << " v1 " << int(v1) << " t0 " << t0);
-    for (int s : seq)
-        ASSERT_NE(s, -1) << "S1 and S4 on together";
-    ASSERT_FALSE(is_pn(seq[0], seq[1])) << "P<->N at the period start";
-    ASSERT_FALSE(is_pn(seq[1], seq[2])) << "P<->N at the switching instant";
-    ASSERT_EQ(seq[2], p.end);
+    const std::string at = case_of(prev, v0, v1, t0);
+    auto fail = [&at](const char *what) { return ::testing::AssertionFailure() << at << what; };
+    for (int st : seq)
+        if (st == -1)
+            return fail("S1 and S4 on together");
+    if (is_pn(seq[0], seq[1]))
+        return fail("P<->N at the period start");
+    if (is_pn(seq[1], seq[2]))
+        return fail("P<->N at the switching instant");
+    if (seq[2] != p.end)
+        return fail("the leg does not end where the plan says");
     bool has_t = ((p.set[0] | p.rst[0] | p.set[1] | p.rst[1]) & NPC_EV_T) != 0;
-    if (has_t) {
-        ASSERT_GE(p.t, kTm.keepout) << "switching inside the sampling window";
-        ASSERT_LE(p.t + kTm.min_pulse, kTm.per) << "second pulse too short";
-    }
+    if (has_t && p.t < kTm.keepout)
+        return fail("switching inside the sampling window");
+    if (has_t && p.t + kTm.min_pulse > kTm.per)
+        return fail("second pulse too short");
     bool asked_pn = is_pn(prev, v0) || is_pn(v0, v1);
-    if (!asked_pn) {
-        // What was asked is applied, with the instant moved by at most the keep-out or the minimum pulse.
-        ASSERT_EQ(p.v0, v0);
-        ASSERT_EQ(p.v1, v1);
-        if (v0 != v1) {
-            uint32_t t_eff = p.t;
-            uint32_t err = t_eff > t0 ? t_eff - t0 : t0 - t_eff;
-            ASSERT_LE(err, kTm.keepout > kTm.min_pulse ? kTm.keepout : kTm.min_pulse);
-            if (t0 >= kTm.keepout && t0 + kTm.min_pulse <= kTm.per) {
-                ASSERT_EQ(p.t, t0) << "an instant outside the keep-outs is not moved";
-            }
-            ASSERT_EQ(seq[2], p.t == kTm.per ? v0 : v1);
-        }
-    } else {
-        ASSERT_GT(p.fixups, 0u);
+    if (asked_pn)
+        return p.fixups > 0u ? ::testing::AssertionSuccess() : fail("a P<->N request not fixed up");
+    // What was asked is applied, with the instant moved by at most the keep-out or the minimum pulse.
+    if (p.v0 != v0 || p.v1 != v1)
+        return fail("the states asked for are not applied");
+    if (v0 != v1) {
+        uint32_t err = p.t > t0 ? p.t - t0 : t0 - p.t;
+        if (err > (kTm.keepout > kTm.min_pulse ? kTm.keepout : kTm.min_pulse))
+            return fail("the instant moved by more than the keep-out or the minimum pulse");
+        if (t0 >= kTm.keepout && t0 + kTm.min_pulse <= kTm.per && p.t != t0)
+            return fail("an instant outside the keep-outs is moved");
+        if (seq[2] != (p.t == kTm.per ? v0 : v1))
+            return fail("the leg ends on the wrong state");
     }
+    return ::testing::AssertionSuccess();
 }
 
 TEST(NpcPlan, EveryStateTripleAndInstant)
@@ -157,9 +175,9 @@ TEST(NpcPlan, EveryStateTripleAndInstant)
         for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
             for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
                 for (uint32_t t0 = 0; t0 <= kTm.per; t0 += 17)
-                    check_one(prev, v0, v1, t0);
+                    ASSERT_TRUE(plan_is_safe(prev, v0, v1, t0));
                 for (uint32_t t0 : {1u, 594u, 595u, 596u, 1189u, 1190u, 1191u, 33659u, 33660u, 33661u, 33999u})
-                    check_one(prev, v0, v1, t0);
+                    ASSERT_TRUE(plan_is_safe(prev, v0, v1, t0));
             }
 }
 
@@ -172,10 +190,10 @@ TEST(NpcPlan, TableEqualsTheRulesForEveryTripleAndInstant)
             for (uint8_t v0 = 0; v0 <= NPC_P; v0++)
                 for (uint8_t v1 = 0; v1 <= NPC_P; v1++) {
                     for (uint32_t t0 = 0; t0 <= tm.per + 2u; t0 += (tm.per > 1000u ? 7u : 1u))
-                        expect_same_as_reference(tm, prev, v0, v1, t0);
+                        ASSERT_TRUE(same_as_reference(tm, prev, v0, v1, t0));
                     for (uint32_t t0 : {tm.keepout / 2u - 1u, tm.keepout / 2u, tm.keepout - 1u, tm.keepout,
                                         tm.per - tm.min_pulse, tm.per - tm.min_pulse + 1u, tm.per, 0xFFFFFFFFu})
-                        expect_same_as_reference(tm, prev, v0, v1, t0);
+                        ASSERT_TRUE(same_as_reference(tm, prev, v0, v1, t0));
                 }
 }
 

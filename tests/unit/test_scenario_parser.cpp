@@ -24,13 +24,20 @@ const double kPi = 3.14159265358979323846;
 // "t.ini:LINE: " prefix of an error message.
 std::string at(int line) { return "t.ini:" + std::to_string(line) + ": "; }
 
-void expect_error(const std::string &text, int line, const std::string &what)
+// The parse of @p text fails with one line of message naming t.ini:LINE and
+// containing @p what (asserted at the call: EXPECT_TRUE(fails_with(...))).
+::testing::AssertionResult fails_with(const std::string &text, int line, const std::string &what)
 {
     auto l = parse_text(text);
-    EXPECT_EQ(l.rc, SCENARIO_EINPUT) << text;
-    EXPECT_EQ(l.error.rfind(at(line), 0), 0u) << "message: " << l.error << "\nfor:\n" << text;
-    EXPECT_NE(l.error.find(what), std::string::npos) << "message: " << l.error << "\nwanted: " << what;
-    EXPECT_EQ(l.error.find('\n'), std::string::npos) << "one line only: " << l.error;
+    if (l.rc != SCENARIO_EINPUT)
+        return ::testing::AssertionFailure() << "rc " << l.rc << ", not SCENARIO_EINPUT, for:\n" << text;
+    if (l.error.rfind(at(line), 0) != 0u)
+        return ::testing::AssertionFailure() << "message: " << l.error << "\nnot at " << at(line) << "for:\n" << text;
+    if (l.error.find(what) == std::string::npos)
+        return ::testing::AssertionFailure() << "message: " << l.error << "\nwanted: " << what;
+    if (l.error.find('\n') != std::string::npos)
+        return ::testing::AssertionFailure() << "one line only: " << l.error;
+    return ::testing::AssertionSuccess();
 }
 
 } // namespace
@@ -328,105 +335,105 @@ TEST(ScenarioParser, FaultEntries)
 // line naming the file and the line of the offending key.
 TEST(ScenarioParser, NewKeyErrors)
 {
-    expect_error("[load]\ncoulomb_Nm = -1\n", 2, "[load] coulomb_Nm must be >= 0");
-    expect_error("[load]\nviscous_Nms = 0\nfan_Nms2 = -0.1\n", 3, "[load] fan_Nms2 must be >= 0");
-    expect_error("[load]\nfan_Nms2 = 1000\n", 2, "out of range");
-    expect_error("[load]\nfan_Nms2 = nan\n", 2, "malformed number");
-    expect_error("[load]\nviscous_Nms = 1e999\n", 2, "malformed number");
-    expect_error("[load]\nramp = 2 1 5\n", 2, "end time 1 s must be after the start 2 s");
-    expect_error("[load]\nramp = 1 3 5\nstep = 2 1\n", 3, "out of time order (the ramp on line 2 ends at 3 s)");
-    expect_error("[load]\nramp = 1 3\n", 2, "expected 'ramp = T0_S T1_S NM', got 2 values");
-    expect_error("[load]\nramp = 1 3 20000\n", 2, "out of range");
-    expect_error("[events]\nRs_ramp = 2 8 1.5\nRs_scale = 5 1.2\n", 3, "starts inside the ramp on line 2");
-    expect_error("[events]\nRs_ramp = 2 8 1.5\nRr_scale = 1 1.2\n", 3, "out of time order");
-    expect_error("[events]\nLm_ramp = 2 2 1.5\n", 2, "end time");
-    expect_error("[events]\nLm_scale = 1 0\n", 2, "factor 0 is out of range");
-    expect_error("[events]\nJ_ramp = 1 2 -1\n", 2, "factor");
-    expect_error("[events]\nRr_ramp = 1 x 1.5\n", 2, "malformed number 'x'");
-    expect_error("[inverter]\ndead_time_s = -1e-6\n", 2, "[inverter] dead_time_s must be in [0, 5e-05] s");
-    expect_error("[inverter]\ndead_time_s = 1e-3\n", 2, "out of range");
-    expect_error("[inverter]\n\nv_on_V = -0.5\n", 3, "[inverter] v_on_V must be in [0, 50] V");
-    expect_error("[inverter]\nv_on_V = 1\nv_on_V = 2\n", 3, "set twice (first on line 2)");
-    expect_error("[inverter]\nswitch_s = 1\n", 2, "unknown key 'switch_s' in section [inverter]");
-    expect_error("[motor]\nLm_sat_psi_Wb = -0.7\n", 2, "[motor] Lm_sat_psi_Wb must be >= 0");
-    expect_error("[motor]\nLm_sat_exponent = 1\n", 2, "[motor] Lm_sat_exponent must be in [2, 20]");
-    expect_error("[motor]\nLm_sat_exponent = 21\n", 2, "out of range");
-    expect_error("[faults]\ngain = 1 d 2\n", 2, "unknown channel 'd' (expected a, b, c, vc1 or vc2)");
-    expect_error("[faults]\ngain = 1 a 0\n", 2, "factor 0 is out of range");
-    expect_error("[faults]\ngain = 1 a\n", 2, "expected 'gain = T_S CHANNEL FACTOR', got 2 values");
-    expect_error("[faults]\noffset = 1 vc1 2e4\n", 2, "out of range");
-    expect_error("[faults]\noffset = 1 vc1 inf\n", 2, "malformed number 'inf'");
-    expect_error("[faults]\nstuck = 1 a 5\n", 2, "expected 'stuck = T_S CHANNEL', got 3 values");
-    expect_error("[faults]\nlost = -1 a\n", 2, "time -1 s is out of range");
-    expect_error("[faults]\nvdc = 1 0\n", 2, "vdc: 0 V is out of range");
-    expect_error("[faults]\nvdc = 1\n", 2, "expected 'vdc = T_S VOLTS', got 1 value");
-    expect_error("[faults]\nstale = 1 2\n", 2, "expected 'stale = T_S', got 2 values");
-    expect_error("[faults]\noverrun = 1 2\n", 2, "expected 'overrun = T_S', got 2 values");
-    expect_error("[faults]\noverrun = -1\n", 2, "time -1 s is out of range");
-    expect_error("[faults]\nhw = 1 maybe\n", 2, "expected on or off, got 'maybe'");
-    expect_error("[faults]\nvdc = 2 250\nstale = 1\n", 3, "out of time order (line 2 is at 2 s)");
-    expect_error("[faults]\nopen_phase = 1 vc1\n", 2, "unknown phase 'vc1' (expected a, b or c)");
-    expect_error("[faults]\nopen_phase = 1\n", 2, "expected 'open_phase = T_S PHASE', got 1 value");
-    expect_error("[faults]\nbroken = 1 a\n", 2, "unknown key 'broken' in section [faults]");
-    expect_error("[fault]\nstale = 1\n", 1 + 1, "unknown section [fault]");
+    EXPECT_TRUE(fails_with("[load]\ncoulomb_Nm = -1\n", 2, "[load] coulomb_Nm must be >= 0"));
+    EXPECT_TRUE(fails_with("[load]\nviscous_Nms = 0\nfan_Nms2 = -0.1\n", 3, "[load] fan_Nms2 must be >= 0"));
+    EXPECT_TRUE(fails_with("[load]\nfan_Nms2 = 1000\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[load]\nfan_Nms2 = nan\n", 2, "malformed number"));
+    EXPECT_TRUE(fails_with("[load]\nviscous_Nms = 1e999\n", 2, "malformed number"));
+    EXPECT_TRUE(fails_with("[load]\nramp = 2 1 5\n", 2, "end time 1 s must be after the start 2 s"));
+    EXPECT_TRUE(fails_with("[load]\nramp = 1 3 5\nstep = 2 1\n", 3, "out of time order (the ramp on line 2 ends at 3 s)"));
+    EXPECT_TRUE(fails_with("[load]\nramp = 1 3\n", 2, "expected 'ramp = T0_S T1_S NM', got 2 values"));
+    EXPECT_TRUE(fails_with("[load]\nramp = 1 3 20000\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[events]\nRs_ramp = 2 8 1.5\nRs_scale = 5 1.2\n", 3, "starts inside the ramp on line 2"));
+    EXPECT_TRUE(fails_with("[events]\nRs_ramp = 2 8 1.5\nRr_scale = 1 1.2\n", 3, "out of time order"));
+    EXPECT_TRUE(fails_with("[events]\nLm_ramp = 2 2 1.5\n", 2, "end time"));
+    EXPECT_TRUE(fails_with("[events]\nLm_scale = 1 0\n", 2, "factor 0 is out of range"));
+    EXPECT_TRUE(fails_with("[events]\nJ_ramp = 1 2 -1\n", 2, "factor"));
+    EXPECT_TRUE(fails_with("[events]\nRr_ramp = 1 x 1.5\n", 2, "malformed number 'x'"));
+    EXPECT_TRUE(fails_with("[inverter]\ndead_time_s = -1e-6\n", 2, "[inverter] dead_time_s must be in [0, 5e-05] s"));
+    EXPECT_TRUE(fails_with("[inverter]\ndead_time_s = 1e-3\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[inverter]\n\nv_on_V = -0.5\n", 3, "[inverter] v_on_V must be in [0, 50] V"));
+    EXPECT_TRUE(fails_with("[inverter]\nv_on_V = 1\nv_on_V = 2\n", 3, "set twice (first on line 2)"));
+    EXPECT_TRUE(fails_with("[inverter]\nswitch_s = 1\n", 2, "unknown key 'switch_s' in section [inverter]"));
+    EXPECT_TRUE(fails_with("[motor]\nLm_sat_psi_Wb = -0.7\n", 2, "[motor] Lm_sat_psi_Wb must be >= 0"));
+    EXPECT_TRUE(fails_with("[motor]\nLm_sat_exponent = 1\n", 2, "[motor] Lm_sat_exponent must be in [2, 20]"));
+    EXPECT_TRUE(fails_with("[motor]\nLm_sat_exponent = 21\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[faults]\ngain = 1 d 2\n", 2, "unknown channel 'd' (expected a, b, c, vc1 or vc2)"));
+    EXPECT_TRUE(fails_with("[faults]\ngain = 1 a 0\n", 2, "factor 0 is out of range"));
+    EXPECT_TRUE(fails_with("[faults]\ngain = 1 a\n", 2, "expected 'gain = T_S CHANNEL FACTOR', got 2 values"));
+    EXPECT_TRUE(fails_with("[faults]\noffset = 1 vc1 2e4\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[faults]\noffset = 1 vc1 inf\n", 2, "malformed number 'inf'"));
+    EXPECT_TRUE(fails_with("[faults]\nstuck = 1 a 5\n", 2, "expected 'stuck = T_S CHANNEL', got 3 values"));
+    EXPECT_TRUE(fails_with("[faults]\nlost = -1 a\n", 2, "time -1 s is out of range"));
+    EXPECT_TRUE(fails_with("[faults]\nvdc = 1 0\n", 2, "vdc: 0 V is out of range"));
+    EXPECT_TRUE(fails_with("[faults]\nvdc = 1\n", 2, "expected 'vdc = T_S VOLTS', got 1 value"));
+    EXPECT_TRUE(fails_with("[faults]\nstale = 1 2\n", 2, "expected 'stale = T_S', got 2 values"));
+    EXPECT_TRUE(fails_with("[faults]\noverrun = 1 2\n", 2, "expected 'overrun = T_S', got 2 values"));
+    EXPECT_TRUE(fails_with("[faults]\noverrun = -1\n", 2, "time -1 s is out of range"));
+    EXPECT_TRUE(fails_with("[faults]\nhw = 1 maybe\n", 2, "expected on or off, got 'maybe'"));
+    EXPECT_TRUE(fails_with("[faults]\nvdc = 2 250\nstale = 1\n", 3, "out of time order (line 2 is at 2 s)"));
+    EXPECT_TRUE(fails_with("[faults]\nopen_phase = 1 vc1\n", 2, "unknown phase 'vc1' (expected a, b or c)"));
+    EXPECT_TRUE(fails_with("[faults]\nopen_phase = 1\n", 2, "expected 'open_phase = T_S PHASE', got 1 value"));
+    EXPECT_TRUE(fails_with("[faults]\nbroken = 1 a\n", 2, "unknown key 'broken' in section [faults]"));
+    EXPECT_TRUE(fails_with("[fault]\nstale = 1\n", 1 + 1, "unknown section [fault]"));
 }
 
 TEST(ScenarioParser, ErrorsNameFileAndLine)
 {
-    expect_error("[sim]\nduration_s = 1\n[foo]\nx = 1\n", 4, "unknown section [foo]");
-    expect_error("[motor]\n# inertia\nfoo = 1\n", 3, "unknown key 'foo'");
-    expect_error("[sim]\nduration_s = 1.0x\n", 2, "malformed number '1.0x'");
-    expect_error("[sim]\nduration_s = nan\n", 2, "malformed number");
-    expect_error("[sim]\nduration_s = inf\n", 2, "malformed number");
-    expect_error("[sim]\nduration_s = -inf\n", 2, "malformed number");
-    expect_error("[sim]\nduration_s = 1e999\n", 2, "malformed number");
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = 1\n[foo]\nx = 1\n", 4, "unknown section [foo]"));
+    EXPECT_TRUE(fails_with("[motor]\n# inertia\nfoo = 1\n", 3, "unknown key 'foo'"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = 1.0x\n", 2, "malformed number '1.0x'"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = nan\n", 2, "malformed number"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = inf\n", 2, "malformed number"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = -inf\n", 2, "malformed number"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = 1e999\n", 2, "malformed number"));
 }
 
 TEST(ScenarioParser, MoreErrors)
 {
-    expect_error("[sim]\nduration_s =\n", 2, "missing value");
-    expect_error("[sim]\nduration_s = 0\n", 2, "out of range");
-    expect_error("[sim]\n\nduration_s = 700\n", 3, "out of range");
-    expect_error("[sim]\nperiod_s = 150.5e-6\n", 2, "whole number of microseconds");
-    expect_error("[sim]\nperiod_s = 1e-3\ntrace_interval_s = 2e-4\n", 3, "must be >= period_s");
-    expect_error("[sim]\nperiod_s = 1e-5\n", 2, "out of range");
-    expect_error("[sim]\nseed = -1\n", 2, "out of range");
-    expect_error("[sim]\nseed = 1.5\n", 2, "whole number");
-    expect_error("[sim]\nduration_s = 1\nduration_s = 2\n", 3, "set twice (first on line 2)");
-    expect_error("[motor]\nJ_kgm2 = -0.045\n", 2, "J_kgm2 must be > 0");
-    expect_error("[motor]\nRs_ohm = 0.3\nB_Nms = -1\n", 3, "B_Nms must be >= 0");
-    expect_error("[motor]\npole_pairs = 2.5\n", 2, "whole number");
-    expect_error("[motor]\npole_pairs = 0\n", 2, "out of range");
-    expect_error("[drive]\nc1_F = 0.002\nvdc_V = 0\n", 3, "vdc_V must be > 0");
-    expect_error("[sensors]\ni_gain_b = 0\n", 2, "i_gain_b must be > 0");
-    expect_error("[sensors]\nadc_bits = 17\n", 2, "out of range");
-    expect_error("[supply]\nmode = dc\n", 2, "unknown mode 'dc'");
-    expect_error("[supply]\nf_Hz = -60\n", 2, "f_Hz must be >= 0");
-    expect_error("[controller]\nname = pid\n", 2, "unknown controller 'pid'");
-    expect_error("[events]\nJ_scale = 2.5 1.4\nB_scale = 1.0 1.4\n", 3, "out of time order");
-    expect_error("[events]\nJ_scale = 2.5 0\n", 2, "factor");
-    expect_error("[events]\nJ_scale = -1 2\n", 2, "out of range");
-    expect_error("[events]\nK_scale = 1 2\n", 2, "unknown key 'K_scale'");
-    expect_error("[reference]\nramp = 0 1 500\nstep = 0.5 100\n", 3, "out of time order");
-    expect_error("[reference]\nramp = 1 0.5 500\n", 2, "end time");
-    expect_error("[reference]\nstep = 1\n", 2, "expected 'step = T_S RPM', got 1 value");
-    expect_error("[reference]\nstep = 1 fast\n", 2, "malformed number 'fast'");
-    expect_error("[load]\nstep = 1 2 3\n", 2, "got 3 values");
-    expect_error("[load]\nstep = 2 1\nstep = 1 5\n", 3, "out of time order");
-    expect_error("[metrics]\nwindow = a 1 0.5\n", 2, "T0_S < T1_S");
-    expect_error("[metrics]\nwindow = a-b 0 1\n", 2, "letters, digits");
-    expect_error("[metrics]\nwindow = a 0 1\nwindow = a 1 2\n", 3, "defined twice");
-    expect_error("[metrics]\nwindow = a 0\n", 2, "expected");
-    expect_error("[control]\nfoo = 1\n", 2, "unknown key 'foo'");
-    expect_error("[control]\nip_zeta = -1\n", 2, "out of range");
-    expect_error("[control]\nrbfn_n_nodes = 2.5\n", 2, "whole number");
-    expect_error("[control]\nripple_reduction = maybe\n", 2, "expected true or false");
-    expect_error("[control]\nip_zeta = 0.8\nip_zeta = 0.9\n", 3, "set twice (first on line 2)");
-    expect_error("duration_s = 1\n", 1, "outside a section");
-    expect_error("[sim]\nthis line has no equals sign\n", 2, "syntax error");
-    expect_error("[sim\nduration_s = 1\n", 1, "syntax error");
-    expect_error("[sim]\nduration_s = 1\n# " + std::string(300, 'x') + "\nperiod_s = 1e-4\n", 3, "line too long");
-    expect_error("[sim]\nduration_s = " + std::string(250, '1') + "\n", 2, "line too long");
+    EXPECT_TRUE(fails_with("[sim]\nduration_s =\n", 2, "missing value"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = 0\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[sim]\n\nduration_s = 700\n", 3, "out of range"));
+    EXPECT_TRUE(fails_with("[sim]\nperiod_s = 150.5e-6\n", 2, "whole number of microseconds"));
+    EXPECT_TRUE(fails_with("[sim]\nperiod_s = 1e-3\ntrace_interval_s = 2e-4\n", 3, "must be >= period_s"));
+    EXPECT_TRUE(fails_with("[sim]\nperiod_s = 1e-5\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[sim]\nseed = -1\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[sim]\nseed = 1.5\n", 2, "whole number"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = 1\nduration_s = 2\n", 3, "set twice (first on line 2)"));
+    EXPECT_TRUE(fails_with("[motor]\nJ_kgm2 = -0.045\n", 2, "J_kgm2 must be > 0"));
+    EXPECT_TRUE(fails_with("[motor]\nRs_ohm = 0.3\nB_Nms = -1\n", 3, "B_Nms must be >= 0"));
+    EXPECT_TRUE(fails_with("[motor]\npole_pairs = 2.5\n", 2, "whole number"));
+    EXPECT_TRUE(fails_with("[motor]\npole_pairs = 0\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[drive]\nc1_F = 0.002\nvdc_V = 0\n", 3, "vdc_V must be > 0"));
+    EXPECT_TRUE(fails_with("[sensors]\ni_gain_b = 0\n", 2, "i_gain_b must be > 0"));
+    EXPECT_TRUE(fails_with("[sensors]\nadc_bits = 17\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[supply]\nmode = dc\n", 2, "unknown mode 'dc'"));
+    EXPECT_TRUE(fails_with("[supply]\nf_Hz = -60\n", 2, "f_Hz must be >= 0"));
+    EXPECT_TRUE(fails_with("[controller]\nname = pid\n", 2, "unknown controller 'pid'"));
+    EXPECT_TRUE(fails_with("[events]\nJ_scale = 2.5 1.4\nB_scale = 1.0 1.4\n", 3, "out of time order"));
+    EXPECT_TRUE(fails_with("[events]\nJ_scale = 2.5 0\n", 2, "factor"));
+    EXPECT_TRUE(fails_with("[events]\nJ_scale = -1 2\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[events]\nK_scale = 1 2\n", 2, "unknown key 'K_scale'"));
+    EXPECT_TRUE(fails_with("[reference]\nramp = 0 1 500\nstep = 0.5 100\n", 3, "out of time order"));
+    EXPECT_TRUE(fails_with("[reference]\nramp = 1 0.5 500\n", 2, "end time"));
+    EXPECT_TRUE(fails_with("[reference]\nstep = 1\n", 2, "expected 'step = T_S RPM', got 1 value"));
+    EXPECT_TRUE(fails_with("[reference]\nstep = 1 fast\n", 2, "malformed number 'fast'"));
+    EXPECT_TRUE(fails_with("[load]\nstep = 1 2 3\n", 2, "got 3 values"));
+    EXPECT_TRUE(fails_with("[load]\nstep = 2 1\nstep = 1 5\n", 3, "out of time order"));
+    EXPECT_TRUE(fails_with("[metrics]\nwindow = a 1 0.5\n", 2, "T0_S < T1_S"));
+    EXPECT_TRUE(fails_with("[metrics]\nwindow = a-b 0 1\n", 2, "letters, digits"));
+    EXPECT_TRUE(fails_with("[metrics]\nwindow = a 0 1\nwindow = a 1 2\n", 3, "defined twice"));
+    EXPECT_TRUE(fails_with("[metrics]\nwindow = a 0\n", 2, "expected"));
+    EXPECT_TRUE(fails_with("[control]\nfoo = 1\n", 2, "unknown key 'foo'"));
+    EXPECT_TRUE(fails_with("[control]\nip_zeta = -1\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[control]\nrbfn_n_nodes = 2.5\n", 2, "whole number"));
+    EXPECT_TRUE(fails_with("[control]\nripple_reduction = maybe\n", 2, "expected true or false"));
+    EXPECT_TRUE(fails_with("[control]\nip_zeta = 0.8\nip_zeta = 0.9\n", 3, "set twice (first on line 2)"));
+    EXPECT_TRUE(fails_with("duration_s = 1\n", 1, "outside a section"));
+    EXPECT_TRUE(fails_with("[sim]\nthis line has no equals sign\n", 2, "syntax error"));
+    EXPECT_TRUE(fails_with("[sim\nduration_s = 1\n", 1, "syntax error"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = 1\n# " + std::string(300, 'x') + "\nperiod_s = 1e-4\n", 3, "line too long"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = " + std::string(250, '1') + "\n", 2, "line too long"));
 }
 
 TEST(ScenarioParser, AcceptsCommentsBlankLinesAndCrLf)

@@ -462,8 +462,8 @@ static inline real_t late_up_of(real_t i_A)
  * edge and split edge in that order, the legs apart from one another; the
  * path that applies st0 first is apart from the others, and the levels read
  * for the mix (last_act's codes: the states' own, ctl_step writes them
- * together) are the edges' end levels (issue 11: -13.6 per tick as flashed,
- * results bit-identical). Writes the stator voltage @p v
+ * together) are the edges' end levels (issue 11; the results are the same bits
+ * as leg by leg in one pass). Writes the stator voltage @p v
  * (alpha-beta: one Clarke transform of the three legs), V; returns the state
  * this period ends on (st1 unless duty0 is 1). Inline: without the hint GCC
  * kept it out of ctl_step (issue 11). */

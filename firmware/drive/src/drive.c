@@ -19,7 +19,7 @@ static inline void publish_fence(void) { atomic_signal_fence(memory_order_seq_cs
 
 /* The control period in HAL cycles, for the overrun statistic (BG: keeps the
  * float-to-integer work out of the interrupt). Through uint32_t: a float ->
- * uint64 cast would pull in soft-double code on the M4F. */
+ * uint64 cast would pull in a software 64-bit float routine on the M4F. */
 static uint32_t period_in_cycles(const ctl_cfg *cfg)
 {
     uint32_t period_us = (uint32_t)(cfg->period_s * 1e6f + 0.5f);

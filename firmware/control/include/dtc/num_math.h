@@ -12,7 +12,7 @@
  * the same bits. They are also short (no calls, no tables).
  *
  * Error bounds (checked by tests/unit/test_num_math.cpp against the
- * double-precision libm over the stated ranges):
+ * 64-bit libm over the stated ranges):
  *  - num_expf: relative error <= 3e-7 (about 2.5 ulp) for x in [-87, 88];
  *    0 below -87.3 (no denormals), +inf above 88.72, NaN for NaN.
  *  - num_sinf, num_cosf: absolute error <= 4e-7 for |x| <= 2 pi (the V/f angle

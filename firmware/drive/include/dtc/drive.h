@@ -8,7 +8,7 @@
  *
  * Background (drive_background): communication, persistence, housekeeping.
  * The background never writes state the interrupt is using: configuration is
- * double-buffered (edit the inactive copy, then publish it with one store),
+ * kept in two copies (edit the inactive one, then publish it with one store),
  * and the interrupt picks the published copy up at the start of its next tick.
  */
 #ifndef DTC_DRIVE_H
@@ -104,7 +104,7 @@ typedef struct {
 } drive_timing;
 
 typedef struct drive {
-    ctl_cfg cfg[2];                 /**< double-buffered configuration */
+    ctl_cfg cfg[2];                 /**< configuration: the published copy and the one being edited */
     volatile uint32_t cfg_active;   /**< index of the copy the ISR uses (0 or 1) */
     uint32_t period_cycles[2];      /**< cfg[i].period_s in HAL cycles, derived by drive_cfg_commit
                                          (so the ISR's timing statistic needs no 64-bit division) */
