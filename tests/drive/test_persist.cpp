@@ -118,7 +118,14 @@ TEST(Persist, SavedValuesSurviveAPowerCycle)
 
 // Cut a save after every possible number of bytes, from two starting points:
 // one valid slot, and two valid slots (the save then overwrites the older).
-void cut_everywhere(int saves_before)
+// Each cut's boot is checked here; the tally is the test's to judge.
+struct CutTally {
+    long total = 0;      // bytes a complete save writes
+    long last_diff = -1; // the last of them that differs from what the slot held
+    int n_old = 0, n_new = 0;
+};
+
+void cut_everywhere(int saves_before, CutTally &t)
 {
     Bench b;
     const Set sets[3] = {kA, kB, kC};
@@ -137,6 +144,7 @@ void cut_everywhere(int saves_before)
     b.board.nvm_write_budget = 1000000;
     ASSERT_EQ(persist_save(b.d.get()), HAL_OK);
     long total = 1000000 - b.board.nvm_write_budget;
+    t.total = total;
     ASSERT_GT(total, long(PERSIST_HEADER_SIZE));
     const uint32_t base = saves_before == 1 ? HAL_HOST_NVM_SIZE / 2 : 0u; // the slot not holding the newest
     long last_diff = -1;
@@ -144,8 +152,8 @@ void cut_everywhere(int saves_before)
         if (b.board.nvm[base + i] != image[base + i])
             last_diff = i;
     ASSERT_GE(last_diff, long(PERSIST_HEADER_SIZE)) << "the payload changes";
+    t.last_diff = last_diff;
 
-    int n_old = 0, n_new = 0;
     for (long cut = 0; cut <= total; cut++) {
         std::memcpy(b.board.nvm, image.data(), image.size());
         b.board.nvm_write_budget = cut;
@@ -157,8 +165,8 @@ void cut_everywhere(int saves_before)
         bool is_old = same(got, old_set), is_new = same(got, new_set);
         EXPECT_TRUE(is_old || is_new) << "cut after " << cut << " bytes: a mixed or default set";
         EXPECT_NE(d2->persist.status, uint8_t(PERSIST_CORRUPT)) << cut;
-        n_old += is_old;
-        n_new += is_new;
+        t.n_old += is_old;
+        t.n_new += is_new;
         // Header and payload go in one write, the header's CRC covering the
         // payload: while a byte of the slot still differs from its final value
         // the slot does not validate and the old set is the one; once the last
@@ -171,12 +179,25 @@ void cut_everywhere(int saves_before)
             EXPECT_TRUE(is_new) << cut;
         }
     }
-    EXPECT_EQ(n_new, total - last_diff);
-    EXPECT_EQ(n_old, last_diff + 1);
 }
 
-TEST(Persist, SaveCutAtEveryByteFromOneValidSlot) { cut_everywhere(1); }
-TEST(Persist, SaveCutAtEveryByteFromTwoValidSlots) { cut_everywhere(2); }
+TEST(Persist, SaveCutAtEveryByteFromOneValidSlot)
+{
+    CutTally t;
+    cut_everywhere(1, t);
+    ASSERT_GT(t.total, long(PERSIST_HEADER_SIZE));
+    EXPECT_EQ(t.n_new, t.total - t.last_diff) << "the new set from the last differing byte on";
+    EXPECT_EQ(t.n_old, t.last_diff + 1) << "the old set before it";
+}
+
+TEST(Persist, SaveCutAtEveryByteFromTwoValidSlots)
+{
+    CutTally t;
+    cut_everywhere(2, t);
+    ASSERT_GT(t.total, long(PERSIST_HEADER_SIZE));
+    EXPECT_EQ(t.n_new, t.total - t.last_diff) << "the new set from the last differing byte on";
+    EXPECT_EQ(t.n_old, t.last_diff + 1) << "the old set before it";
+}
 
 TEST(Persist, FailedSaveIsReportedAndKeepsThePreviousSet)
 {
