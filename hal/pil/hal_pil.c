@@ -63,8 +63,8 @@ void hal_pil_set_inputs(const hal_sample *s, bool fresh, bool fault_input, bool 
 void hal_pil_tick_irq(void)
 {
     /* The target's sample_latch() takes the ADC results here and its
-     * hal_sample_read converts them straight into the reader's buffer (issue
-     * 11: one copy of the sample, not two); the PIL board's read copies the
+     * hal_sample_read converts them straight into the reader's buffer (one
+     * copy of the sample, not two); the PIL board's read copies the
      * recorded, already converted sample. */
     g_pil.sample_pending = g_pil.next_fresh;
     g_pil.next_fresh = false;
@@ -119,7 +119,7 @@ int hal_sample_read(hal_sample *out)
 }
 
 /* Leg @p leg's ready words of class @p c (not NPC_HELD) straight to its two
- * timers, CMP1 = @p t when @p cmp1 (issue 11: no plan struct in between). */
+ * timers, CMP1 = @p t when @p cmp1 (no plan struct in between, as on the target). */
 static inline void write_leg(uint32_t leg, const npc_leg_words *w, uint32_t c, bool cmp1, uint32_t t)
 {
     const uint32_t *reg = w->reg[c];
@@ -150,7 +150,7 @@ static __attribute__((noinline)) int program_period(const hal_actuation *act)
     const npc_leg_words *w3[3];
     uint32_t legs = npc_legs_words((const uint8_t *)act->vector, g_pil.last_leg, w3);
     if (legs == 0u)
-        return HAL_OK; /* every leg alone in its held state again: the timers hold its words (issue 11) */
+        return HAL_OK; /* every leg alone in its held state again: the timers hold its words */
     g_pil_update_disable = PIL_UDIS_ALL; /* as the target: CR1 holds nothing else */
     npc_program_legs(w3, legs, act->duty0, g_pil.per_f, &g_pil.usual, &g_pil.tm, write_leg);
     if ((legs & NPC_FLAG_FIXUPS) != 0u) { /* one test per period (a firmware bug if ever true) */

@@ -8,7 +8,7 @@
  *   qemu-system-arm -M mps2-an386 ... -icount shift=7 -kernel dtc-pil.elf
  *     -semihosting-config enable=on,target=native,arg=dtc-pil,arg=REC1,arg=REC2...
  * Each REC is a recorded closed-loop SIL run (`dtc-sim run SCENARIO
- * --record-samples REC`, format in tick_record.h). For every recorded tick the
+ * --record-samples REC`, format in recording/tick_record.h). For every recorded tick the
  * program hands the board the recorded sample, fault input and missed-deadline
  * flag, sets the drive fields the background owns (run, speed reference,
  * clear-faults and quick-stop requests) to their recorded values, and raises
@@ -44,7 +44,7 @@
 #include "hal_pil.h"
 #include "icount.h"
 #include "semihost.h"
-#include "tick_record.h"
+#include "recording/tick_record.h"
 
 enum { EXIT_OK = 0, EXIT_COUNTER = 1, EXIT_USAGE = 2, EXIT_MISMATCH = 4 };
 

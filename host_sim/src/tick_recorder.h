@@ -1,7 +1,7 @@
 /**
  * @file tick_recorder.h
  * @brief `dtc-sim run --record-samples FILE`: write every control tick's
- *        interrupt inputs and outputs (hal/pil/tick_record.h format) so the
+ *        interrupt inputs and outputs (recording/tick_record.h format) so the
  *        PIL programs can replay the closed-loop trajectory on the Cortex-M4F.
  */
 #ifndef SIM_TICK_RECORDER_H
@@ -13,7 +13,7 @@
 
 #include "dtc/drive.h"
 #include "hal_host/hal_host.h"
-#include "tick_record.h"
+#include "recording/tick_record.h"
 
 typedef struct {
     FILE *f;

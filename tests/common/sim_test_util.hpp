@@ -1,20 +1,18 @@
 // Helpers shared by the tests that drive the SIL engine or the dtc-sim
-// command line: scenario loading through the library API, temporary
-// directories, files, and running a command with its exit status.
+// command line: scenario loading through the library API, running a command
+// with its exit status, and (temp_files.hpp) temporary directories and files.
 #pragma once
 
 #include <sys/wait.h>
 
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "sim/scenario.h"
 #include "sim/sim.h"
+#include "temp_files.hpp"
 
 namespace simtest {
 
@@ -64,51 +62,6 @@ inline Loaded parse_text(const std::string &text, const std::vector<std::string>
 }
 
 inline std::string source_path(const std::string &rel) { return std::string(DTC_SOURCE_DIR) + "/" + rel; }
-
-// A fresh directory under the system temp dir, removed by the destructor.
-class TempDir {
-public:
-    TempDir()
-    {
-        std::string tmpl = "/tmp/dtc_test_XXXXXX";
-        std::vector<char> buf(tmpl.begin(), tmpl.end());
-        buf.push_back('\0');
-        const char *p = mkdtemp(buf.data());
-        path_ = p != nullptr ? p : "/tmp";
-    }
-    ~TempDir()
-    {
-        if (path_ != "/tmp")
-            std::system(("rm -rf '" + path_ + "'").c_str());
-    }
-    TempDir(const TempDir &) = delete;
-    TempDir &operator=(const TempDir &) = delete;
-    std::string file(const std::string &name) const { return path_ + "/" + name; }
-    const std::string &path() const { return path_; }
-
-private:
-    std::string path_;
-};
-
-inline void write_file(const std::string &path, const std::string &text)
-{
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-}
-
-inline bool file_exists(const std::string &path)
-{
-    std::ifstream f(path);
-    return f.good();
-}
-
-inline std::string read_file(const std::string &path)
-{
-    std::ifstream f(path, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
 
 struct CommandResult {
     int status = -1;    // exit status, or -1 if it did not exit normally

@@ -29,7 +29,7 @@ BIN = os.environ.get("DTC_HOST_BIN", os.path.join(SRC, "build", "host", "bin"))
 ELF = os.environ.get("DTC_PIL_ELF", os.path.join(SRC, "build", "stm32g4", "dtc-pil.elf"))
 CASE2 = os.path.join(SRC, "host_sim", "scenarios", "case2.ini")
 MIN_TICKS = 5000
-HEADER_BYTES, RECORD_BYTES = 96, 124  # hal/pil/tick_record.h
+HEADER_BYTES, RECORD_BYTES = 96, 124  # recording/include/recording/tick_record.h
 TE_REF_OFFSET = 64                    # byte offset of te_ref_Nm in a record (tick_record.c)
 
 

@@ -333,8 +333,9 @@ TEST(BusLoss, BusOffWithOptionNoneKeepsRunningOptionFaultCoastsIntoTheFaultState
 
 // A tuner's `dtctune set speed_ref_rpm 200` (SDO 0x2000:1, REAL32 rpm) lands
 // during the scenario's ramp (0.3 .. 0.8 s to 500 rpm): from then on the master
-// owns the reference, the profile no longer overrides it (before: the ramp's
-// next tick wrote 0..500 rpm over it, the README's session read back 486.9).
+// owns the reference and the profile does not override it (if it did, the ramp's
+// next tick would write 0..500 rpm over it and the README's session would read
+// back the ramp's value).
 TEST(BusLoss, ReferenceWrittenOverTheBusHoldsAgainstTheScenarioProfile)
 {
     Bus b;

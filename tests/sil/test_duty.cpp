@@ -75,7 +75,7 @@ TEST(Duty, OverhaulingLoadIsFlaggedAsRunaway)
 // so neither the overspeed trip (on the estimate) nor the loss-of-control monitor (not judged at
 // low stator frequency) sees it; the stall trip does, from the torque command pinned at the limit.
 // The firmware's low-speed measures (regenerating-mode stabilisation, lowered flux near zero
-// stator frequency, dead-time compensation) now hold this point; they are switched off here to
+// stator frequency, dead-time compensation) hold this point; they are switched off here to
 // keep the runaway that the stall trip must catch.
 // Whether and when the runaway starts is chaotic: a one-ulp change in the RBFN basis moved the
 // first escape that is not caught from about 2 s to 4.4 s (7 s covers both), and over 1 % changes

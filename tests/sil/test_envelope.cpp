@@ -1,7 +1,7 @@
-// The drive over its whole operating envelope (issue 8 part 2), with the
-// firmware DEFAULTS: the scenario files set only the operating point.
-// One test per bullet of the issue, each with the issue's threshold, so the
-// test fails when the bullet fails. Design: docs/envelope.md.
+// The drive over its whole operating envelope, with the firmware DEFAULTS:
+// the scenario files set only the operating point. One test per requirement
+// of the envelope, each with its threshold, so the test fails when the
+// requirement fails. Design: docs/envelope.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -162,7 +162,7 @@ TEST(LossOfControl, FrozenButRightEstimateDoesNotTrip)
     EXPECT_NEAR(r.m.speed_final_rpm, 500.0, 10.0);
 }
 
-// The issue's runaway (30 rpm, 40 N m, IP): with the observer's
+// The sensorless runaway (30 rpm, 40 N m, IP): with the observer's
 // regenerating-mode stabilisation switched off it still diverges (the dip
 // takes the speed through zero, where the load drives the motor), and that
 // natural divergence ends in a loss-of-control trip instead of an unfaulted
@@ -185,9 +185,9 @@ TEST(LossOfControl, SensorlessRunawayTrips)
 // With the defaults the same case is held: no trip, no runaway, on speed.
 // Judged 2.5 s after the load, over the last 0.5 s: the IP's recovery from
 // its dip through zero (about -290 rpm) still swings by +-5 rpm 1 s after the
-// load (the scenario's 3 s end fell on a 34-35.5 rpm crest of it) and is on
+// load (the scenario's 3 s end falls on a 34-35.5 rpm crest of it) and is on
 // 30 rpm within 1 rpm from about 4.3 s.
-TEST(LossOfControl, IssueRunawayCaseIsHeldWithTheDefaults)
+TEST(LossOfControl, RunawayCaseIsHeldWithTheDefaults)
 {
     SimRun r = run_sim("runaway_trip.ini", SCENARIO_CTL_IP, {"sim.duration_s=4.5"});
     ASSERT_EQ(r.status, SIM_OK) << r.error;
@@ -403,11 +403,10 @@ double np_at(double rpm, double load_Nm, bool real_inverter)
 
 } // namespace
 
-// The NP bullet: within 2 % of Vdc (6.22 V) from 100 rpm to the nameplate
+// The NP requirement: within 2 % of Vdc (6.22 V) from 100 rpm to the nameplate
 // speed, motoring and generating up to the rated torque, on the ideal and
 // the real inverter (the nameplate and field-weakening runs check it too,
 // and tools/run-envelope.sh over the whole grid; docs/envelope.md section 5).
-// Before the intermediates were cut short: up to 15.9 V (700 rpm, 41 N m).
 TEST(NeutralPoint, WithinTwoPercentOfVdcMotoringAndGenerating)
 {
     for (bool real : {false, true})
@@ -480,7 +479,7 @@ TEST(Regenerating, RatedLoadDrivingTheMotorAt100RpmIsHeld)
 
 // A load driving the motor near zero stator frequency (rotor speed minus the
 // slip within about 1 Hz of zero): the speed is not observable there, and at
-// rated flux the estimate drifted for seconds (80 rpm with 41 N m ran at
+// rated flux the estimate drifts for seconds (80 rpm with 41 N m runs at
 // 118-123 rpm). The drive lowers the flux so that the stator frequency passes
 // through zero to the side opposing the rotation (ctl.c, regen_flux_factor):
 // held within 5 rpm for 10 s on both inverters. With the flux kept at rated
@@ -555,10 +554,9 @@ TEST(Regenerating, RatedLoadDrivingTheMotorAt100RpmTripsWhenTheEstimateIsLost)
         // Measured: real inverter STALL 0.20 s after the command reaches its limit
         // (the braking stall: off speed, then 0.1 s windows in which the estimate does
         // not fall); ideal inverter LOSS_OF_CONTROL 0.57 s after the load, before the
-        // command reached its limit (0.30 s after the limit and 0.47 s after the load,
-        // the other way round, before issue 11's round 4: which check sees it first is
-        // chaotic). The stall timer alone took 1.2-1.3 s (the shaft at 8,600-9,600 rpm
-        // by then), and before the braking stall nothing tripped.
+        // command reached its limit (which check sees it first is chaotic: a one-ulp
+        // change elsewhere can swap them). A stall timer alone (at the limit, off speed,
+        // 1 s in a row) takes 1.2-1.3 s, with the shaft at 8,600-9,600 rpm by then.
         EXPECT_GE(t_trip, 0.0);
         if (t_limit >= 0.0 && t_limit < t_trip)
             EXPECT_LE(t_trip - t_limit, 0.4);
@@ -571,8 +569,8 @@ TEST(Regenerating, RatedLoadDrivingTheMotorAt100RpmTripsWhenTheEstimateIsLost)
 // The other side of the stall checks: a heavy load (J x 50) reversed from
 // 600 to -600 rpm with a 20 N m torque limit brakes and then accelerates at
 // the limit for about 7 s. That is the drive doing its job, not a stall: the
-// speed error shrinks in every window. The old stall timer (at the limit, off
-// speed, 1 s in a row) tripped STALL after 1 s of it.
+// speed error shrinks in every window. A plain stall timer (at the limit, off
+// speed, 1 s in a row) would trip STALL after 1 s of it.
 TEST(Stall, ReversalOfAHeavyLoadAtTheTorqueLimitDoesNotTrip)
 {
     for (int c : {SCENARIO_CTL_RBFN, SCENARIO_CTL_IP}) {

@@ -78,7 +78,7 @@ TEST(Case2, RbfnLearnsTheUncertaintyAndRecoversFast)
     const sim_metrics &m = run("case2.ini", SCENARIO_CTL_RBFN);
     ASSERT_TRUE(m.has_disturbance);
     EXPECT_TRUE(m.recovered);
-    EXPECT_LE(m.recovery_time_s, 0.10); // issue 8: within 0.1 s (0.076 s with the sized RBFN)
+    EXPECT_LE(m.recovery_time_s, 0.10); // within 0.1 s (0.076 s with the sized RBFN)
     EXPECT_LE(m.steady_error_rpm, 2.0);
     EXPECT_LE(m.speed_est_error_rpm, 5.0);
     // eps_true is the plant's own eq.-5 uncertainty, about -180 rad/s^2.

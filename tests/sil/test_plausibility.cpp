@@ -1,7 +1,7 @@
-// Sensor plausibility (issue: a 10 A current offset, a current gain of 0.5 and
-// a capacitor voltage reading 10 % high went unnoticed; phase loss was not in
-// the catalogue). Each fault injected from a scenario trips exactly its own
-// bit, in a bounded time; the healthy run trips nothing.
+// Sensor plausibility: a 10 A current offset, a current gain of 0.5, a
+// capacitor voltage reading 10 % high and a lost phase. Each fault injected
+// from a scenario trips exactly its own bit, in a bounded time; the healthy
+// run trips nothing.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -56,7 +56,7 @@ TEST(Plausibility, HealthyRunTripsNothing)
 
 TEST(Plausibility, CurrentOffsetOnOnePhase)
 {
-    Trip t = run("[faults]\noffset = 0.8 a 10\n"); // the issue's 10 A offset
+    Trip t = run("[faults]\noffset = 0.8 a 10\n"); // a 10 A offset on phase a
     EXPECT_EQ(t.faults, uint32_t(CTL_FAULT_CURRENT_SENSOR));
     EXPECT_GE(t.t_trip, 0.8);
     EXPECT_LT(t.t_trip, 0.8 + 0.005) << "10 ticks of an implausible sum";
@@ -64,7 +64,7 @@ TEST(Plausibility, CurrentOffsetOnOnePhase)
 
 TEST(Plausibility, CurrentGainHalfOnOnePhase)
 {
-    Trip t = run("[faults]\ngain = 0.8 b 0.5\n"); // the issue's gain of 0.5
+    Trip t = run("[faults]\ngain = 0.8 b 0.5\n"); // a gain of 0.5 on phase b
     EXPECT_EQ(t.faults, uint32_t(CTL_FAULT_CURRENT_SENSOR));
     EXPECT_LT(t.t_trip, 0.8 + 0.05) << "within a quarter of an electrical period at 10 Hz";
 }

@@ -1,4 +1,4 @@
-// dtc-sim's tick recording (--record-samples, hal/pil/tick_record.h): what the PIL bench and the
+// dtc-sim's tick recording (--record-samples, recording/tick_record.h): what the PIL bench and the
 // equivalence tests replay. The file is read here byte by byte at the offsets the format states
 // and compared with what the drive held at each tick (seen through the engine's on_tick hook),
 // not with the recorder's own encoder.
@@ -14,7 +14,7 @@
 
 namespace {
 
-constexpr size_t kHeader = 96, kRecord = 124; // docs: hal/pil/tick_record.h
+constexpr size_t kHeader = 96, kRecord = 124; // docs: recording/tick_record.h
 
 struct Seen {
     std::vector<ctl_out> out;

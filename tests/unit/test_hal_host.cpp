@@ -12,7 +12,7 @@
 #include <time.h>
 
 #include "hal_host/hal_host.h"
-#include "sim_test_util.hpp"
+#include "temp_files.hpp"
 
 namespace {
 

@@ -203,7 +203,7 @@ TEST(RbfnBasisGrid, RefusesGridsThatAreNotUniformAndHandlesFarInputs)
 }
 
 // The recurrence's ratio q = exp(-d^2) must stay a normal float: with nodes
-// d = 10 widths apart it was 0 and the downward ratio q / r was 0 / 0 = NaN
+// d = 10 widths apart it is 0 and the downward ratio q / r is 0 / 0 = NaN
 // for every node at x = -5 (midway). Such a grid is refused (the caller then
 // takes rbfn_basis); the sparsest accepted ones, d^2 up to RBFN_GRID_D2_MAX,
 // match eq. 8 in double, midway between nodes too. d = 1e16 (whose exp

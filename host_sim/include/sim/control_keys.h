@@ -2,10 +2,12 @@
  * @file control_keys.h
  * @brief The [control] section of a scenario: firmware tunables by name.
  *
- * One registry (host_sim/src/control_keys.c) maps a scenario key to a field
- * of ctl_cfg (firmware/include/dtc/ctl.h) with its range and unit. To expose
- * another tunable, add one line there (and document it in docs/scenarios.md;
- * a test checks every key is documented).
+ * The scenario view of the registry: every key of recording/control_keys.def
+ * (the one list, shared with the recorded-tick file) with the range a
+ * scenario value must lie in, its unit and its ctl_cfg field's name. Indices
+ * are those of the portable registry (recording/control_keys.h). To expose
+ * another tunable, add one line to control_keys.def and document it in
+ * docs/scenarios.md (a test checks every key is documented).
  */
 #ifndef SIM_CONTROL_KEYS_H
 #define SIM_CONTROL_KEYS_H

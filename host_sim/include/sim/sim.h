@@ -55,7 +55,7 @@ enum sim_status {
 typedef struct {
     const char *csv_path;      /**< trace file (written to PATH.partial, renamed at the end); NULL: none */
     const char *metrics_path;  /**< metrics JSON (same .partial scheme); NULL: none */
-    /** Recorded-tick file (hal/pil/tick_record.h; same .partial scheme): every tick's
+    /** Recorded-tick file (recording/tick_record.h; same .partial scheme): every tick's
      *  interrupt inputs and outputs, for the PIL replay (tools/pil_bench.sh). NULL: none. */
     const char *record_path;
     /** Seconds before the run command (drive_set_run(true)); until then the drive

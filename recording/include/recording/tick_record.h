@@ -5,8 +5,11 @@
  *
  * `dtc-sim run FILE --record-samples OUT.rec` writes it (host_sim/src/
  * tick_recorder.c); hal/pil/pil_bench.c reads it on the Cortex-M4F under QEMU
- * (semihosting) and on the host (tests), feeds every tick's inputs to the real
- * interrupt (drive_isr) and compares its outputs with the recorded ones.
+ * (semihosting), feeds every tick's inputs to the real interrupt (drive_isr)
+ * and compares its outputs with the recorded ones. Both ends compile this
+ * encoding (recording/src/tick_record.c) from the same source, so they agree
+ * byte for byte. Written to the firmware's rules (C11, no 64-bit floating
+ * point, no heap, no mutable state); background context only.
  * Format (docs/pil.md), all little-endian, every field written one by one
  * (no struct images, except the configuration, see below):
  *
@@ -19,8 +22,8 @@
  *    36  char[60] scenario name, NUL padded
  *   configuration: n u32 words, the committed ctl_cfg's settable fields in a
  *     fixed order (tick_rec_cfg_encode): motor (8), period_s, vdc_nom_V,
- *     speed.mode, then every [control] key of host_sim/src/control_keys.c in
- *     registry order (float bits, u32, or 0/1). Not a struct image: the
+ *     speed.mode, then every [control] key of recording/control_keys.def in
+ *     its order (float bits, u32, or 0/1). Not a struct image: the
  *     layouts differ (arm-none-eabi uses 1-byte enums, x86-64 4-byte ones).
  *     The reader sets these fields on the default configuration and derives
  *     the rest (drive_cfg_commit), as dtc-sim's configure_firmware does.
@@ -28,8 +31,8 @@
  *   the fields in the order of the struct, u8 legs and flags, 3 pad bytes
  *   after vector_index.
  */
-#ifndef PIL_TICK_RECORD_H
-#define PIL_TICK_RECORD_H
+#ifndef RECORDING_TICK_RECORD_H
+#define RECORDING_TICK_RECORD_H
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -131,4 +134,4 @@ void tick_rec_cfg_apply(ctl_cfg *cfg, const uint32_t *words);
 }
 #endif
 
-#endif /* PIL_TICK_RECORD_H */
+#endif /* RECORDING_TICK_RECORD_H */

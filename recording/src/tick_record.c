@@ -3,11 +3,11 @@
  * @brief Encoding of the recorded-tick file (tick_record.h), field by field,
  *        little-endian, identical on the host and the Cortex-M4F.
  */
-#include "tick_record.h"
+#include "recording/tick_record.h"
 
 #include <string.h>
 
-#include "sim/control_keys.h"
+#include "recording/control_keys.h"
 
 /* ------------------------------------------------------------ primitives */
 
@@ -275,7 +275,7 @@ const char *tick_rec_diff(const tick_rec *got, const tick_rec *want)
 uint32_t tick_rec_cfg_words(void)
 {
     size_t n;
-    (void)sim_control_keys(&n);
+    (void)control_keys(&n);
     return TICK_REC_CFG_FIXED_WORDS + (uint32_t)n;
 }
 
@@ -298,10 +298,10 @@ void tick_rec_cfg_encode(const ctl_cfg *cfg, uint32_t *words)
         words[i] = f32_bits(*fixed_field(&tmp, i));
     words[i++] = (uint32_t)cfg->speed.mode;
     size_t n;
-    const sim_control_key *k = sim_control_keys(&n);
+    const control_key *k = control_keys(&n);
     for (size_t j = 0u; j < n; j++, i++) {
         const uint8_t *p = (const uint8_t *)cfg + k[j].offset;
-        if (k[j].type == SIM_CK_BOOL) {
+        if (k[j].type == CONTROL_KEY_BOOL) {
             bool b;
             memcpy(&b, p, sizeof b);
             words[i] = b ? 1u : 0u;
@@ -318,10 +318,10 @@ void tick_rec_cfg_apply(ctl_cfg *cfg, const uint32_t *words)
         memcpy(fixed_field(cfg, i), &words[i], sizeof(float));
     cfg->speed.mode = (speed_mode)words[i++];
     size_t n;
-    const sim_control_key *k = sim_control_keys(&n);
+    const control_key *k = control_keys(&n);
     for (size_t j = 0u; j < n; j++, i++) {
         uint8_t *p = (uint8_t *)cfg + k[j].offset;
-        if (k[j].type == SIM_CK_BOOL) {
+        if (k[j].type == CONTROL_KEY_BOOL) {
             bool b = words[i] != 0u;
             memcpy(p, &b, sizeof b);
         } else {
