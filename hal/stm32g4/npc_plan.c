@@ -8,11 +8,11 @@
  * that the table is a constant (flash) and cannot disagree with them.
  * a, b are leg states 0..2 (N, O, P). */
 
-/* a -> b is a direct P<->N step */
-#define PN(a, b) (((a) == NPC_P && (b) == NPC_N) || ((a) == NPC_N && (b) == NPC_P))
+/* a -> b is a direct P<->N step (dtc/npc.h) */
+#define PN(a, b) NPC_LEG_PN(a, b)
 /* Never a direct P<->N step: insert O (prev -> v0, then v0 -> v1). */
-#define V0(p, a) (PN(p, a) ? NPC_O : (a))
-#define V1(p, a, b) (PN(V0(p, a), b) ? NPC_O : (b))
+#define V0(p, a) NPC_LEG_SAFE(p, a)
+#define V1(p, a, b) NPC_LEG_SAFE(V0(p, a), b)
 /* Output 1 of pair k: S3 (k = 0) on in O and N, S2 (k = 1) on in P and O. */
 #define LVL(k, s) ((k) == 0u ? (s) != NPC_P : (s) != NPC_N)
 /* Level of pair k after the start event in instant class c (at t = 0 the second vector only). */

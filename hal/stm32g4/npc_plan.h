@@ -31,14 +31,11 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "dtc/npc.h" /* the leg codes NPC_N, NPC_O, NPC_P and the P<->N rule of one leg */
+
 /** Event bits, equal to the HRTIM SETx1R/RSTx1R bits CMP2 and CMP1. */
 #define NPC_EV_START (1u << 4)
 #define NPC_EV_T (1u << 3)
-
-/** Leg states (equal to hal_leg_state). */
-#define NPC_N 0u
-#define NPC_O 1u
-#define NPC_P 2u
 
 /**
  * True when each of the six leg codes at @p legs (the two vectors of an

@@ -20,7 +20,7 @@
 
 #include "dtc/ctl.h"
 #include "dtc/dead_time.h"
-#include "dtc/dtc3l.h"
+#include "dtc/npc.h"
 
 namespace {
 
@@ -39,11 +39,11 @@ double sat(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi :
 void reference(const Case &c, double v_drop_V, double dt_per_T, double v_ab[2])
 {
     hal_actuation prev{}, act{};
-    dtc3l_legs(c.end, &prev.vector[0]);
-    dtc3l_legs(c.end, &prev.vector[1]);
+    npc_legs(c.end, &prev.vector[0]);
+    npc_legs(c.end, &prev.vector[1]);
     prev.duty0 = 0.5f; // both vectors the end state: it ends there
-    dtc3l_legs(c.st0, &act.vector[0]);
-    dtc3l_legs(c.st1, &act.vector[1]);
+    npc_legs(c.st0, &act.vector[0]);
+    npc_legs(c.st1, &act.vector[1]);
     act.duty0 = c.duty0;
     float dv[3];
     dead_time_leg_error(&prev, &act, c.i, c.vc1, c.vc2, float(dt_per_T), float(kBandA), dv);
@@ -79,8 +79,8 @@ struct Core {
         s.end_state = c.end;
         s.last_state[0] = c.st0;
         s.last_state[1] = c.st1;
-        dtc3l_legs(c.st0, &s.last_act.vector[0]);
-        dtc3l_legs(c.st1, &s.last_act.vector[1]);
+        npc_legs(c.st0, &s.last_act.vector[0]);
+        npc_legs(c.st1, &s.last_act.vector[1]);
         s.last_act.duty0 = c.duty0;
         s.slow_slot = 1u; // not the monitor's window close (CTL_SLOT_GUARD): the sum only adds
         s.guard.sum_v_V[0] = s.guard.sum_v_V[1] = 0.0f;

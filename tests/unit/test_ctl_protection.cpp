@@ -10,7 +10,7 @@
 
 #include "dtc/bringup.h"
 #include "dtc/ctl.h"
-#include "dtc/dtc3l.h"
+#include "dtc/npc.h"
 
 namespace {
 
@@ -130,16 +130,16 @@ TEST(CtlRunState, FirstVectorsAfterStartAreSafe)
 {
     Core c;
     ctl_in in = Core::nominal();
-    uint8_t prev = DTC3L_STATE_OOO; // the board holds OOO while the gates are off
+    uint8_t prev = NPC_STATE_OOO; // the board holds OOO while the gates are off
     for (int i = 0; i < 50; ++i) {
         c.step(in);
         ASSERT_TRUE(c.out.gate_enable);
-        uint8_t s0 = dtc3l_state_of(&c.out.act.vector[0]);
-        uint8_t s1 = dtc3l_state_of(&c.out.act.vector[1]);
+        uint8_t s0 = npc_state_of(&c.out.act.vector[0]);
+        uint8_t s1 = npc_state_of(&c.out.act.vector[1]);
         ASSERT_LT(s0, 27);
         ASSERT_LT(s1, 27);
-        EXPECT_FALSE(dtc3l_pn_step(prev, s0));
-        EXPECT_FALSE(dtc3l_pn_step(s0, s1));
+        EXPECT_FALSE(npc_pn_step(prev, s0));
+        EXPECT_FALSE(npc_pn_step(s0, s1));
         prev = s1;
     }
 }
@@ -151,8 +151,8 @@ TEST(CtlRunState, FirstVectorsAfterStartAreSafe)
 // the codes and edge directions from the states and relies on it.
 bool latched_codes_match(const ctl_state &s)
 {
-    return dtc3l_state_of(&s.last_act.vector[0]) == s.last_state[0] &&
-           dtc3l_state_of(&s.last_act.vector[1]) == s.last_state[1];
+    return npc_state_of(&s.last_act.vector[0]) == s.last_state[0] &&
+           npc_state_of(&s.last_act.vector[1]) == s.last_state[1];
 }
 
 TEST(CtlRunState, LatchedActuationIsTheLatchedStatesOnEveryPath)

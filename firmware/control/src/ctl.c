@@ -183,7 +183,7 @@ static void act_zero(hal_actuation *a) { *a = k_act_zero; }
 static void gates_off(ctl_state *s)
 {
     act_zero(&s->last_act);
-    s->last_state[0] = s->last_state[1] = s->end_state = (uint8_t)DTC3L_STATE_OOO;
+    s->last_state[0] = s->last_state[1] = s->end_state = (uint8_t)NPC_STATE_OOO;
 }
 
 void ctl_init(ctl_state *s, const ctl_cfg *cfg)
@@ -375,8 +375,8 @@ static real_t predict_np_dev(const ctl_state *s, const ctl_cfg *cfg, const hal_s
     uint8_t st1 = s->last_state[1];
     real_t d0 = s->last_act.duty0;
     real_t i_abc[3] = {x->ia_A, x->ib_A, x->ic_A};
-    real_t inp1 = dtc3l_np_current_unchecked(st1, i_abc);
-    real_t inp0 = st0 == st1 ? inp1 : dtc3l_np_current_unchecked(st0, i_abc); /* one vector: the same current */
+    real_t inp1 = npc_np_current_unchecked(st1, i_abc);
+    real_t inp0 = st0 == st1 ? inp1 : npc_np_current_unchecked(st0, i_abc); /* one vector: the same current */
     real_t inp = num_mac(d0, inp0 - inp1, inp1);
     return num_mac(cfg->np_V_per_A, inp, x->vc1_V - x->vc2_V);
 }
@@ -471,8 +471,8 @@ static inline uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg
                                           const hal_sample *x, real_t v[2])
 {
     uint8_t st0 = s->last_state[0], st1 = s->last_state[1];
-    uint32_t w1 = dtc3l_state_legs_packed[st1];
-    uint32_t w_from = dtc3l_state_legs_packed[s->end_state];
+    uint32_t w1 = npc_state_legs_packed[st1];
+    uint32_t w_from = npc_state_legs_packed[s->end_state];
     uint8_t end = st1;
     real_t drop4_V = cfg->drop4_V; /* 0 with the drops off */
     real_t dt = cfg->dead_time_per_T;
@@ -500,7 +500,7 @@ static inline uint8_t apply_real_inverter(const ctl_state *s, const ctl_cfg *cfg
         if (st0 != st1)
             end = period_end_state(st0, st1, d0); /* st0 for a NaN duty */
     } else { /* st0 first */
-        uint32_t w0 = dtc3l_state_legs_packed[st0];
+        uint32_t w0 = npc_state_legs_packed[st0];
         first_edges(&va, &vb, &vc, w_from, w0, la0, lb0, lc0, ua, ub, uc, level_V, dt);
         if (d0 < R(1.0)) { /* then st0 -> st1, on the levels read for the mix */
             uint32_t moved = w0 ^ w1, up = rising_bytes(w0, w1);
@@ -543,10 +543,10 @@ static inline void observe(ctl_state *s, const ctl_cfg *cfg, const hal_sample *x
     uint8_t end = st1; /* the state this period ends on */
     if (!cfg->real_inverter) {
         /* an ideal inverter: the states' voltages straight in alpha-beta */
-        dtc3l_legs_voltage(&s->last_act.vector[1], level_V, v);
+        npc_legs_voltage(&s->last_act.vector[1], level_V, v);
         if (st0 != st1) { /* two states: mixed by the duty (one state's d0 x 0 + v1 would be v1 exactly) */
             real_t v0[2];
-            dtc3l_legs_voltage(&s->last_act.vector[0], level_V, v0);
+            npc_legs_voltage(&s->last_act.vector[0], level_V, v0);
             real_t d0 = s->last_act.duty0;
             v[0] = num_mac(d0, v0[0] - v[0], v[0]);
             v[1] = num_mac(d0, v0[1] - v[1], v[1]);
@@ -807,9 +807,9 @@ static uint8_t control_torque_flux(ctl_state *s, const ctl_cfg *cfg, const hal_s
 static void regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, uint8_t a0,
                                          uint8_t a1)
 {
-    uint32_t n = s->fsw_changes + dtc3l_leg_changes_unchecked(prev_state, a0); /* all three 0..26 */
+    uint32_t n = s->fsw_changes + npc_leg_changes_unchecked(prev_state, a0); /* all three 0..26 */
     if (a1 != a0)
-        n += dtc3l_leg_changes_unchecked(a0, a1);
+        n += npc_leg_changes_unchecked(a0, a1);
     if (s->slow_slot != CTL_SLOT_FSW) {
         s->fsw_changes = (uint8_t)n; /* at most 4 x 12 */
         return;
@@ -832,12 +832,12 @@ static void actuate(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, ctl_ou
 {
     hal_actuation act;
     /* prev_state was clamped, the DTC's states come from its tables: all 0..26 */
-    uint8_t a0 = dtc3l_pn_safe_unchecked(prev_state, s->dtc_out.state[0]);
-    uint8_t a1 = dtc3l_pn_safe_unchecked(a0, s->dtc_out.state[1]);
+    uint8_t a0 = npc_pn_safe_unchecked(prev_state, s->dtc_out.state[0]);
+    uint8_t a1 = npc_pn_safe_unchecked(a0, s->dtc_out.state[1]);
     /* in 0..1 by construction (dtc3l.h; duty_min is 0..0.45 by ctl_cfg_check),
      * and a clamp would not catch a NaN either: no compare (issue 11) */
     act.duty0 = s->dtc_out.act.duty0;
-    dtc3l_legs_pair_unchecked(a0, a1, &act);
+    npc_legs_pair_unchecked(a0, a1, &act);
     regulate_switching_frequency(s, cfg, prev_state, a0, a1);
 
     s->last_act = act;
@@ -881,10 +881,10 @@ static void bringup_step(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in, ctl
         act = bringup_vf(s->bringup_theta_rad, v_mag, in->sample.vc1_V, in->sample.vc2_V);
     }
     uint8_t prev = s->last_state[1];
-    uint8_t a0 = dtc3l_pn_safe(prev, dtc3l_state_of(&act.vector[0]));
-    uint8_t a1 = dtc3l_pn_safe(a0, dtc3l_state_of(&act.vector[1]));
-    dtc3l_legs(a0, &act.vector[0]);
-    dtc3l_legs(a1, &act.vector[1]);
+    uint8_t a0 = npc_pn_safe(prev, npc_state_of(&act.vector[0]));
+    uint8_t a1 = npc_pn_safe(a0, npc_state_of(&act.vector[1]));
+    npc_legs(a0, &act.vector[0]);
+    npc_legs(a1, &act.vector[1]);
     /* the state the period now ending ends on (observe() works it out too, but not at every level) */
     s->end_state = period_end_state(s->last_state[0], s->last_state[1], s->last_act.duty0);
     s->last_act = act;

@@ -15,15 +15,9 @@
  */
 #include "dtc/dtc3l.h"
 
-#include <stddef.h>
-#include <string.h>
-
-/* emit and ctl.c's actuate write both vectors' six leg bytes as one word and
- * one half-word (dtc3l_legs_pair_unchecked) */
-_Static_assert(sizeof(hal_vector) == 3u && offsetof(hal_actuation, vector) == 0u, "hal_actuation: six leg bytes first");
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
-#error "emit packs the leg codes little-endian"
-#endif
+#include "dtc/dtc3l_np.h"
+#include "dtc/dtc3l_table.h"
+#include "dtc/npc.h"
 
 /* Below this flux the radial direction is undefined (start of magnetising), Wb. */
 #define PSI_TINY_WB R(1e-3)
@@ -157,11 +151,11 @@ static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const ob
     g->leg_V[HAL_LEG_P] = in->vc1_V;
 }
 
-/* dtc3l_state_voltage for the step's own states (0..26), the leg voltages
+/* npc_state_voltage for the step's own states (0..26), the leg voltages
  * looked up by leg code (the same values as its selections) */
 static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab[2])
 {
-    const hal_vector *l = &dtc3l_state_legs[st];
+    const hal_vector *l = &npc_state_legs[st];
     real_t va = g->leg_V[l->leg[0]], vb = g->leg_V[l->leg[1]], vc = g->leg_V[l->leg[2]];
     v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
     v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
@@ -178,7 +172,7 @@ static inline real_t voltage_slope(const observer_out *pr, const real_t v[2])
 
 static inline real_t state_slope(const tick_geometry *g, const observer_out *pr, uint8_t st)
 {
-    if (dtc3l_state_sv_unchecked(st) == 0u)
+    if (npc_state_sv_unchecked(st) == 0u)
         return pr->dte0_Nm_s;
     real_t v[2];
     state_voltage(g, st, v);
@@ -221,7 +215,7 @@ static bool decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *
 static uint8_t np_checked_vector(uint8_t sv, const dtc3l_cmd *in, const dtc3l_cfg *cfg, const tick_geometry *g,
                                  int8_t torque)
 {
-    if (dtc3l_sv_class_unchecked(sv) != DTC3L_CLASS_MEDIUM || torque == 0)
+    if (npc_sv_class_unchecked(sv) != NPC_CLASS_MEDIUM || torque == 0)
         return sv;
     /* a strong demand gets the most tangential voltage there is: the large
      * vector at 90 deg (>= 0.97 x 2 Vdc / 3) rather than the medium one at
@@ -234,7 +228,7 @@ static uint8_t np_checked_vector(uint8_t sv, const dtc3l_cmd *in, const dtc3l_cf
          * (at the band itself the 90-deg vector is taken so often that the
          * flux, and with it the speed, ripples more near the voltage limit:
          * docs/envelope.md section 5) */
-        real_t inp = dtc3l_np_current_unchecked(dtc3l_sv_state_list[sv][0], g->i_abc_A); /* its one state */
+        real_t inp = npc_np_current_unchecked(npc_sv_state_list[sv][0], g->i_abc_A); /* its one state */
         real_t np_next = num_mac(cfg->np_V_per_A, inp, in->np_dev_V);
         if (!(num_abs(np_next) > R(2.0) * cfg->np_band_V && num_abs(np_next) > num_abs(in->np_dev_V)))
             return sv;
@@ -398,7 +392,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         /* no pulse: the plan's zero state after all, its NP look-ahead
          * reusing the pulse choice's product when the state in force is
          * one of svh's (the same first state; issue 11) */
-        settle_zero(cfg, in, g, p, push0_known && dtc3l_state_sv_unchecked(g->prev_state) == svh, push0_VA);
+        settle_zero(cfg, in, g, p, push0_known && npc_state_sv_unchecked(g->prev_state) == svh, push0_VA);
         return;
     }
     p->st0 = sth;
@@ -406,7 +400,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         /* the zero state's NP look-ahead reuses the pulse choice's product
          * when sth is one of svh's own states (issue 11) */
         p->st1 = dtc3l_choose_zero_unchecked(sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A,
-                                             push0_known && dtc3l_state_sv_unchecked(sth) == svh, push0_VA);
+                                             push0_known && npc_state_sv_unchecked(sth) == svh, push0_VA);
         p->duty0 = d;
         p->split = true;
     } else {
@@ -424,7 +418,7 @@ static uint8_t balancing_or(uint8_t fallback, uint8_t svn, uint8_t from, const d
                             const tick_geometry *g)
 {
     uint8_t c = dtc3l_choose_state_unchecked(svn, from, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
-    if (!(num_mul(dtc3l_np_current_unchecked(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
+    if (!(num_mul(npc_np_current_unchecked(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
         return fallback;
     return c;
 }
@@ -443,8 +437,8 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
         return;
     uint8_t svn = dtc3l_table_flux_hold((uint8_t)((g->sector6 + (s->flux_state > 0 ? 0u : 3u)) % 6u));
     bool full = p->st1 == p->st0;
-    uint8_t sv_b = dtc3l_state_sv_unchecked(p->st1);
-    if (dtc3l_state_sv_unchecked(p->st0) == 0u)
+    uint8_t sv_b = npc_state_sv_unchecked(p->st1);
+    if (npc_state_sv_unchecked(p->st0) == 0u)
         p->st0 = balancing_or(p->st0, svn, g->prev_state, cfg, in, g);
     if (full)
         p->st1 = p->st0;
@@ -478,18 +472,18 @@ static inline real_t np_left(const dtc3l_cfg *cfg, const dtc3l_cmd *in, real_t i
 static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g, tick_plan *p)
 {
     /* without a shortest segment the intermediate could be given no time at all */
-    dtc3l_class cls = dtc3l_sv_class_unchecked(p->sv0);
+    npc_class cls = npc_sv_class_unchecked(p->sv0);
     /* the holds (about every other period) leave on the integer tests, before the float one */
-    if (cls == DTC3L_CLASS_ZERO || p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
+    if (cls == NPC_CLASS_ZERO || p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
         return;
-    const uint8_t *st = dtc3l_sv_state_list[p->sv0]; /* read in place (issue 11) */
+    const uint8_t *st = npc_sv_state_list[p->sv0]; /* read in place (issue 11) */
     uint8_t target = st[0];
-    bool small = cls == DTC3L_CLASS_SMALL;
+    bool small = cls == NPC_CLASS_SMALL;
     if (small) {
         /* the chosen one is kept unless the link is outside its band and the
          * chosen state pushes it further, or it would take the link beyond the
          * room of an intermediate */
-        real_t inp_chosen = dtc3l_np_current_unchecked(p->st0, g->i_abc_A);
+        real_t inp_chosen = npc_np_current_unchecked(p->st0, g->i_abc_A);
         real_t n_chosen = np_left(cfg, in, inp_chosen);
         bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
         bool far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V);
@@ -498,33 +492,33 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
         /* of the vector's two states, the one that leaves the link nearer to
          * balance; the chosen state's n_chosen when it is one of them (the
          * same expression, issue 11) */
-        real_t n0 = p->st0 == st[0] ? n_chosen : np_left(cfg, in, dtc3l_np_current_unchecked(st[0], g->i_abc_A));
-        real_t n1 = p->st0 == st[1] ? n_chosen : np_left(cfg, in, dtc3l_np_current_unchecked(st[1], g->i_abc_A));
+        real_t n0 = p->st0 == st[0] ? n_chosen : np_left(cfg, in, npc_np_current_unchecked(st[0], g->i_abc_A));
+        real_t n1 = p->st0 == st[1] ? n_chosen : np_left(cfg, in, npc_np_current_unchecked(st[1], g->i_abc_A));
         target = n1 < n0 ? st[1] : st[0];
         real_t n_target = n1 < n0 ? n1 : n0;
         bool too_far = far && n_chosen > n_target;
         if (p->st0 == target || !(wrong_way || too_far))
             return;
-        if (!dtc3l_pn_step_unchecked(g->prev_state, target)) {
+        if (!npc_pn_step_unchecked(g->prev_state, target)) {
             p->st0 = p->st1 = target; /* one commutation more, within reach */
             return;
         }
-    } else if (cls != DTC3L_CLASS_LARGE && cls != DTC3L_CLASS_MEDIUM) {
+    } else if (cls != NPC_CLASS_LARGE && cls != NPC_CLASS_MEDIUM) {
         return;
     }
     if (p->st0 == target)
         return;
-    uint8_t mid = small ? dtc3l_pn_safe_unchecked(g->prev_state, target) : p->st0;
-    if (dtc3l_pn_step_unchecked(mid, target) || dtc3l_pn_step_unchecked(g->prev_state, mid))
+    uint8_t mid = small ? npc_pn_safe_unchecked(g->prev_state, target) : p->st0;
+    if (npc_pn_step_unchecked(mid, target) || npc_pn_step_unchecked(g->prev_state, mid))
         return;
     real_t d = R(1.0);
-    if (small && dtc3l_state_sv_unchecked(mid) == 0u) {
+    if (small && npc_state_sv_unchecked(mid) == 0u) {
         /* a zero state draws no NP current (exactly 0 from finite phase
          * currents: OOO's sum to 0 by construction): not outward, as below,
          * without its NP current (issue 11) */
         d = cfg->duty_min;
     } else {
-        real_t dv = num_mul(cfg->np_V_per_A, dtc3l_np_current_unchecked(mid, g->i_abc_A)); /* V per whole period */
+        real_t dv = num_mul(cfg->np_V_per_A, npc_np_current_unchecked(mid, g->i_abc_A)); /* V per whole period */
         bool outward = num_mul(dv, in->np_dev_V) > R(0.0);
         if (small && !outward) {
             d = cfg->duty_min; /* the intermediate does not push the link out: as short as the timer allows */
@@ -591,9 +585,9 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
     c.vc1_V = in->vc1_V;
     c.vc2_V = in->vc2_V;
     c.np_dev_V = in->np_dev_V;
-    c.prev_state = in->prev_state < DTC3L_N_STATES ? in->prev_state : (uint8_t)DTC3L_STATE_OOO;
+    c.prev_state = in->prev_state < NPC_N_STATES ? in->prev_state : (uint8_t)NPC_STATE_OOO;
     c.band_scale = in->band_scale > R(1.0) ? in->band_scale : R(1.0);
     c.decide_level = true;
     dtc3l_step_predicted(s, cfg, dt_s, &c, &pr, out);
-    dtc3l_legs_pair_unchecked(out->state[0], out->state[1], &out->act); /* both 0..26 */
+    npc_legs_pair_unchecked(out->state[0], out->state[1], &out->act); /* both 0..26 */
 }

@@ -20,7 +20,7 @@
  *    medium vectors, which cost two commutations against a zero state and draw
  *    an uncontrolled NP current, are left to the strong demands.
  */
-#include "dtc/dtc3l.h"
+#include "dtc/dtc3l_table.h"
 
 /* The two tables by the rules above, written out (dtc3l_table and
  * dtc3l_table6 look them up: the interrupt picks a vector 1..3 times a tick,
