@@ -33,6 +33,10 @@
 
 #include "dtc/npc.h" /* the leg codes NPC_N, NPC_O, NPC_P and the P<->N rule of one leg */
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Event bits, equal to the HRTIM SETx1R/RSTx1R bits CMP2 and CMP1. */
 #define NPC_EV_START (1u << 4)
 #define NPC_EV_T (1u << 3)
@@ -111,34 +115,12 @@ typedef struct {
     uint32_t min_pulse; /**< shortest second-vector pulse at the period end */
 } npc_timing;
 
-/** The programme of one leg for one period. */
-typedef struct {
-    uint32_t set[2];    /**< SETx1R event bits of pair 0 (S3/S1) and pair 1 (S2/S4) */
-    uint32_t rst[2];    /**< RSTx1R event bits */
-    uint32_t t;         /**< switching instant, counts; 0: second vector only, per: first only */
-    uint8_t v0, v1;     /**< the leg states actually applied (after the P<->N guard) */
-    uint8_t end;        /**< leg state at the end of the period */
-    uint8_t fixups;     /**< number of P<->N steps replaced by O (0..2) */
-} npc_leg_plan;
-
 /** Where a leg's switching instant falls; indexes npc_leg_rule's event bits. */
 enum npc_instant_class {
     NPC_AT_ZERO = 0, /**< t = 0: the second vector only */
     NPC_AT_T = 1,    /**< 0 < t < per: both vectors, a change at t */
     NPC_AT_PER = 2   /**< t = per: the first vector only */
 };
-
-/** The leg-state part of a plan for one (prev, v0, v1): constants. */
-typedef struct {
-    uint8_t v0, v1;       /**< the states applied after the P<->N guard (prev -> v0 -> v1 via O) */
-    uint8_t fixups;       /**< P<->N steps replaced by O (0..2) */
-    uint8_t may_drop;     /**< 1: prev -> v1 is no P<->N step, so a too early instant may drop v0 */
-    uint8_t set[3][2];    /**< SETx1R event bits per enum npc_instant_class and pair */
-    uint8_t rst[3][2];    /**< RSTx1R event bits per enum npc_instant_class and pair */
-} npc_leg_rule;
-
-/** Rules for every (prev, v0, v1), index 9 prev + 3 v0 + v1 (each 0..NPC_P). */
-extern const npc_leg_rule npc_leg_rules[27];
 
 /** The switching instant of a period, counts, for the two kinds of leg that have two vectors. */
 typedef struct {
@@ -164,29 +146,6 @@ static inline void npc_instants_of(const npc_timing *tm, uint32_t t0, npc_instan
     }
     out->keep = keep + tm->min_pulse > tm->per ? tm->per : keep;
     out->drop = drop + tm->min_pulse > tm->per ? tm->per : drop;
-}
-
-/**
- * Plan one leg with the period's instants @p in (npc_instants_of). @p prev is
- * the leg state at the end of the previous period, @p v0 / @p v1 the requested
- * states (each <= NPC_P, unchecked). Context: ANY (pure; inline for the
- * actuation in the control interrupt).
- */
-static inline void npc_plan_leg_at(const npc_timing *tm, const npc_instants *in, uint8_t prev, uint8_t v0,
-                                   uint8_t v1, npc_leg_plan *out)
-{
-    const npc_leg_rule *r = &npc_leg_rules[9u * prev + 3u * v0 + v1];
-    uint32_t t = r->v0 == r->v1 ? tm->per : (r->may_drop != 0u ? in->drop : in->keep);
-    unsigned c = t == 0u ? (unsigned)NPC_AT_ZERO : (t == tm->per ? (unsigned)NPC_AT_PER : (unsigned)NPC_AT_T);
-    out->set[0] = r->set[c][0];
-    out->set[1] = r->set[c][1];
-    out->rst[0] = r->rst[c][0];
-    out->rst[1] = r->rst[c][1];
-    out->t = t;
-    out->v0 = r->v0;
-    out->v1 = r->v1;
-    out->end = c == (unsigned)NPC_AT_PER ? r->v0 : r->v1;
-    out->fixups = r->fixups;
 }
 
 /**
@@ -466,14 +425,8 @@ static inline __attribute__((always_inline)) void npc_program_legs(const npc_leg
     }
 }
 
-/**
- * Plan one leg. @p prev is the leg state at the end of the previous period,
- * @p v0 / @p v1 the requested states (each <= NPC_P), @p t0 the requested
- * switching instant in counts (0..per). Context: ANY (pure function).
- */
-void npc_plan_leg(const npc_timing *tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0, npc_leg_plan *out);
-
-/** @return output-1 level of pair @p pair (0: S3 of S3/S1, 1: S2 of S2/S4) for leg state @p leg. */
-bool npc_pair_level(unsigned pair, uint8_t leg);
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* HAL_STM32G4_NPC_PLAN_H */

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "dtc/ctl.h"
-#include "dtc/dead_time.h"
+#include "dead_time_leg_error.h"
 #include "dtc/npc.h"
 
 namespace {
