@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "dead_time_leg_error.h"
-#include "dtc/dead_time.h"
+#include "dtc/inverter_model.h"
 
 namespace {
 
@@ -141,8 +141,8 @@ TEST(DeadTime, EveryEdgeBetweenAnyTwoStatesLegByLeg)
     }
 }
 
-// dead_time_edge_levels (the firmware's edge on levels read already, without
-// an a == b test: the observer's voltage knows the leg moves): for every pair
+// inverter_dead_time_edge (the firmware's edge on levels read already, without
+// an a == b test: the inverter model knows the leg moves): for every pair
 // of different codes and a rising, falling and softened current, the late
 // part of the step worked out here: (v_b - v_a) dt_per_T x late_up (rising) or
 // x (1 - late_up) (falling), subtracted from the leg voltage; bit for bit as
@@ -157,7 +157,7 @@ TEST(DeadTime, EdgeMovingIsTheLatePartOfEveryStep)
             for (float late_up : {0.0f, 0.25f, 1.0f}) {
                 float late = b > a ? late_up : 1.0f - late_up;
                 float want = 12.0f - (level[b] - level[a]) * kDtPerT * late;
-                float got = dead_time_edge_levels(b > a, late_up, level[a], level[b], kDtPerT, 12.0f);
+                float got = inverter_dead_time_edge(b > a, late_up, level[a], level[b], kDtPerT, 12.0f);
                 EXPECT_NEAR(got, want, 1e-5f) << a << " -> " << b << " late_up " << late_up;
                 float checked = dead_time_edge(a, b, late_up, level, kDtPerT, 12.0f);
                 EXPECT_EQ(got, checked);

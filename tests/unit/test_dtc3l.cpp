@@ -377,7 +377,7 @@ TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
     }
 }
 
-// dtc3l_cmd.decide_level (ctl.c sets it once per slot cycle): false keeps the
+// dtc3l_cmd.decide_level (the control step sets it once per slot cycle): false keeps the
 // level whatever the back-emf; true decides it by the rule of dtc3l.h, the
 // back-emf |omega_e| psi_ref over Vdc/3 against level_up (from LOW) and
 // level_down (back to LOW), worked out here in double (boundary cases left out).
@@ -913,8 +913,8 @@ TEST(Dtc3lClosedLoop, RippleReductionKeepsTheTorqueInsideTheBand)
 
 } // namespace
 
-// The switching tables written out in dtc3l_table.c (issue 11: no mod 12 / 6
-// and direction sums per tick) equal the rule they were written from, entry
+// The switching tables written out in dtc3l_table.c (no mod 12 / 6 and
+// direction sums per tick) equal the rule they were written from, entry
 // by entry: the vector at the sector's direction plus the demand's offset
 // (+60 / +120 deg up, -60 / -120 deg down; large or medium on 12 sectors,
 // small on 6), and the flux-hold vector is the small one along the sector.
@@ -938,7 +938,7 @@ TEST(Dtc3lTables, WrittenOutTablesEqualTheRule)
     EXPECT_EQ(dtc3l_demand_index(-1, -1), 3u);
 }
 
-// The flux-hold pulse's two choices (issue 11): dtc3l_choose_state_push0_unchecked
+// The flux-hold pulse's two choices: dtc3l_choose_state_push0_unchecked
 // must choose as dtc3l_choose_state does and, where it says so, report the first
 // state's NP current x vc1 - vc2 (the plant's sum of the O-leg phase currents,
 // worked out here in double, against the float product's sign and value); the

@@ -47,7 +47,7 @@ void dtc3l_init(dtc3l *s)
 static int8_t torque_comparator(int8_t state, real_t te, real_t te_ref, real_t b, real_t b2, real_t s_hold)
 {
     real_t err = te_ref - te;
-    if (num_abs(err) > b2) /* b2 >= 0: one compare for both strong demands (issue 11) */
+    if (num_abs(err) > b2) /* b2 >= 0: one compare for both strong demands */
         return err > R(0.0) ? 2 : -2;
     if (state > 0)
         return te >= te_ref + b ? 0 : 1;
@@ -164,7 +164,7 @@ static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab
 /* dtc3l_state_slope for the step's own states (0..26). A zero state's
  * voltage is exactly (0, 0) (its three legs select the same voltage x:
  * 2x - x - x = 0), so its slope is dte0 as it is: no voltage worked out for
- * the holds, about every other period (issue 11). */
+ * the holds, about every other period. */
 static inline real_t voltage_slope(const observer_out *pr, const real_t v[2])
 {
     return pr->dte0_Nm_s + num_mul(pr->dte_dv[0], v[0]) + num_mul(pr->dte_dv[1], v[1]);
@@ -250,8 +250,8 @@ static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
 /* state_for_demand from the state in force (g->prev_state) for the plan's
  * first state, but the zero vector's state left to settle_zero: in a hold
  * the flux-hold pulse often takes the period's start, and its own zero state
- * follows the pulse (issue 11: the plan's zero state, with its NP look-ahead,
- * was worked out and dropped in those ticks). */
+ * follows the pulse (the plan's zero state, with its NP look-ahead, would be
+ * worked out and dropped in those ticks). */
 static void plan_state(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g, tick_plan *p)
 {
     uint8_t v = np_checked_vector(pick(g->sector, g->sector6, p->cur, s->flux_state, s->level), in, cfg, g, p->cur);
@@ -310,7 +310,7 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
         if (pass == 1)
             return;
     }
-    /* f >= dmin here: exit_edge's fraction is never NaN (issue 11: one compare fewer) */
+    /* f >= dmin here: exit_edge's fraction is never NaN, so no NaN test */
     if (!(f <= R(1.0) - dmin))
         return; /* it falls at the next period start */
     settle_zero(cfg, in, g, p, false, R(0.0)); /* the state after it follows it */
@@ -367,7 +367,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     /* a rising pulse peaks at its end. That bound first: below dmin it cuts
      * the pulse whatever the others give (they only shorten it; the flux's d
      * is never NaN: psi below a finite reference, rate > 0), so the flux's
-     * duty is not worked out in those periods (issue 11). Its 2 when the
+     * duty is not worked out in those periods. Its 2 when the
      * pulse does not rise is no bound: any d >= 2 > 1 - dmin is a whole
      * period (duty_min 0..0.45) */
     real_t d_up = s_h > R(0.0) ? dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s) : R(2.0);
@@ -377,7 +377,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         d = rate > R(0.0) ? num_div(in->psi_ref_Wb - psi, num_mul(rate, dt_s)) : R(1.0);
         /* d >= 0 here and every bound is positive (psi < psi_ref, rate > 0;
          * lo - end0 and ds of one sign), so only the upper bound can act: a
-         * minimum, not num_sat's two compares (issue 11) */
+         * minimum, not num_sat's two compares */
         d = upto(d, d_up);
         /* the period ends at Te + s_z T + (s_h - s_z) d T, inside the band */
         real_t s_z = pr->dte0_Nm_s;
@@ -391,14 +391,14 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     if (d < dmin) {
         /* no pulse: the plan's zero state after all, its NP look-ahead
          * reusing the pulse choice's product when the state in force is
-         * one of svh's (the same first state; issue 11) */
+         * one of svh's (the same first state) */
         settle_zero(cfg, in, g, p, push0_known && npc_state_sv_unchecked(g->prev_state) == svh, push0_VA);
         return;
     }
     p->st0 = sth;
     if (d < R(1.0) - dmin) {
         /* the zero state's NP look-ahead reuses the pulse choice's product
-         * when sth is one of svh's own states (issue 11) */
+         * when sth is one of svh's own states */
         p->st1 = dtc3l_choose_zero_unchecked(sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A,
                                              push0_known && npc_state_sv_unchecked(sth) == svh, push0_VA);
         p->duty0 = d;
@@ -476,7 +476,7 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
     /* the holds (about every other period) leave on the integer tests, before the float one */
     if (cls == NPC_CLASS_ZERO || p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
         return;
-    const uint8_t *st = npc_sv_state_list[p->sv0]; /* read in place (issue 11) */
+    const uint8_t *st = npc_sv_state_list[p->sv0]; /* read in place */
     uint8_t target = st[0];
     bool small = cls == NPC_CLASS_SMALL;
     if (small) {
@@ -488,10 +488,10 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
         bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
         bool far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V);
         if (!(wrong_way || far))
-            return; /* kept whatever the other state does: its NP current not needed (issue 11) */
+            return; /* kept whatever the other state does: its NP current not needed */
         /* of the vector's two states, the one that leaves the link nearer to
          * balance; the chosen state's n_chosen when it is one of them (the
-         * same expression, issue 11) */
+         * same expression) */
         real_t n0 = p->st0 == st[0] ? n_chosen : np_left(cfg, in, npc_np_current_unchecked(st[0], g->i_abc_A));
         real_t n1 = p->st0 == st[1] ? n_chosen : np_left(cfg, in, npc_np_current_unchecked(st[1], g->i_abc_A));
         target = n1 < n0 ? st[1] : st[0];
@@ -515,7 +515,7 @@ static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, co
     if (small && npc_state_sv_unchecked(mid) == 0u) {
         /* a zero state draws no NP current (exactly 0 from finite phase
          * currents: OOO's sum to 0 by construction): not outward, as below,
-         * without its NP current (issue 11) */
+         * without its NP current */
         d = cfg->duty_min;
     } else {
         real_t dv = num_mul(cfg->np_V_per_A, npc_np_current_unchecked(mid, g->i_abc_A)); /* V per whole period */

@@ -31,7 +31,7 @@ static const uint8_t zero_after[NPC_N_STATES] = {
  * N-type one): of OOO, NNN, PPP the ones a P<->N step away from neither,
  * least 2 x commutations(zero, target) + commutations(prev, zero), the first
  * in that order on ties (OOO when none is free), i.e. the loop the
- * look-ahead ran over the three zero states, precomputed (issue 11);
+ * look-ahead would run over the three zero states, precomputed;
  * tests/unit/test_dtc3l.cpp checks it against that rule. Rows of states that
  * are not small are never read. */
 static const uint8_t zero_toward[NPC_N_STATES][2] = {
@@ -66,8 +66,8 @@ static const uint8_t zero_toward[NPC_N_STATES][2] = {
 
 /* The integer part of the choice between a small vector's two states from
  * each state, precomputed from the P<->N, commutation and P<->N-safe tables
- * (issue 11: one look-up instead of two P<->N tests, two commutation counts and
- * the fallback's P<->N-safe state and class; the rules are choose_state's,
+ * (one look-up in place of two P<->N tests, two commutation counts and the
+ * fallback's P<->N-safe state and class; the rules are choose_state's,
  * below, and tests/unit/test_dtc3l.cpp checks the choices against an
  * independent reference for every state, vector and NP case). Indexed by
  * [prev_state][sv], sv 1..6 (0 and 7 pad the row to eight entries). */
@@ -128,7 +128,7 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
 /* The zero state after @p prev_state (dtc3l_choose_state for the zero vector).
  * @p push0 true: @p push0_VA is np_current(first state of prev_state's
  * vector) x np_dev_V, already worked out by the caller (the NP look-ahead then
- * reuses it: the same product, issue 11). */
+ * reuses it: the same product). */
 static inline uint8_t choose_zero(uint8_t prev_state, real_t np_dev_V, real_t np_band_V, const real_t i_abc[3],
                                   bool push0, real_t push0_VA)
 {
@@ -152,7 +152,7 @@ static inline uint8_t choose_zero(uint8_t prev_state, real_t np_dev_V, real_t np
 static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                                    const real_t i_abc[3], bool *push0_known, real_t *push0_VA)
 {
-    const uint8_t *st = npc_sv_state_list[sv]; /* read in place: no copy (issue 11) */
+    const uint8_t *st = npc_sv_state_list[sv]; /* read in place: no copy */
     npc_class cls = npc_sv_class_unchecked(sv);
     bool small = cls == NPC_CLASS_SMALL;
     bool np_out = num_abs(np_dev_V) > np_band_V;
@@ -187,7 +187,7 @@ static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev
             real_t push1 = num_mul(npc_np_current_unchecked(c1, i_abc), np_dev_V);
             *push0_known = true;
             *push0_VA = push0;
-            /* exactly one balances (push <= 0): that one, no fallback (issue 11) */
+            /* exactly one balances (push <= 0): that one, no fallback */
             if (push0 <= R(0.0)) {
                 if (!(push1 <= R(0.0)))
                     return c0;

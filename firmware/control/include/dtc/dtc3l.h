@@ -105,13 +105,14 @@ typedef struct {
     real_t vc1_V, vc2_V;      /**< capacitor voltages, V */
     real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
     uint8_t prev_state;       /**< state in force when the chosen period starts, 0..26 (the caller
-                                   clamps: ctl.c counts others as OOO, as dtc3l_step does) */
+                                   clamps: the control step's states are 0..26; dtc3l_step counts
+                                   others as OOO) */
     real_t band_scale;        /**< both torque bands are cfg x this, >= 1 (the caller clamps: the
-                                   switching-frequency regulation of ctl.c keeps it in
+                                   switching-frequency regulation of the control step keeps it in
                                    1..band_scale_max; dtc3l_step takes 0 or less as 1) */
     bool decide_level;        /**< decide the voltage level in this step (false: keep the last one;
-                                   ctl.c decides it once per slot cycle, CTL_SLOT_LEVEL: the back-emf
-                                   moves little in four periods; issue 11) */
+                                   the control step decides it once per slot cycle, ctl_slot_level:
+                                   the back-emf moves little in eight periods) */
 } dtc3l_cmd;
 
 /** Inputs of one DTC step in one flat struct (dtc3l_step): the observer's
@@ -131,7 +132,7 @@ typedef struct {
     real_t np_dev_V;          /**< vc1 - vc2 predicted for the start of the chosen period, V */
     uint8_t prev_state;       /**< state in force when the chosen period starts (0..26; others count as OOO) */
     real_t band_scale;        /**< both torque bands are cfg x this (>= 1; 0 or less: 1): the
-                                   switching-frequency regulation of ctl.c widens them */
+                                   switching-frequency regulation of the control step widens them */
 } dtc3l_in;
 
 typedef struct {
@@ -139,8 +140,8 @@ typedef struct {
                                    writes only duty0, in 0..1: the vectors are state[]'s leg codes) */
     uint8_t state[2];         /**< the same as state numbers */
     uint8_t level;            /**< dtc3l_level */
-    /* no sector, comparator outputs or split flag: nothing read them, and
-     * their stores cost every tick (issue 11); the comparators' memory is in dtc3l */
+    /* no sector, comparator outputs or split flag: nothing reads them, and
+     * their stores would cost every tick; the comparators' memory is in dtc3l */
 } dtc3l_out;
 
 /* ------------------------------------------------------- ripple reduction
@@ -165,8 +166,8 @@ static inline real_t dtc3l_edge_fraction(real_t te_Nm, real_t slope_Nm_s, real_t
     /* standing still, moving away (or already beyond it), or not getting there
      * within the period: the quotient is not in (0, 1) (a zero slope gives
      * +-inf); the comparator deals with a torque beyond an edge. Two compares
-     * on the quotient instead of three on gap and reach (issue 11; a quotient
-     * that rounds up to 1 now counts as not within the period) */
+     * on the quotient, not three on gap and reach (a quotient that rounds up
+     * to 1 counts as not within the period) */
     real_t f = num_div(gap, reach);
     return f > R(0.0) && f < R(1.0) ? f : R(2.0);
 }
@@ -199,12 +200,12 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
 
 /**
  * The same decision with the observer's prediction read where the observer
- * left it (no copy per tick, issue 11): from @p pred its te_pred_Nm,
+ * left it (no copy per tick): from @p pred its te_pred_Nm,
  * psi_s_pred_Wb, is_pred_A, dte0_Nm_s, dte_dv and omega_m_rad_s (the
  * ripple-reduction range), in place of dtc3l_in's te_Nm, psi_s_Wb, is_A,
  * dte0_Nm_s, dte_dv and omega_m_rad_s; the rest from @p in. Writes @p out except
- * out->act.vector (its caller, ctl.c, actuates state[] through its own P<->N
- * guard and writes the leg codes there; issue 11). Context: ISR.
+ * out->act.vector (its caller, the control step, actuates state[] through its
+ * own P<->N guard and writes the leg codes there). Context: ISR.
  */
 void dtc3l_step_predicted(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_cmd *in,
                           const observer_out *pred, dtc3l_out *out);
