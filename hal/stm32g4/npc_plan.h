@@ -16,13 +16,14 @@
  * after the period roll-over) gives the level of the first vector, NPC_EV_T
  * (CMP1 = t) the change to the second one.
  *
- * Cost (issue 11): the leg states' part of the plan (P<->N guard, event bits)
- * depends on the 27 triples (prev, v0, v1) only and is a constant table
- * (npc_leg_rules); the switching instant's part on the requested instant only
- * and is worked out once per period for all three legs (npc_instants_of). The
- * actuation writes the same plan as ready register words per triple and
- * instant class (npc_leg_words_table), no plan struct in between; npc_plan_leg
- * is the reference the host tests compare both with.
+ * Cost: the leg states' part of the plan (P<->N guard, event bits) depends
+ * on the 27 triples (prev, v0, v1) only and is a constant table of ready
+ * register words per triple and instant class (npc_leg_words_table, built
+ * from the rules of npc_plan_rules.h); the switching instant's part depends
+ * on the requested instant only and is worked out once per period for all
+ * three legs (npc_instants_of). The actuation writes the words straight to
+ * the timers, no plan struct in between; the host tests compare them with a
+ * reference planner (tests/oracles/npc_plan_leg.c).
  */
 #ifndef HAL_STM32G4_NPC_PLAN_H
 #define HAL_STM32G4_NPC_PLAN_H
@@ -31,19 +32,20 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "dtc/npc.h" /* the leg codes NPC_N, NPC_O, NPC_P and the P<->N rule of one leg */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Event bits, equal to the HRTIM SETx1R/RSTx1R bits CMP2 and CMP1. */
 #define NPC_EV_START (1u << 4)
 #define NPC_EV_T (1u << 3)
 
-/** Leg states (equal to hal_leg_state). */
-#define NPC_N 0u
-#define NPC_O 1u
-#define NPC_P 2u
-
 /**
  * True when each of the six leg codes at @p legs (the two vectors of an
  * actuation, three legs each, contiguous bytes) is a leg state (<= NPC_P).
- * Word-wide (issue 11: one test instead of six compares and branches): a
+ * Word-wide (one test in place of six compares and branches): a
  * byte b below 0x80 is above NPC_P exactly when b + 0x7D sets its bit 7; a
  * byte with bit 7 set fails through the OR with the word itself (only such a
  * byte carries into the next one, so the carries change nothing).
@@ -61,8 +63,8 @@ static inline bool npc_legs_valid(const uint8_t legs[6])
 }
 
 /**
- * True when @p duty0 is in [0, 1] (NaN refused): as integers (issue 11: an
- * unsigned compare of the bits instead of two float compares; +0..1 are the
+ * True when @p duty0 is in [0, 1] (NaN refused): as integers (an unsigned
+ * compare of the bits in place of two float compares; +0..1 are the
  * bits 0..0x3F800000, and -0 is accepted as the float compare accepts it).
  * Context: ANY (pure).
  */
@@ -74,7 +76,7 @@ static inline bool npc_duty_valid(float duty0)
 }
 
 /**
- * An actuation's request as the gates-off repeat compares it (issue 11): the
+ * An actuation's request as the gates-off repeat compares it: the
  * six leg codes and the duty's bits (no padding byte compared).
  */
 typedef struct {
@@ -114,34 +116,12 @@ typedef struct {
     uint32_t min_pulse; /**< shortest second-vector pulse at the period end */
 } npc_timing;
 
-/** The programme of one leg for one period. */
-typedef struct {
-    uint32_t set[2];    /**< SETx1R event bits of pair 0 (S3/S1) and pair 1 (S2/S4) */
-    uint32_t rst[2];    /**< RSTx1R event bits */
-    uint32_t t;         /**< switching instant, counts; 0: second vector only, per: first only */
-    uint8_t v0, v1;     /**< the leg states actually applied (after the P<->N guard) */
-    uint8_t end;        /**< leg state at the end of the period */
-    uint8_t fixups;     /**< number of P<->N steps replaced by O (0..2) */
-} npc_leg_plan;
-
 /** Where a leg's switching instant falls; indexes npc_leg_rule's event bits. */
 enum npc_instant_class {
     NPC_AT_ZERO = 0, /**< t = 0: the second vector only */
     NPC_AT_T = 1,    /**< 0 < t < per: both vectors, a change at t */
     NPC_AT_PER = 2   /**< t = per: the first vector only */
 };
-
-/** The leg-state part of a plan for one (prev, v0, v1): constants. */
-typedef struct {
-    uint8_t v0, v1;       /**< the states applied after the P<->N guard (prev -> v0 -> v1 via O) */
-    uint8_t fixups;       /**< P<->N steps replaced by O (0..2) */
-    uint8_t may_drop;     /**< 1: prev -> v1 is no P<->N step, so a too early instant may drop v0 */
-    uint8_t set[3][2];    /**< SETx1R event bits per enum npc_instant_class and pair */
-    uint8_t rst[3][2];    /**< RSTx1R event bits per enum npc_instant_class and pair */
-} npc_leg_rule;
-
-/** Rules for every (prev, v0, v1), index 9 prev + 3 v0 + v1 (each 0..NPC_P). */
-extern const npc_leg_rule npc_leg_rules[27];
 
 /** The switching instant of a period, counts, for the two kinds of leg that have two vectors. */
 typedef struct {
@@ -170,29 +150,6 @@ static inline void npc_instants_of(const npc_timing *tm, uint32_t t0, npc_instan
 }
 
 /**
- * Plan one leg with the period's instants @p in (npc_instants_of). @p prev is
- * the leg state at the end of the previous period, @p v0 / @p v1 the requested
- * states (each <= NPC_P, unchecked). Context: ANY (pure; inline for the
- * actuation in the control interrupt).
- */
-static inline void npc_plan_leg_at(const npc_timing *tm, const npc_instants *in, uint8_t prev, uint8_t v0,
-                                   uint8_t v1, npc_leg_plan *out)
-{
-    const npc_leg_rule *r = &npc_leg_rules[9u * prev + 3u * v0 + v1];
-    uint32_t t = r->v0 == r->v1 ? tm->per : (r->may_drop != 0u ? in->drop : in->keep);
-    unsigned c = t == 0u ? (unsigned)NPC_AT_ZERO : (t == tm->per ? (unsigned)NPC_AT_PER : (unsigned)NPC_AT_T);
-    out->set[0] = r->set[c][0];
-    out->set[1] = r->set[c][1];
-    out->rst[0] = r->rst[c][0];
-    out->rst[1] = r->rst[c][1];
-    out->t = t;
-    out->v0 = r->v0;
-    out->v1 = r->v1;
-    out->end = c == (unsigned)NPC_AT_PER ? r->v0 : r->v1;
-    out->fixups = r->fixups;
-}
-
-/**
  * The fault line's reset event ORed into every RSTx1R word (HRTIM RSTx1R
  * EXTEVNT6: the delayed fault event resets the inner switch; docs/board.md).
  */
@@ -200,9 +157,9 @@ static inline void npc_plan_leg_at(const npc_timing *tm, const npc_instants *in,
 
 /**
  * The register words of one leg for one (prev, v0, v1), ready to write
- * (issue 11: the actuation writes them straight to the timers, no plan struct
- * in between; npc_plan_leg stays the reference, and a host test requires the
- * two to agree for every triple and instant).
+ * (the actuation writes them straight to the timers, no plan struct in
+ * between; a host test requires them to agree with the reference planner,
+ * tests/oracles/npc_plan_leg.c, for every triple and instant).
  */
 typedef struct {
     /** per enum npc_instant_class: SETx1R and RSTx1R (with NPC_RST_FAULT_EVENT) of pair 0, then of pair 1 */
@@ -223,7 +180,7 @@ typedef struct {
  * hold the one-state words of that state (written when the leg last had one
  * state for a whole period). A period asking for that state again, alone,
  * writes nothing: the preloaded registers hold what it would write (RM0440
- * HRTIM preload; issue 11: about three legs in five in the bench's runs).
+ * HRTIM preload; about three legs in five in the bench's runs).
  * The words table has a row for each flagged state too; npc_leg_words.end
  * sets the flag after a one-state period. The state is (prev & NPC_LEG_STATE).
  */
@@ -239,8 +196,8 @@ typedef struct {
 /**
  * Words for every (prev, v0, v1), index 16 prev + 4 v0 + v1 (v0, v1 0..NPC_P;
  * prev 0..NPC_P, optionally with NPC_LEG_HELD): the index is two ORs of
- * shifted states (issue 11; two fewer instructions per leg than 9 prev + 3 v0
- * + v1), the indices with a 3 are never used. A flagged prev's row equals the
+ * shifted states (no multiplications as for 9 prev + 3 v0 + v1), the
+ * indices with a 3 are never used. A flagged prev's row equals the
  * plain one, but for (prev, prev, prev), whose class is always NPC_HELD.
  */
 extern const npc_leg_words npc_leg_words_table[NPC_LEG_WORDS_ENTRIES];
@@ -270,8 +227,8 @@ static inline uint32_t npc_period_classes(const npc_timing *tm, const npc_instan
  * the instant @p t_out (counts) at which its legs of class NPC_AT_T change
  * (npc_instants.keep), from the requested instant @p t0 (counts). An instant
  * out of the keep-out and before the last minimum pulse, the usual one, is
- * taken as it is: both kinds of two-state leg change at it (issue 11: no
- * clamps and no class tests; only the other instants take the general way).
+ * taken as it is: both kinds of two-state leg change at it (no clamps and no
+ * class tests; only the other instants take the general way).
  * Context: ANY (pure).
  */
 static inline uint32_t npc_period_classes_at(const npc_timing *tm, uint32_t t0, uint32_t *t_out)
@@ -292,7 +249,7 @@ static inline uint32_t npc_period_classes_at(const npc_timing *tm, uint32_t t0, 
  * (and not 0) and before the last minimum pulse, the instants
  * npc_period_classes_at takes as they are. Worked out once when the period is
  * set up (npc_usual_of), so a period's test is one subtraction and one
- * unsigned compare (issue 11).
+ * unsigned compare.
  */
 typedef struct {
     uint32_t lo;   /**< first usual instant, counts: the keep-out's end, at least 1 */
@@ -322,8 +279,8 @@ static inline bool npc_instant_usual(const npc_usual *u, uint32_t t0)
 /**
  * The instant classes of a period none of whose legs has two states (no
  * npc_leg_words.timed): every such leg's class is NPC_AT_PER or NPC_HELD
- * whatever the instants, so the actuation need not work them out (issue 11:
- * three periods in four apply one vector for the whole period).
+ * whatever the instants, so the actuation need not work them out (three
+ * periods in four apply one vector for the whole period).
  */
 #define NPC_UNTIMED_CLASSES ((uint32_t)NPC_AT_PER | ((uint32_t)NPC_HELD << 24))
 
@@ -367,10 +324,10 @@ static inline uint32_t npc_leg_words_index3(const uint8_t legs[6], const uint8_t
  * The three legs' entries of npc_leg_words_table for an actuation (@p legs,
  * @p prev4 as npc_leg_words_index3) into @p w3; @return the OR of their
  * npc_leg_words.flags: 0 when every leg stays alone in its held state (the
- * period writes nothing: issue 11, no update-disable writes either),
+ * period writes nothing, no update-disable writes either),
  * NPC_FLAG_TIMED when a leg has two states (the period then needs its
  * instants), NPC_FLAG_FIXUPS when a leg replaces a P<->N step (then count
- * them with npc_legs_fixups; issue 11: no sum per written leg). Both boards'
+ * them with npc_legs_fixups: no sum per written leg). Both boards'
  * programme writers start here. Context: ANY.
  */
 static inline uint32_t npc_legs_words(const uint8_t legs[6], const uint8_t prev4[4], const npc_leg_words *w3[3])
@@ -400,12 +357,12 @@ static inline uint32_t npc_legs_fixups(const npc_leg_words *const w3[3])
  * @return true when the entry @p w's timers hold its words already (class
  * NPC_HELD whatever the period). In a period none of whose legs has two
  * states (no npc_leg_words.timed), every other leg's class is NPC_AT_PER
- * (issue 11: such a period needs no class word). Context: ANY (pure).
+ * (such a period needs no class word). Context: ANY (pure).
  */
 static inline bool npc_leg_held(const npc_leg_words *w)
 {
-    /* the flags byte npc_legs_words loaded, not kind_shift (issue 11: the
-     * first leg's test reuses the load) */
+    /* the flags byte npc_legs_words loaded, not kind_shift: the first leg's
+     * test reuses the load */
     return (w->flags & NPC_FLAG_WRITE) == 0u;
 }
 
@@ -429,7 +386,7 @@ typedef void (*npc_write_leg_fn)(uint32_t leg, const npc_leg_words *w, uint32_t 
  * A period without two-state legs writes each leg that is not held for the
  * whole period; a timed one at a usual instant writes every such leg's
  * NPC_AT_T row with CMP1 = t0 (a one-state leg's words use no CMP1 event:
- * issue 11, no class work); any other instant takes the classes of the
+ * no class work); any other instant takes the classes of the
  * instants. Inline with @p write a constant, so the board's writer is inlined
  * too. Context: ISR (the board's actuation).
  */
@@ -469,14 +426,8 @@ static inline __attribute__((always_inline)) void npc_program_legs(const npc_leg
     }
 }
 
-/**
- * Plan one leg. @p prev is the leg state at the end of the previous period,
- * @p v0 / @p v1 the requested states (each <= NPC_P), @p t0 the requested
- * switching instant in counts (0..per). Context: ANY (pure function).
- */
-void npc_plan_leg(const npc_timing *tm, uint8_t prev, uint8_t v0, uint8_t v1, uint32_t t0, npc_leg_plan *out);
-
-/** @return output-1 level of pair @p pair (0: S3 of S3/S1, 1: S2 of S2/S4) for leg state @p leg. */
-bool npc_pair_level(unsigned pair, uint8_t leg);
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* HAL_STM32G4_NPC_PLAN_H */

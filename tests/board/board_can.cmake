@@ -15,7 +15,8 @@ set(BCAN_SRC ${CMAKE_CURRENT_SOURCE_DIR}/images)
 set(BCAN_HAL ${CMAKE_SOURCE_DIR}/hal/stm32g4)
 set(BCAN_FLAGS -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -O2 -ffunction-sections
     -fdata-sections -fno-math-errno -fsingle-precision-constant -Wall -Wextra -Werror
-    -I${CMAKE_SOURCE_DIR}/hal/include -I${BCAN_HAL})
+    -I${CMAKE_SOURCE_DIR}/hal/include -I${BCAN_HAL}
+    -I${CMAKE_SOURCE_DIR}/firmware/control/include) # dtc/npc.h: the leg planner's leg codes and rule
 set(BCAN_LINK -T${BCAN_HAL}/stm32g474.ld -nostartfiles -Wl,--gc-sections --specs=nano.specs --specs=nosys.specs)
 
 # The port's vector table and reset handler, without board_init()'s HRTIM/ADC start-up.

@@ -1,5 +1,5 @@
 // Exhaustive checks of the STM32G474 binding's per-period NPC leg planner
-// (hal/stm32g4/npc_plan.c): the programme the HRTIM runs never turns S1 and
+// (hal/stm32g4/npc_plan.c, and its reference planner tests/oracles/npc_plan_leg.c): the programme the HRTIM runs never turns S1 and
 // S4 on together, never steps a leg directly between P and N (also across
 // periods), keeps the switching instant out of the sampling window and the
 // second pulse above its minimum, and otherwise applies what was asked.
@@ -13,9 +13,8 @@
 #include <string>
 #include <vector>
 
-extern "C" {
 #include "npc_plan.h"
-}
+#include "npc_plan_leg.h"
 
 namespace {
 

@@ -2,7 +2,8 @@
 // machine flux rotating at omega_s with the voltage that makes it, against
 // an observer flux that is the same (healthy) or turns at another frequency
 // (diverged). The monitor sums every tick and checks every
-// CTL_GUARD_WINDOW_MAX-th tick, as ctl.c schedules it.
+// CTL_GUARD_WINDOW_MAX-th tick, as the control step schedules it
+// (dtc/ctl_schedule.h).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -4,7 +4,8 @@
 // Same synthetic machine as test_ctl_guard.cpp: a flux rotating at omega_s
 // with the voltage that makes it, the observer's flux turning at another
 // frequency from t_div on; summed every tick, checked every
-// CTL_GUARD_WINDOW_MAX-th tick as ctl.c schedules it.
+// CTL_GUARD_WINDOW_MAX-th tick as the control step schedules it
+// (dtc/ctl_schedule.h).
 #include <gtest/gtest.h>
 
 #include <cmath>

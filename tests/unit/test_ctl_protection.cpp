@@ -10,7 +10,7 @@
 
 #include "dtc/bringup.h"
 #include "dtc/ctl.h"
-#include "dtc/dtc3l.h"
+#include "dtc/npc.h"
 
 namespace {
 
@@ -130,29 +130,29 @@ TEST(CtlRunState, FirstVectorsAfterStartAreSafe)
 {
     Core c;
     ctl_in in = Core::nominal();
-    uint8_t prev = DTC3L_STATE_OOO; // the board holds OOO while the gates are off
+    uint8_t prev = NPC_STATE_OOO; // the board holds OOO while the gates are off
     for (int i = 0; i < 50; ++i) {
         c.step(in);
         ASSERT_TRUE(c.out.gate_enable);
-        uint8_t s0 = dtc3l_state_of(&c.out.act.vector[0]);
-        uint8_t s1 = dtc3l_state_of(&c.out.act.vector[1]);
+        uint8_t s0 = npc_state_of(&c.out.act.vector[0]);
+        uint8_t s1 = npc_state_of(&c.out.act.vector[1]);
         ASSERT_LT(s0, 27);
         ASSERT_LT(s1, 27);
-        EXPECT_FALSE(dtc3l_pn_step(prev, s0));
-        EXPECT_FALSE(dtc3l_pn_step(s0, s1));
+        EXPECT_FALSE(npc_pn_step(prev, s0));
+        EXPECT_FALSE(npc_pn_step(s0, s1));
         prev = s1;
     }
 }
 
-// The latched actuation's leg codes are its states' (last_act.vector[k] is
-// last_state[k]) after every tick, whatever path wrote them: running,
+// The latched actuation's leg codes are its states' (applied.act.vector[k] is
+// applied.state[k]) after every tick, whatever path wrote them: running,
 // magnetising, gates off after a stop or a fault, and every bring-up level.
-// The real inverter's voltage (ctl.c apply_real_inverter) reads levels from
-// the codes and edge directions from the states and relies on it.
+// The real inverter's voltage (dtc/inverter_model.h) reads levels from the
+// codes and edge directions from the states and relies on it.
 bool latched_codes_match(const ctl_state &s)
 {
-    return dtc3l_state_of(&s.last_act.vector[0]) == s.last_state[0] &&
-           dtc3l_state_of(&s.last_act.vector[1]) == s.last_state[1];
+    return npc_state_of(&s.applied.act.vector[0]) == s.applied.state[0] &&
+           npc_state_of(&s.applied.act.vector[1]) == s.applied.state[1];
 }
 
 TEST(CtlRunState, LatchedActuationIsTheLatchedStatesOnEveryPath)
@@ -162,7 +162,7 @@ TEST(CtlRunState, LatchedActuationIsTheLatchedStatesOnEveryPath)
         Core c; // the defaults: the real inverter's compensation on
         c.cfg.bringup_level = level;
         ctl_cfg_derive(&c.cfg);
-        ASSERT_TRUE(c.cfg.real_inverter);
+        ASSERT_TRUE(c.cfg.inv.real);
         ctl_init(&c.s, &c.cfg);
         ctl_in in = Core::nominal();
         int n_on = 0;
@@ -341,11 +341,11 @@ TEST(CtlProtection, BadSampleLosesNothing)
 
 } // namespace
 
-// The operating point's supervision (issue 11: once per slot cycle, not every
-// tick): at the voltage limit the flux target is the DC link's usable phase
-// voltage over the electrical speed, fw_voltage_frac / sqrt(3) x Vdc / |w_e|,
-// worked out only in the supervision slot (every speed mode) and held in the
-// ticks between, while the reference ramps towards it every tick.
+// The operating point's supervision (once per slot cycle, not every tick): at
+// the voltage limit the flux target is the DC link's usable phase voltage over
+// the electrical speed, fw_voltage_frac / sqrt(3) x Vdc / |w_e|, worked out
+// only in the supervision slot (every speed mode) and held in the ticks
+// between, while the reference ramps towards it every tick.
 TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
 {
     for (speed_mode mode : {SPEED_MODE_IP, SPEED_MODE_RBFN}) {
@@ -353,7 +353,6 @@ TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
         Core c;
         c.cfg.speed.mode = mode;
         ctl_cfg_derive(&c.cfg);
-        const unsigned slot = CTL_SLOT_SUPERVISE;
         ctl_in in = Core::nominal();
         c.step(in); // starts magnetising
         ASSERT_EQ(c.s.run_state, CTL_MAGNETISING);
@@ -368,7 +367,7 @@ TEST(CtlSupervision, FluxTargetStepsOncePerSlotCycleAtTheVoltageLimit)
             c.step(in);
             const double w = std::abs((double)c.s.obs.omega_e_rad_s); // the speed this tick's step used
             const double expect = (double)c.cfg.fw_voltage_frac / std::sqrt(3.0) * 311.0 / w;
-            if (c.s.slow_slot == slot) {
+            if (ctl_slot_supervise(c.s.slow_slot)) { // this tick's slot (dtc/ctl_schedule.h)
                 ++steps;
                 EXPECT_NEAR(c.s.psi_target_Wb, expect, 1e-5 * expect) << "tick " << k;
             } else {

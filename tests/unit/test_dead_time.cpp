@@ -1,10 +1,11 @@
-// Dead-time volt-seconds per leg (firmware/control/src/dead_time.c) against
+// Dead-time volt-seconds per leg (the reference tests/oracles/dead_time_leg_error.c) against
 // cases worked out by hand from the NPC leg's commutation: an edge a -> b is
 // late by the dead time when the current flows the way of the step, on time
 // otherwise; a late edge costs (v_b - v_a) Td over the period T.
 #include <gtest/gtest.h>
 
-#include "dtc/dead_time.h"
+#include "dead_time_leg_error.h"
+#include "dtc/inverter_model.h"
 
 namespace {
 
@@ -110,7 +111,7 @@ TEST(DeadTime, ZeroDeadTimeGivesZero)
         EXPECT_EQ(x, 0.0f);
 }
 
-// The leg bytes are read word-wide (dead_time.c): every edge between any two
+// Every edge between any two
 // of the 27 states, at each of the three places in a period (previous vector
 // -> vector[0] -> vector[1]), against the rule worked out leg by leg here.
 TEST(DeadTime, EveryEdgeBetweenAnyTwoStatesLegByLeg)
@@ -140,12 +141,12 @@ TEST(DeadTime, EveryEdgeBetweenAnyTwoStatesLegByLeg)
     }
 }
 
-// dead_time_edge_moving (the edge without its a == b test, for ctl.c's observer
-// voltage, which knows the leg moves): for every pair of different codes and a
-// rising, falling and softened current, the late part of the step worked out
-// here: (v_b - v_a) dt_per_T x late_up (rising) or x (1 - late_up) (falling),
-// subtracted from the leg voltage; bit for bit as dead_time_edge_, which adds
-// only the test.
+// inverter_dead_time_edge (the firmware's edge on levels read already, without
+// an a == b test: the inverter model knows the leg moves): for every pair
+// of different codes and a rising, falling and softened current, the late
+// part of the step worked out here: (v_b - v_a) dt_per_T x late_up (rising) or
+// x (1 - late_up) (falling), subtracted from the leg voltage; bit for bit as
+// the reference's edge (dead_time_edge), which adds only the test.
 TEST(DeadTime, EdgeMovingIsTheLatePartOfEveryStep)
 {
     const float level[3] = {-kVc2, 0.0f, kVc1};
@@ -156,12 +157,12 @@ TEST(DeadTime, EdgeMovingIsTheLatePartOfEveryStep)
             for (float late_up : {0.0f, 0.25f, 1.0f}) {
                 float late = b > a ? late_up : 1.0f - late_up;
                 float want = 12.0f - (level[b] - level[a]) * kDtPerT * late;
-                float got = dead_time_edge_moving(a, b, late_up, level, kDtPerT, 12.0f);
+                float got = inverter_dead_time_edge(b > a, late_up, level[a], level[b], kDtPerT, 12.0f);
                 EXPECT_NEAR(got, want, 1e-5f) << a << " -> " << b << " late_up " << late_up;
-                float checked = dead_time_edge_(a, b, late_up, level, kDtPerT, 12.0f);
+                float checked = dead_time_edge(a, b, late_up, level, kDtPerT, 12.0f);
                 EXPECT_EQ(got, checked);
             }
         }
     }
-    EXPECT_EQ(dead_time_edge_(1u, 1u, 0.5f, level, kDtPerT, 12.0f), 12.0f); // no step: nothing
+    EXPECT_EQ(dead_time_edge(1u, 1u, 0.5f, level, kDtPerT, 12.0f), 12.0f); // no step: nothing
 }

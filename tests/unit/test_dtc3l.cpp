@@ -1,9 +1,8 @@
-// Three-level DTC: vectors, sector, switching table, neutral-point choice and
-// the P<->N rule, checked against the PLANT (plant_inverter_output,
+// Three-level DTC: sector, switching table, neutral-point choice and the
+// P<->N rule (the NPC geometry itself: test_npc.cpp), checked against the PLANT (plant_inverter_output,
 // plant_advance) and the machine equations written in the test
 // (tests/common/im_ref.hpp), never against the firmware's own arithmetic.
 #include <gtest/gtest.h>
-
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +15,8 @@
 
 #include "dtc/ctl.h"
 #include "dtc/dtc3l.h"
+#include "dtc/dtc3l_np.h"
+#include "dtc/npc.h"
 #include "im_ref.hpp"
 #include "plant/plant.h"
 
@@ -59,29 +60,6 @@ cd plant_voltage(int state, double vc1, double vc2, const double i_abc[3] = null
     return {ab[0], ab[1]};
 }
 
-// ------------------------------------------------------------------ vectors
-
-TEST(Dtc3lVectors, VoltagesAndNpCurrentMatchThePlant)
-{
-    const double vc1 = 161.0, vc2 = 149.0; // deliberately unbalanced
-    const double i_abc[3] = {12.5, -3.0, -9.5};
-    for (int st = 0; st < 27; ++st) {
-        double inp_plant;
-        cd vp = plant_voltage(st, vc1, vc2, i_abc, &inp_plant);
-        float vf[2];
-        dtc3l_state_voltage(uint8_t(st), float(vc1), float(vc2), vf);
-        float iabc_f[3] = {12.5f, -3.0f, -9.5f};
-        SCOPED_TRACE(st);
-        EXPECT_NEAR(vf[0], vp.real(), 1e-3);
-        EXPECT_NEAR(vf[1], vp.imag(), 1e-3);
-        EXPECT_NEAR(dtc3l_np_current(uint8_t(st), iabc_f), inp_plant, 1e-5);
-        hal_vector hv;
-        dtc3l_legs(uint8_t(st), &hv);
-        EXPECT_EQ(state_of(hv), st);
-        EXPECT_EQ(dtc3l_state_of(&hv), st);
-    }
-}
-
 // The 27 states written out by hand from the NPC topology (leg a, b, c; N, O, P),
 // in the documented numbering a*9 + b*3 + c.
 const char *const kStateNames[27] = {
@@ -89,158 +67,6 @@ const char *const kStateNames[27] = {
     "ONN", "ONO", "ONP", "OON", "OOO", "OOP", "OPN", "OPO", "OPP",
     "PNN", "PNO", "PNP", "PON", "POO", "POP", "PPN", "PPO", "PPP",
 };
-
-int level_of(char c) { return c == 'N' ? 0 : (c == 'O' ? 1 : 2); }
-
-// The precomputed state tables (legs, voltage per capacitor, NP current,
-// P<->N steps, commutations, P<->N-safe target) for every state and every
-// pair, against the hand-written names and the plant's inverter model,
-// with out-of-range indices handled as documented.
-TEST(Dtc3lVectors, StateTablesMatchTheTopologyForEveryPair)
-{
-    const double vc1 = 157.0, vc2 = 151.5;
-    const double i_abc[3] = {-7.25, 11.0, -3.75};
-    const float i_abc_f[3] = {-7.25f, 11.0f, -3.75f};
-    for (int from = 0; from < 27; ++from) {
-        SCOPED_TRACE(kStateNames[from]);
-        hal_vector hv;
-        dtc3l_legs(uint8_t(from), &hv);
-        for (int k = 0; k < 3; ++k)
-            EXPECT_EQ(int(hv.leg[k]), level_of(kStateNames[from][k]));
-        double inp_plant;
-        cd vp = plant_voltage(from, vc1, vc2, i_abc, &inp_plant);
-        float v[2];
-        dtc3l_state_voltage(uint8_t(from), float(vc1), float(vc2), v);
-        EXPECT_NEAR(v[0], vp.real(), 1e-4);
-        EXPECT_NEAR(v[1], vp.imag(), 1e-4);
-        EXPECT_NEAR(dtc3l_np_current(uint8_t(from), i_abc_f), inp_plant, 1e-6);
-        for (int to = 0; to < 27; ++to) {
-            SCOPED_TRACE(kStateNames[to]);
-            int changes = 0;
-            bool pn = false;
-            char safe[4] = {0, 0, 0, 0};
-            for (int k = 0; k < 3; ++k) {
-                int a = level_of(kStateNames[from][k]), b = level_of(kStateNames[to][k]);
-                changes += std::abs(a - b);
-                pn |= std::abs(a - b) == 2;
-                safe[k] = std::abs(a - b) == 2 ? 'O' : kStateNames[to][k];
-            }
-            EXPECT_EQ(int(dtc3l_leg_changes(uint8_t(from), uint8_t(to))), changes);
-            EXPECT_EQ(dtc3l_pn_step(uint8_t(from), uint8_t(to)), pn);
-            EXPECT_STREQ(kStateNames[dtc3l_pn_safe(uint8_t(from), uint8_t(to))], safe);
-        }
-        EXPECT_EQ(dtc3l_leg_changes(uint8_t(from), 27u), 0u);
-        EXPECT_FALSE(dtc3l_pn_step(0xFFu, uint8_t(from)));
-        EXPECT_EQ(dtc3l_pn_safe(uint8_t(from), 0xFFu), DTC3L_STATE_OOO);
-    }
-    hal_vector hv;
-    dtc3l_legs(0xFFu, &hv);
-    EXPECT_EQ(state_of(hv), int(DTC3L_STATE_OOO));
-    EXPECT_EQ(dtc3l_np_current(27u, i_abc_f), 0.0f);
-    float v[2];
-    dtc3l_state_voltage(200u, float(vc1), float(vc2), v);
-    EXPECT_EQ(v[0], 0.0f);
-    EXPECT_EQ(v[1], 0.0f);
-}
-
-// dtc3l_legs_voltage (leg voltages looked up by leg code) gives the very bits
-// of dtc3l_state_voltage (selections) for every state, balanced or not (the
-// control step's observer input relies on it: tools/sil_identical.sh).
-TEST(Dtc3lVectors, LegsVoltageEqualsStateVoltageBitForBit)
-{
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<float> u(0.f, 400.f);
-    for (int k = 0; k < 200; ++k) {
-        float vc1 = u(rng), vc2 = u(rng);
-        const float leg_V[3] = {-vc2, 0.0f, vc1};
-        for (int st = 0; st < 27; ++st) {
-            float a[2], b[2];
-            hal_vector hv;
-            dtc3l_legs(uint8_t(st), &hv);
-            dtc3l_state_voltage(uint8_t(st), vc1, vc2, a);
-            dtc3l_legs_voltage(&hv, leg_V, b);
-            ASSERT_EQ(std::memcmp(a, b, sizeof a), 0) << kStateNames[st] << " " << vc1 << " " << vc2;
-        }
-    }
-}
-
-// The packed leg codes (dtc3l_step's output) against the base-3 digits of the
-// state number, and the step's vectors against its states.
-TEST(Dtc3lVectors, PackedLegsAreTheBase3Digits)
-{
-    for (int st = 0; st < 27; ++st) {
-        uint32_t want = uint32_t(st / 9) | uint32_t(st / 3 % 3) << 8 | uint32_t(st % 3) << 16;
-        EXPECT_EQ(dtc3l_state_legs_packed[st], want) << kStateNames[st];
-    }
-}
-
-// Both vectors of an actuation written at once: for every pair of states the
-// six leg bytes are each state's base-3 digits (leg a, b, c), and the duty
-// after them is left as it was.
-TEST(Dtc3lVectors, LegsPairWritesBothStatesBase3Digits)
-{
-    for (int s0 = 0; s0 < 27; ++s0)
-        for (int s1 = 0; s1 < 27; ++s1) {
-            hal_actuation a;
-            std::memset(&a, 0xA5, sizeof a);
-            a.duty0 = 0.25f;
-            dtc3l_legs_pair_unchecked(uint8_t(s0), uint8_t(s1), &a);
-            const int st[2] = {s0, s1};
-            for (int v = 0; v < 2; ++v) {
-                EXPECT_EQ(int(a.vector[v].leg[0]), st[v] / 9) << kStateNames[s0] << " " << kStateNames[s1];
-                EXPECT_EQ(int(a.vector[v].leg[1]), st[v] / 3 % 3) << kStateNames[s0] << " " << kStateNames[s1];
-                EXPECT_EQ(int(a.vector[v].leg[2]), st[v] % 3) << kStateNames[s0] << " " << kStateNames[s1];
-            }
-            EXPECT_EQ(a.duty0, 0.25f);
-        }
-}
-
-// The 19 space vectors: magnitude class and direction as documented in dtc3l.h,
-// every redundant state of a vector giving the same voltage (balanced link).
-TEST(Dtc3lVectors, SpaceVectorClassesAndDirections)
-{
-    const double vdc = 311.0;
-    int seen[27] = {0};
-    for (int sv = 0; sv < 19; ++sv) {
-        uint8_t st[3];
-        int n = dtc3l_sv_states(uint8_t(sv), st);
-        ASSERT_GE(n, 1);
-        double mag_want, ang_want;
-        if (sv == 0) {
-            mag_want = 0;
-            ang_want = 0;
-            EXPECT_EQ(n, 3);
-        } else if (sv <= 6) {
-            mag_want = vdc / 3;
-            ang_want = (sv - 1) * 60.0;
-            EXPECT_EQ(n, 2);
-            EXPECT_EQ(dtc3l_sv_class(uint8_t(sv)), DTC3L_CLASS_SMALL);
-        } else if (sv <= 12) {
-            mag_want = vdc / std::sqrt(3.0);
-            ang_want = 30.0 + (sv - 7) * 60.0;
-            EXPECT_EQ(n, 1);
-            EXPECT_EQ(dtc3l_sv_class(uint8_t(sv)), DTC3L_CLASS_MEDIUM);
-        } else {
-            mag_want = 2 * vdc / 3;
-            ang_want = (sv - 13) * 60.0;
-            EXPECT_EQ(n, 1);
-            EXPECT_EQ(dtc3l_sv_class(uint8_t(sv)), DTC3L_CLASS_LARGE);
-        }
-        for (int i = 0; i < n; ++i) {
-            SCOPED_TRACE(testing::Message() << "sv " << sv << " state " << int(st[i]));
-            seen[st[i]]++;
-            EXPECT_EQ(dtc3l_state_sv(st[i]), sv);
-            cd v = plant_voltage(st[i], vdc / 2, vdc / 2);
-            EXPECT_NEAR(std::abs(v), mag_want, 1e-6);
-            if (sv != 0) {
-                cd dir = std::polar(1.0, ang_want * kPi / 180.0);
-                EXPECT_NEAR(std::arg(v / dir), 0.0, 1e-9);
-            }
-        }
-    }
-    for (int s = 0; s < 27; ++s)
-        EXPECT_EQ(seen[s], 1) << "state " << s << " must belong to exactly one vector";
-}
 
 TEST(Dtc3lSector, TwelveSectorsOfThirtyDegrees)
 {
@@ -397,14 +223,14 @@ TEST(Dtc3lTable, EveryEntryMovesTorqueAndFluxAsDemanded)
                     for (int tq : {-2, -1, 1, 2}) {
                         uint8_t sv = dtc3l_select(pa, pb, int8_t(tq), int8_t(flux), c.level);
                         // which table: small vectors for the LOW level's +-1, else large/medium
-                        dtc3l_class cls = dtc3l_sv_class(sv);
+                        npc_class cls = npc_sv_class(sv);
                         if (c.level == DTC3L_LEVEL_LOW && (tq == 1 || tq == -1)) {
-                            EXPECT_EQ(cls, DTC3L_CLASS_SMALL);
+                            EXPECT_EQ(cls, NPC_CLASS_SMALL);
                         } else {
-                            EXPECT_TRUE(cls == DTC3L_CLASS_LARGE || cls == DTC3L_CLASS_MEDIUM);
+                            EXPECT_TRUE(cls == NPC_CLASS_LARGE || cls == NPC_CLASS_MEDIUM);
                         }
                         uint8_t st[3];
-                        int n = dtc3l_sv_states(sv, st);
+                        int n = npc_sv_states(sv, st);
                         for (int i = 0; i < n; ++i) {
                             Slopes s = slopes(o, st[i], vc, vc);
                             SCOPED_TRACE(testing::Message() << c.name << " sector " << sector << " off " << off
@@ -423,7 +249,7 @@ TEST(Dtc3lTable, EveryEntryMovesTorqueAndFluxAsDemanded)
                         if (tq == 2 || tq == -2) {
                             uint8_t sv1 = dtc3l_select(pa, pb, int8_t(tq / 2), int8_t(flux), c.level);
                             uint8_t st1[3];
-                            dtc3l_sv_states(sv1, st1);
+                            npc_sv_states(sv1, st1);
                             EXPECT_GE(slopes(o, st[0], vc, vc).dte * tq, slopes(o, st1[0], vc, vc).dte * tq - 1e-6);
                         }
                     }
@@ -438,9 +264,9 @@ TEST(Dtc3lTable, EveryEntryMovesTorqueAndFluxAsDemanded)
                     // no faster than the up or the down vector
                     if (c.level == DTC3L_LEVEL_LOW) {
                         uint8_t svh = dtc3l_table_flux_hold(dtc3l_sector6(pa, pb));
-                        EXPECT_EQ(dtc3l_sv_class(svh), DTC3L_CLASS_SMALL);
+                        EXPECT_EQ(npc_sv_class(svh), NPC_CLASS_SMALL);
                         uint8_t sth[3];
-                        int nh = dtc3l_sv_states(svh, sth);
+                        int nh = npc_sv_states(svh, sth);
                         for (int i = 0; i < nh; ++i) {
                             Slopes h = slopes(o, sth[i], vc, vc);
                             SCOPED_TRACE(testing::Message() << c.name << " flux hold, sector " << sector << " off " << off);
@@ -475,22 +301,22 @@ TEST(Dtc3lStates, NoChoiceEverStepsALegBetweenPAndN)
                 // unless the neutral point is out of its band and the choice is a
                 // small intermediate that balances it
                 uint8_t cand[3];
-                int n = dtc3l_sv_states(uint8_t(sv), cand);
+                int n = npc_sv_states(uint8_t(sv), cand);
                 bool reachable = false;
                 for (int i = 0; i < n; ++i)
                     reachable |= !pn_step(prev, cand[i]);
-                if (reachable && dtc3l_state_sv(st) != sv) {
+                if (reachable && npc_state_sv(st) != sv) {
                     double i_np;
                     double i_d[3] = {i_abc[0], i_abc[1], i_abc[2]};
                     plant_voltage(st, 155.5, 155.5, i_d, &i_np);
                     EXPECT_GT(std::abs(dev_v), 1.5f);
-                    EXPECT_EQ(dtc3l_sv_class(dtc3l_state_sv(st)), DTC3L_CLASS_SMALL);
+                    EXPECT_EQ(npc_sv_class(npc_state_sv(st)), NPC_CLASS_SMALL);
                     EXPECT_LT(i_np * dev_v, 0.0) << "prev " << prev << " sv " << sv << " -> " << int(st);
                 }
             }
         }
         for (int to = 0; to < 27; ++to)
-            EXPECT_FALSE(pn_step(prev, dtc3l_pn_safe(uint8_t(prev), uint8_t(to))));
+            EXPECT_FALSE(pn_step(prev, npc_pn_safe(uint8_t(prev), uint8_t(to))));
     }
 }
 
@@ -533,7 +359,7 @@ TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
         cfg.dtc.ripple_reduction = ripple != 0;
         dtc3l s;
         dtc3l_init(&s);
-        uint8_t prev = DTC3L_STATE_OOO;
+        uint8_t prev = NPC_STATE_OOO;
         for (int k = 0; k < 200000; ++k) {
             dtc3l_in in = random_dtc_input(rng);
             in.prev_state = prev;
@@ -551,7 +377,7 @@ TEST(Dtc3lStates, StepSequencesAreFreeOfPNSteps)
     }
 }
 
-// dtc3l_cmd.decide_level (ctl.c sets it once per slot cycle): false keeps the
+// dtc3l_cmd.decide_level (the control step sets it once per slot cycle): false keeps the
 // level whatever the back-emf; true decides it by the rule of dtc3l.h, the
 // back-emf |omega_e| psi_ref over Vdc/3 against level_up (from LOW) and
 // level_down (back to LOW), worked out here in double (boundary cases left out).
@@ -633,7 +459,7 @@ TEST(Dtc3lStates, InvalidPreviousStateCountsAsOoo)
         a.torque_state = int8_t(k % 3 - 1);
         b = a;
         dtc3l_out oa, ob;
-        in.prev_state = DTC3L_STATE_OOO;
+        in.prev_state = NPC_STATE_OOO;
         dtc3l_step(&a, &cfg.dtc, 200e-6f, &in, &oa);
         in.prev_state = uint8_t(27 + k % 229); // 27..255
         dtc3l_step(&b, &cfg.dtc, 200e-6f, &in, &ob);
@@ -659,7 +485,7 @@ TEST(Dtc3lNp, RedundantSmallVectorDrivesNeutralPointTowardBalance)
                                    -0.5 * o.is.real() - 0.5 * std::sqrt(3.0) * o.is.imag()};
                 float i_f[3] = {float(i_abc[0]), float(i_abc[1]), float(i_abc[2])};
                 for (int sv = 1; sv <= 6; ++sv) {
-                    uint8_t st = dtc3l_choose_state(uint8_t(sv), DTC3L_STATE_OOO, float(dev), 1.5f, i_f);
+                    uint8_t st = dtc3l_choose_state(uint8_t(sv), NPC_STATE_OOO, float(dev), 1.5f, i_f);
                     double inp;
                     plant_voltage(st, 155.5 + dev / 2, 155.5 - dev / 2, i_abc, &inp);
                     if (std::abs(inp) < 2.0)
@@ -713,7 +539,7 @@ TEST(Dtc3lNp, ZeroVectorPrefersOooThenNnnOnTies)
         }
         EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), 0.2f, 1.5f, i_abc)), want) << kStateNames[prev];
         // outside half the band with a non-small vector before: still that choice
-        if (dtc3l_sv_class(dtc3l_state_sv(uint8_t(prev))) != DTC3L_CLASS_SMALL) {
+        if (npc_sv_class(npc_state_sv(uint8_t(prev))) != NPC_CLASS_SMALL) {
             EXPECT_EQ(int(dtc3l_choose_state(0u, uint8_t(prev), 1.0f, 1.5f, i_abc)), want) << kStateNames[prev];
         }
     }
@@ -730,12 +556,12 @@ TEST(Dtc3lNp, ZeroVectorLooksAheadToTheBalancingState)
     const int zeros[3] = {13, 0, 26};
     int small_seen = 0;
     for (int prev = 0; prev < 27; ++prev) {
-        uint8_t sv = dtc3l_state_sv(uint8_t(prev));
-        if (dtc3l_sv_class(sv) != DTC3L_CLASS_SMALL)
+        uint8_t sv = npc_state_sv(uint8_t(prev));
+        if (npc_sv_class(sv) != NPC_CLASS_SMALL)
             continue;
         ++small_seen;
         uint8_t pair[3];
-        ASSERT_EQ(dtc3l_sv_states(sv, pair), 2u);
+        ASSERT_EQ(npc_sv_states(sv, pair), 2u);
         for (float dev : {1.0f, -1.0f, 1.4f, -1.4f}) {
             // the plant's NP current of each state: the phase currents of its legs at O
             int target = -1;
@@ -779,7 +605,7 @@ TEST(Dtc3lNp, InsideTheBandFewestCommutations)
         for (int sv = 0; sv < 19; ++sv) {
             uint8_t st = dtc3l_choose_state(uint8_t(sv), uint8_t(prev), 0.2f, 1.5f, i_abc);
             uint8_t cand[3];
-            int n = dtc3l_sv_states(uint8_t(sv), cand);
+            int n = npc_sv_states(uint8_t(sv), cand);
             int best = 99;
             for (int i = 0; i < n; ++i) {
                 if (pn_step(prev, cand[i]))
@@ -863,7 +689,7 @@ TEST(Dtc3lNp, InsideTheBandSmallVectorExactly)
             for (int prev = 0; prev < 27; ++prev) {
                 for (int sv = 1; sv <= 6; ++sv) {
                     uint8_t cand[3];
-                    ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), cand), 2);
+                    ASSERT_EQ(npc_sv_states(uint8_t(sv), cand), 2);
                     uint8_t pa[3], c0[3], c1[3];
                     legs_of(prev, pa);
                     legs_of(cand[0], c0);
@@ -908,7 +734,7 @@ TEST(Dtc3lNp, OutsideTheBandSmallVectorExactly)
             for (int prev = 0; prev < 27; ++prev) {
                 for (int sv = 1; sv <= 6; ++sv) {
                     uint8_t cand[3];
-                    ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), cand), 2);
+                    ASSERT_EQ(npc_sv_states(uint8_t(sv), cand), 2);
                     double best_push = 0.0;
                     int want = ref_least_score(prev, cand, i_abc, dev, 100, &best_push);
                     if (want < 0) {
@@ -976,8 +802,8 @@ LoopResult run_torque_loop(bool ripple, double rpm, double te_ref)
     dtc3l d;
     dtc3l_init(&d);
     hal_actuation latched;
-    dtc3l_legs(DTC3L_STATE_OOO, &latched.vector[0]);
-    dtc3l_legs(DTC3L_STATE_OOO, &latched.vector[1]);
+    npc_legs(NPC_STATE_OOO, &latched.vector[0]);
+    npc_legs(NPC_STATE_OOO, &latched.vector[1]);
     latched.duty0 = 1.0f;
 
     const int n_settle = int(0.6 / kT), n = int(1.0 / kT);
@@ -992,8 +818,8 @@ LoopResult run_torque_loop(bool ripple, double rpm, double te_ref)
         plant_adc_to_units(&ps.cfg, &adc, i, vc);
         // applied during this period: the actuation latched one tick ago
         float v0[2], v1[2], v[2];
-        dtc3l_state_voltage(uint8_t(state_of(latched.vector[0])), float(vc[0]), float(vc[1]), v0);
-        dtc3l_state_voltage(uint8_t(state_of(latched.vector[1])), float(vc[0]), float(vc[1]), v1);
+        npc_state_voltage(uint8_t(state_of(latched.vector[0])), float(vc[0]), float(vc[1]), v0);
+        npc_state_voltage(uint8_t(state_of(latched.vector[1])), float(vc[0]), float(vc[1]), v1);
         for (int j = 0; j < 2; ++j)
             v[j] = latched.duty0 * v0[j] + (1 - latched.duty0) * v1[j];
         float is[2] = {float((2 * i[0] - i[1] - i[2]) / 3), float((i[1] - i[2]) / std::sqrt(3.0))};
@@ -1087,8 +913,8 @@ TEST(Dtc3lClosedLoop, RippleReductionKeepsTheTorqueInsideTheBand)
 
 } // namespace
 
-// The switching tables written out in dtc3l_table.c (issue 11: no mod 12 / 6
-// and direction sums per tick) equal the rule they were written from, entry
+// The switching tables written out in dtc3l_table.c (no mod 12 / 6 and
+// direction sums per tick) equal the rule they were written from, entry
 // by entry: the vector at the sector's direction plus the demand's offset
 // (+60 / +120 deg up, -60 / -120 deg down; large or medium on 12 sectors,
 // small on 6), and the flux-hold vector is the small one along the sector.
@@ -1112,7 +938,7 @@ TEST(Dtc3lTables, WrittenOutTablesEqualTheRule)
     EXPECT_EQ(dtc3l_demand_index(-1, -1), 3u);
 }
 
-// The flux-hold pulse's two choices (issue 11): dtc3l_choose_state_push0_unchecked
+// The flux-hold pulse's two choices: dtc3l_choose_state_push0_unchecked
 // must choose as dtc3l_choose_state does and, where it says so, report the first
 // state's NP current x vc1 - vc2 (the plant's sum of the O-leg phase currents,
 // worked out here in double, against the float product's sign and value); the
@@ -1129,10 +955,10 @@ TEST(Dtc3lNp, PulseChoicesReuseTheProductAndChooseAsBefore)
         i_abc[2] = -i_abc[0] - i_abc[1];
         float np = dev(rng);
         for (int sv = 1; sv < 19; ++sv) {
-            if (dtc3l_sv_class(uint8_t(sv)) != DTC3L_CLASS_SMALL)
+            if (npc_sv_class(uint8_t(sv)) != NPC_CLASS_SMALL)
                 continue;
             uint8_t pair[3];
-            ASSERT_EQ(dtc3l_sv_states(uint8_t(sv), pair), 2u);
+            ASSERT_EQ(npc_sv_states(uint8_t(sv), pair), 2u);
             for (int prev = 0; prev < 27; ++prev) {
                 bool known = false;
                 float push0 = 12345.f;
@@ -1148,7 +974,7 @@ TEST(Dtc3lNp, PulseChoicesReuseTheProductAndChooseAsBefore)
                         inp += l[j] == 1 ? double(i_abc[j]) : 0.0;
                     ASSERT_NEAR(double(push0), inp * double(np), 1e-4 * (1.0 + std::abs(inp * double(np))));
                 }
-                bool reuse = known && dtc3l_state_sv(st) == uint8_t(sv);
+                bool reuse = known && npc_state_sv(st) == uint8_t(sv);
                 reused += reuse;
                 ASSERT_EQ(dtc3l_choose_zero_unchecked(st, np, 1.5f, i_abc, reuse, push0),
                           dtc3l_choose_state(0u, st, np, 1.5f, i_abc))
@@ -1161,28 +987,4 @@ TEST(Dtc3lNp, PulseChoicesReuseTheProductAndChooseAsBefore)
     }
     EXPECT_GT(known_seen, 1000);
     EXPECT_GT(reused, 1000);
-}
-
-// cut_intermediate_short gives a zero intermediate state the shortest segment
-// without its NP current (issue 11): that relies on every zero state drawing
-// exactly no current from three phase currents formed as the step forms them
-// (ic = -ia - ib in float): NNN and PPP have no leg at O, OOO sums all three.
-TEST(Dtc3lNp, ZeroStatesDrawExactlyNoCurrentFromTheStepsPhaseCurrents)
-{
-    std::mt19937 rng(11u);
-    std::uniform_real_distribution<float> mant(-1.0f, 1.0f);
-    std::uniform_int_distribution<int> expo(-30, 30);
-    for (int n = 0; n < 200000; n++) {
-        float ia = std::ldexp(mant(rng), expo(rng));
-        float ib = std::ldexp(mant(rng), expo(rng));
-        const float i_abc[3] = {ia, ib, -ia - ib};
-        for (int zero : {0, 13, 26}) {
-            float inp = dtc3l_np_current(uint8_t(zero), i_abc);
-            ASSERT_EQ(inp, 0.0f) << "state " << zero << " ia " << ia << " ib " << ib;
-        }
-        // and a small state's does not vanish in general (the test can fail)
-        if (n == 0) {
-            EXPECT_NE(dtc3l_np_current(22u, i_abc), 0.0f);
-        }
-    }
 }

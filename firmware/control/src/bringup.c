@@ -4,7 +4,7 @@
  */
 #include "dtc/bringup.h"
 
-#include "dtc/dtc3l.h"
+#include "dtc/npc.h"
 
 hal_vector bringup_gate_pattern(real_t t_s)
 {
@@ -24,9 +24,9 @@ hal_actuation bringup_vf(real_t theta_rad, real_t v_mag_V, real_t vc1_V, real_t 
     real_t u[2] = {num_cos(theta_rad), num_sin(theta_rad)};
     uint8_t best = 13u; /* OOO */
     real_t best_p = R(0.0);
-    for (uint8_t st = 0u; st < DTC3L_N_STATES; st++) {
+    for (uint8_t st = 0u; st < NPC_N_STATES; st++) {
         real_t v[2];
-        dtc3l_state_voltage(st, vc1_V, vc2_V, v);
+        npc_state_voltage(st, vc1_V, vc2_V, v);
         real_t p = num_mul(v[0], u[0]) + num_mul(v[1], u[1]);
         if (p > best_p) {
             best_p = p;
@@ -34,8 +34,8 @@ hal_actuation bringup_vf(real_t theta_rad, real_t v_mag_V, real_t vc1_V, real_t 
         }
     }
     hal_actuation act;
-    dtc3l_legs(best, &act.vector[0]);
-    dtc3l_legs(13u, &act.vector[1]);
+    npc_legs(best, &act.vector[0]);
+    npc_legs(13u, &act.vector[1]);
     act.duty0 = best_p > R(0.0) ? num_sat(v_mag_V / best_p, R(0.0), R(1.0)) : R(0.0);
     return act;
 }

@@ -46,7 +46,7 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
                      const real_t psi_obs_Wb[2], real_t psi_ref_Wb, bool judge)
 {
     /* the window: CTL_GUARD_WINDOW_MAX ticks in the caller's schedule, taken as such also in
-     * the first window after a reset, which may hold fewer (no tick count kept, cycle count):
+     * the first window after a reset, which may hold fewer (no tick count kept):
      * psi_vm and the frequency start from zero, so only the observer flux's low-pass takes
      * up to 3 ticks too many of its 1 Hz corner once (<= 0.4 % of that flux) */
     real_t a = cfg->leak; /* the leak over the window (1 - wc T)^n to first order */
@@ -64,8 +64,8 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
         d[i] = g->psi_vm_Wb[i] - (psi_obs_Wb[i] - g->psi_obs_lp_Wb[i]);
     }
     real_t e2 = num_mac(d[0], d[0], num_mul(d[1], d[1]));
-    /* a sum of squares, never negative: the bare square root (one instruction; num_sqrt's
-     * clamp would map a NaN, a broken voltage or current, to 0, and NaN must stay NaN) */
+    /* a sum of squares, never negative: the bare square root (num_sqrt's clamp would map
+     * a NaN, a broken voltage or current, to 0, and NaN must stay NaN) */
     g->err_Wb = sqrtf(e2);
 
     /* stator frequency of the machine's flux: rotation of psi_vm over the
@@ -98,9 +98,9 @@ bool ctl_guard_check(ctl_guard *g, const ctl_guard_cfg *cfg, real_t period_s, co
         g->t_above_s += window_s; /* the whole window counts */
         trip = g->t_above_s >= cfg->trip_time_s;
     }
-    /* The next window's sums start at -0.0: x + -0.0 is x exactly, so the compiler drops the
-     * additions of the accumulate that follows in ctl.c and, with these stores the last
-     * thing here (no load of cfg after them), these stores too (cycle count). */
+    /* The next window's sums start at -0.0: x + -0.0 is x exactly, so the additions of the
+     * accumulate that follows in the control step fold away and, with these stores the
+     * last thing here (no load of cfg after them), these stores too. */
     g->sum_v_V[0] = g->sum_v_V[1] = R(-0.0);
     g->sum_is_A[0] = g->sum_is_A[1] = R(-0.0);
     return trip;

@@ -15,15 +15,9 @@
  */
 #include "dtc/dtc3l.h"
 
-#include <stddef.h>
-#include <string.h>
-
-/* emit and ctl.c's actuate write both vectors' six leg bytes as one word and
- * one half-word (dtc3l_legs_pair_unchecked) */
-_Static_assert(sizeof(hal_vector) == 3u && offsetof(hal_actuation, vector) == 0u, "hal_actuation: six leg bytes first");
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
-#error "emit packs the leg codes little-endian"
-#endif
+#include "dtc/dtc3l_np.h"
+#include "dtc/dtc3l_table.h"
+#include "dtc/npc.h"
 
 /* Below this flux the radial direction is undefined (start of magnetising), Wb. */
 #define PSI_TINY_WB R(1e-3)
@@ -53,7 +47,7 @@ void dtc3l_init(dtc3l *s)
 static int8_t torque_comparator(int8_t state, real_t te, real_t te_ref, real_t b, real_t b2, real_t s_hold)
 {
     real_t err = te_ref - te;
-    if (num_abs(err) > b2) /* b2 >= 0: one compare for both strong demands (issue 11) */
+    if (num_abs(err) > b2) /* b2 >= 0: one compare for both strong demands */
         return err > R(0.0) ? 2 : -2;
     if (state > 0)
         return te >= te_ref + b ? 0 : 1;
@@ -157,11 +151,11 @@ static void tick_geometry_of(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const ob
     g->leg_V[HAL_LEG_P] = in->vc1_V;
 }
 
-/* dtc3l_state_voltage for the step's own states (0..26), the leg voltages
+/* npc_state_voltage for the step's own states (0..26), the leg voltages
  * looked up by leg code (the same values as its selections) */
 static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab[2])
 {
-    const hal_vector *l = &dtc3l_state_legs[st];
+    const hal_vector *l = &npc_state_legs[st];
     real_t va = g->leg_V[l->leg[0]], vb = g->leg_V[l->leg[1]], vc = g->leg_V[l->leg[2]];
     v_ab[0] = num_mul(R(0.333333333), R(2.0) * va - vb - vc);
     v_ab[1] = num_mul(NUM_INV_SQRT3, vb - vc);
@@ -170,7 +164,7 @@ static inline void state_voltage(const tick_geometry *g, uint8_t st, real_t v_ab
 /* dtc3l_state_slope for the step's own states (0..26). A zero state's
  * voltage is exactly (0, 0) (its three legs select the same voltage x:
  * 2x - x - x = 0), so its slope is dte0 as it is: no voltage worked out for
- * the holds, about every other period (issue 11). */
+ * the holds, about every other period. */
 static inline real_t voltage_slope(const observer_out *pr, const real_t v[2])
 {
     return pr->dte0_Nm_s + num_mul(pr->dte_dv[0], v[0]) + num_mul(pr->dte_dv[1], v[1]);
@@ -178,7 +172,7 @@ static inline real_t voltage_slope(const observer_out *pr, const real_t v[2])
 
 static inline real_t state_slope(const tick_geometry *g, const observer_out *pr, uint8_t st)
 {
-    if (dtc3l_state_sv_unchecked(st) == 0u)
+    if (npc_state_sv_unchecked(st) == 0u)
         return pr->dte0_Nm_s;
     real_t v[2];
     state_voltage(g, st, v);
@@ -221,7 +215,7 @@ static bool decide_flux_demand(dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *
 static uint8_t np_checked_vector(uint8_t sv, const dtc3l_cmd *in, const dtc3l_cfg *cfg, const tick_geometry *g,
                                  int8_t torque)
 {
-    if (dtc3l_sv_class_unchecked(sv) != DTC3L_CLASS_MEDIUM || torque == 0)
+    if (npc_sv_class_unchecked(sv) != NPC_CLASS_MEDIUM || torque == 0)
         return sv;
     /* a strong demand gets the most tangential voltage there is: the large
      * vector at 90 deg (>= 0.97 x 2 Vdc / 3) rather than the medium one at
@@ -234,7 +228,7 @@ static uint8_t np_checked_vector(uint8_t sv, const dtc3l_cmd *in, const dtc3l_cf
          * (at the band itself the 90-deg vector is taken so often that the
          * flux, and with it the speed, ripples more near the voltage limit:
          * docs/envelope.md section 5) */
-        real_t inp = dtc3l_np_current_unchecked(dtc3l_sv_state_list[sv][0], g->i_abc_A); /* its one state */
+        real_t inp = npc_np_current_unchecked(npc_sv_state_list[sv][0], g->i_abc_A); /* its one state */
         real_t np_next = num_mac(cfg->np_V_per_A, inp, in->np_dev_V);
         if (!(num_abs(np_next) > R(2.0) * cfg->np_band_V && num_abs(np_next) > num_abs(in->np_dev_V)))
             return sv;
@@ -256,8 +250,8 @@ static uint8_t state_for_demand(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
 /* state_for_demand from the state in force (g->prev_state) for the plan's
  * first state, but the zero vector's state left to settle_zero: in a hold
  * the flux-hold pulse often takes the period's start, and its own zero state
- * follows the pulse (issue 11: the plan's zero state, with its NP look-ahead,
- * was worked out and dropped in those ticks). */
+ * follows the pulse (the plan's zero state, with its NP look-ahead, would be
+ * worked out and dropped in those ticks). */
 static void plan_state(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g, tick_plan *p)
 {
     uint8_t v = np_checked_vector(pick(g->sector, g->sector6, p->cur, s->flux_state, s->level), in, cfg, g, p->cur);
@@ -316,7 +310,7 @@ static void place_band_edge_crossing(const dtc3l *s, const dtc3l_cfg *cfg, real_
         if (pass == 1)
             return;
     }
-    /* f >= dmin here: exit_edge's fraction is never NaN (issue 11: one compare fewer) */
+    /* f >= dmin here: exit_edge's fraction is never NaN, so no NaN test */
     if (!(f <= R(1.0) - dmin))
         return; /* it falls at the next period start */
     settle_zero(cfg, in, g, p, false, R(0.0)); /* the state after it follows it */
@@ -373,7 +367,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     /* a rising pulse peaks at its end. That bound first: below dmin it cuts
      * the pulse whatever the others give (they only shorten it; the flux's d
      * is never NaN: psi below a finite reference, rate > 0), so the flux's
-     * duty is not worked out in those periods (issue 11). Its 2 when the
+     * duty is not worked out in those periods. Its 2 when the
      * pulse does not rise is no bound: any d >= 2 > 1 - dmin is a whole
      * period (duty_min 0..0.45) */
     real_t d_up = s_h > R(0.0) ? dtc3l_edge_fraction(pr->te_pred_Nm, s_h, hi, dt_s) : R(2.0);
@@ -383,7 +377,7 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
         d = rate > R(0.0) ? num_div(in->psi_ref_Wb - psi, num_mul(rate, dt_s)) : R(1.0);
         /* d >= 0 here and every bound is positive (psi < psi_ref, rate > 0;
          * lo - end0 and ds of one sign), so only the upper bound can act: a
-         * minimum, not num_sat's two compares (issue 11) */
+         * minimum, not num_sat's two compares */
         d = upto(d, d_up);
         /* the period ends at Te + s_z T + (s_h - s_z) d T, inside the band */
         real_t s_z = pr->dte0_Nm_s;
@@ -397,16 +391,16 @@ static void add_flux_hold_pulse(const dtc3l *s, const dtc3l_cfg *cfg, real_t dt_
     if (d < dmin) {
         /* no pulse: the plan's zero state after all, its NP look-ahead
          * reusing the pulse choice's product when the state in force is
-         * one of svh's (the same first state; issue 11) */
-        settle_zero(cfg, in, g, p, push0_known && dtc3l_state_sv_unchecked(g->prev_state) == svh, push0_VA);
+         * one of svh's (the same first state) */
+        settle_zero(cfg, in, g, p, push0_known && npc_state_sv_unchecked(g->prev_state) == svh, push0_VA);
         return;
     }
     p->st0 = sth;
     if (d < R(1.0) - dmin) {
         /* the zero state's NP look-ahead reuses the pulse choice's product
-         * when sth is one of svh's own states (issue 11) */
+         * when sth is one of svh's own states */
         p->st1 = dtc3l_choose_zero_unchecked(sth, in->np_dev_V, cfg->np_band_V, g->i_abc_A,
-                                             push0_known && dtc3l_state_sv_unchecked(sth) == svh, push0_VA);
+                                             push0_known && npc_state_sv_unchecked(sth) == svh, push0_VA);
         p->duty0 = d;
         p->split = true;
     } else {
@@ -424,7 +418,7 @@ static uint8_t balancing_or(uint8_t fallback, uint8_t svn, uint8_t from, const d
                             const tick_geometry *g)
 {
     uint8_t c = dtc3l_choose_state_unchecked(svn, from, in->np_dev_V, cfg->np_band_V, g->i_abc_A);
-    if (!(num_mul(dtc3l_np_current_unchecked(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
+    if (!(num_mul(npc_np_current_unchecked(c, g->i_abc_A), in->np_dev_V) < R(0.0)))
         return fallback;
     return c;
 }
@@ -443,8 +437,8 @@ static void balance_np_in_holds(const dtc3l *s, const dtc3l_cfg *cfg, const dtc3
         return;
     uint8_t svn = dtc3l_table_flux_hold((uint8_t)((g->sector6 + (s->flux_state > 0 ? 0u : 3u)) % 6u));
     bool full = p->st1 == p->st0;
-    uint8_t sv_b = dtc3l_state_sv_unchecked(p->st1);
-    if (dtc3l_state_sv_unchecked(p->st0) == 0u)
+    uint8_t sv_b = npc_state_sv_unchecked(p->st1);
+    if (npc_state_sv_unchecked(p->st0) == 0u)
         p->st0 = balancing_or(p->st0, svn, g->prev_state, cfg, in, g);
     if (full)
         p->st1 = p->st0;
@@ -478,53 +472,53 @@ static inline real_t np_left(const dtc3l_cfg *cfg, const dtc3l_cmd *in, real_t i
 static void cut_intermediate_short(const dtc3l_cfg *cfg, const dtc3l_cmd *in, const tick_geometry *g, tick_plan *p)
 {
     /* without a shortest segment the intermediate could be given no time at all */
-    dtc3l_class cls = dtc3l_sv_class_unchecked(p->sv0);
+    npc_class cls = npc_sv_class_unchecked(p->sv0);
     /* the holds (about every other period) leave on the integer tests, before the float one */
-    if (cls == DTC3L_CLASS_ZERO || p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
+    if (cls == NPC_CLASS_ZERO || p->split || p->st0 != p->st1 || !(cfg->duty_min > R(0.0)))
         return;
-    const uint8_t *st = dtc3l_sv_state_list[p->sv0]; /* read in place (issue 11) */
+    const uint8_t *st = npc_sv_state_list[p->sv0]; /* read in place */
     uint8_t target = st[0];
-    bool small = cls == DTC3L_CLASS_SMALL;
+    bool small = cls == NPC_CLASS_SMALL;
     if (small) {
         /* the chosen one is kept unless the link is outside its band and the
          * chosen state pushes it further, or it would take the link beyond the
          * room of an intermediate */
-        real_t inp_chosen = dtc3l_np_current_unchecked(p->st0, g->i_abc_A);
+        real_t inp_chosen = npc_np_current_unchecked(p->st0, g->i_abc_A);
         real_t n_chosen = np_left(cfg, in, inp_chosen);
         bool wrong_way = num_abs(in->np_dev_V) > cfg->np_band_V && num_mul(inp_chosen, in->np_dev_V) > R(0.0);
         bool far = n_chosen > num_mul(NP_SMALL_ROOM_BANDS, cfg->np_band_V);
         if (!(wrong_way || far))
-            return; /* kept whatever the other state does: its NP current not needed (issue 11) */
+            return; /* kept whatever the other state does: its NP current not needed */
         /* of the vector's two states, the one that leaves the link nearer to
          * balance; the chosen state's n_chosen when it is one of them (the
-         * same expression, issue 11) */
-        real_t n0 = p->st0 == st[0] ? n_chosen : np_left(cfg, in, dtc3l_np_current_unchecked(st[0], g->i_abc_A));
-        real_t n1 = p->st0 == st[1] ? n_chosen : np_left(cfg, in, dtc3l_np_current_unchecked(st[1], g->i_abc_A));
+         * same expression) */
+        real_t n0 = p->st0 == st[0] ? n_chosen : np_left(cfg, in, npc_np_current_unchecked(st[0], g->i_abc_A));
+        real_t n1 = p->st0 == st[1] ? n_chosen : np_left(cfg, in, npc_np_current_unchecked(st[1], g->i_abc_A));
         target = n1 < n0 ? st[1] : st[0];
         real_t n_target = n1 < n0 ? n1 : n0;
         bool too_far = far && n_chosen > n_target;
         if (p->st0 == target || !(wrong_way || too_far))
             return;
-        if (!dtc3l_pn_step_unchecked(g->prev_state, target)) {
+        if (!npc_pn_step_unchecked(g->prev_state, target)) {
             p->st0 = p->st1 = target; /* one commutation more, within reach */
             return;
         }
-    } else if (cls != DTC3L_CLASS_LARGE && cls != DTC3L_CLASS_MEDIUM) {
+    } else if (cls != NPC_CLASS_LARGE && cls != NPC_CLASS_MEDIUM) {
         return;
     }
     if (p->st0 == target)
         return;
-    uint8_t mid = small ? dtc3l_pn_safe_unchecked(g->prev_state, target) : p->st0;
-    if (dtc3l_pn_step_unchecked(mid, target) || dtc3l_pn_step_unchecked(g->prev_state, mid))
+    uint8_t mid = small ? npc_pn_safe_unchecked(g->prev_state, target) : p->st0;
+    if (npc_pn_step_unchecked(mid, target) || npc_pn_step_unchecked(g->prev_state, mid))
         return;
     real_t d = R(1.0);
-    if (small && dtc3l_state_sv_unchecked(mid) == 0u) {
+    if (small && npc_state_sv_unchecked(mid) == 0u) {
         /* a zero state draws no NP current (exactly 0 from finite phase
          * currents: OOO's sum to 0 by construction): not outward, as below,
-         * without its NP current (issue 11) */
+         * without its NP current */
         d = cfg->duty_min;
     } else {
-        real_t dv = num_mul(cfg->np_V_per_A, dtc3l_np_current_unchecked(mid, g->i_abc_A)); /* V per whole period */
+        real_t dv = num_mul(cfg->np_V_per_A, npc_np_current_unchecked(mid, g->i_abc_A)); /* V per whole period */
         bool outward = num_mul(dv, in->np_dev_V) > R(0.0);
         if (small && !outward) {
             d = cfg->duty_min; /* the intermediate does not push the link out: as short as the timer allows */
@@ -591,9 +585,9 @@ void dtc3l_step(dtc3l *s, const dtc3l_cfg *cfg, real_t dt_s, const dtc3l_in *in,
     c.vc1_V = in->vc1_V;
     c.vc2_V = in->vc2_V;
     c.np_dev_V = in->np_dev_V;
-    c.prev_state = in->prev_state < DTC3L_N_STATES ? in->prev_state : (uint8_t)DTC3L_STATE_OOO;
+    c.prev_state = in->prev_state < NPC_N_STATES ? in->prev_state : (uint8_t)NPC_STATE_OOO;
     c.band_scale = in->band_scale > R(1.0) ? in->band_scale : R(1.0);
     c.decide_level = true;
     dtc3l_step_predicted(s, cfg, dt_s, &c, &pr, out);
-    dtc3l_legs_pair_unchecked(out->state[0], out->state[1], &out->act); /* both 0..26 */
+    npc_legs_pair_unchecked(out->state[0], out->state[1], &out->act); /* both 0..26 */
 }

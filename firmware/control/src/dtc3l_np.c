@@ -11,14 +11,16 @@
  * Zero vectors draw no NP current, but the choice among NNN, OOO and PPP
  * decides which small states stay reachable without a P<->N step.
  */
-#include "dtc/dtc3l.h"
+#include "dtc/dtc3l_np.h"
+
+#include "dtc/npc.h"
 
 /* The zero state looks ahead once |vc1 - vc2| exceeds this fraction of the band. */
 #define NP_LOOKAHEAD_FRACTION R(0.5)
 
 /* The zero state with the fewest commutations from each state, never a P<->N
  * step away, OOO on ties (then NNN before PPP), precomputed; tests/unit/test_dtc3l.cpp checks it. */
-static const uint8_t zero_after[DTC3L_N_STATES] = {
+static const uint8_t zero_after[NPC_N_STATES] = {
     0u, 0u, 13u, 0u, 13u, 13u, 13u, 13u, 13u,    /* NNN..NPP */
     0u, 13u, 13u, 13u, 13u, 13u, 13u, 13u, 26u,  /* ONN..OPP */
     13u, 13u, 13u, 13u, 13u, 26u, 13u, 26u, 26u, /* PNN..PPP */
@@ -29,10 +31,10 @@ static const uint8_t zero_after[DTC3L_N_STATES] = {
  * N-type one): of OOO, NNN, PPP the ones a P<->N step away from neither,
  * least 2 x commutations(zero, target) + commutations(prev, zero), the first
  * in that order on ties (OOO when none is free), i.e. the loop the
- * look-ahead ran over the three zero states, precomputed (issue 11);
+ * look-ahead would run over the three zero states, precomputed;
  * tests/unit/test_dtc3l.cpp checks it against that rule. Rows of states that
  * are not small are never read. */
-static const uint8_t zero_toward[DTC3L_N_STATES][2] = {
+static const uint8_t zero_toward[NPC_N_STATES][2] = {
     {13u, 13u}, /*  0 NNN (not small: unused) */
     {13u, 0u}, /*  1 NNO */
     {13u, 13u}, /*  2 NNP (not small: unused) */
@@ -64,8 +66,8 @@ static const uint8_t zero_toward[DTC3L_N_STATES][2] = {
 
 /* The integer part of the choice between a small vector's two states from
  * each state, precomputed from the P<->N, commutation and P<->N-safe tables
- * (issue 11: one look-up instead of two P<->N tests, two commutation counts and
- * the fallback's P<->N-safe state and class; the rules are choose_state's,
+ * (one look-up in place of two P<->N tests, two commutation counts and the
+ * fallback's P<->N-safe state and class; the rules are choose_state's,
  * below, and tests/unit/test_dtc3l.cpp checks the choices against an
  * independent reference for every state, vector and NP case). Indexed by
  * [prev_state][sv], sv 1..6 (0 and 7 pad the row to eight entries). */
@@ -84,7 +86,7 @@ typedef struct {
 #define SMALL_SECOND_OK 2u
 #define SMALL_OTHER_SMALL 4u
 
-static const small_choice small_choice_of[DTC3L_N_STATES][8] = {
+static const small_choice small_choice_of[NPC_N_STATES][8] = {
     {/*  0 NNN */ {0u, 0u, 0u, 0u}, {9u, 13u, 2u, 0u}, {12u, 13u, 2u, 0u}, {3u, 13u, 2u, 0u}, {4u, 13u, 2u, 0u}, {1u, 13u, 2u, 0u}, {10u, 13u, 2u, 0u}, {0u, 0u, 0u, 0u}},
     {/*  1 NNO */ {0u, 0u, 0u, 0u}, {9u, 13u, 2u, 0u}, {12u, 13u, 2u, 0u}, {3u, 13u, 2u, 0u}, {4u, 14u, 6u, 0u}, {1u, 14u, 7u, 0u}, {10u, 14u, 6u, 0u}, {0u, 0u, 0u, 0u}},
     {/*  2 NNP */ {0u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {13u, 0u, 0u, 0u}, {4u, 14u, 6u, 0u}, {1u, 14u, 7u, 0u}, {10u, 14u, 6u, 0u}, {0u, 0u, 0u, 0u}},
@@ -118,15 +120,15 @@ uint8_t dtc3l_choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real
                            const real_t i_abc[3])
 {
     /* from here on every vector is 0..18 and every state 0..26: the unchecked look-ups */
-    return dtc3l_choose_state_unchecked(sv < DTC3L_N_VECTORS ? sv : 0u,
-                                        prev_state < DTC3L_N_STATES ? prev_state : (uint8_t)DTC3L_STATE_OOO,
+    return dtc3l_choose_state_unchecked(sv < NPC_N_VECTORS ? sv : 0u,
+                                        prev_state < NPC_N_STATES ? prev_state : (uint8_t)NPC_STATE_OOO,
                                         np_dev_V, np_band_V, i_abc);
 }
 
 /* The zero state after @p prev_state (dtc3l_choose_state for the zero vector).
  * @p push0 true: @p push0_VA is np_current(first state of prev_state's
  * vector) x np_dev_V, already worked out by the caller (the NP look-ahead then
- * reuses it: the same product, issue 11). */
+ * reuses it: the same product). */
 static inline uint8_t choose_zero(uint8_t prev_state, real_t np_dev_V, real_t np_band_V, const real_t i_abc[3],
                                   bool push0, real_t push0_VA)
 {
@@ -136,11 +138,11 @@ static inline uint8_t choose_zero(uint8_t prev_state, real_t np_dev_V, real_t np
      * one), so that state stays reachable. */
     if (!(num_abs(np_dev_V) > num_mul(NP_LOOKAHEAD_FRACTION, np_band_V)))
         return zero_after[prev_state];
-    uint8_t prev_sv = dtc3l_state_sv_unchecked(prev_state);
-    if (dtc3l_sv_class_unchecked(prev_sv) != DTC3L_CLASS_SMALL)
-        return num_abs(np_dev_V) > np_band_V ? (uint8_t)DTC3L_STATE_OOO : zero_after[prev_state];
+    uint8_t prev_sv = npc_state_sv_unchecked(prev_state);
+    if (npc_sv_class_unchecked(prev_sv) != NPC_CLASS_SMALL)
+        return num_abs(np_dev_V) > np_band_V ? (uint8_t)NPC_STATE_OOO : zero_after[prev_state];
     if (!push0)
-        push0_VA = num_mul(dtc3l_np_current_unchecked(dtc3l_sv_state_list[prev_sv][0], i_abc), np_dev_V);
+        push0_VA = num_mul(npc_np_current_unchecked(npc_sv_state_list[prev_sv][0], i_abc), np_dev_V);
     return zero_toward[prev_state][push0_VA <= R(0.0) ? 0 : 1];
 }
 
@@ -150,9 +152,9 @@ static inline uint8_t choose_zero(uint8_t prev_state, real_t np_dev_V, real_t np
 static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,
                                    const real_t i_abc[3], bool *push0_known, real_t *push0_VA)
 {
-    const uint8_t *st = dtc3l_sv_state_list[sv]; /* read in place: no copy (issue 11) */
-    dtc3l_class cls = dtc3l_sv_class_unchecked(sv);
-    bool small = cls == DTC3L_CLASS_SMALL;
+    const uint8_t *st = npc_sv_state_list[sv]; /* read in place: no copy */
+    npc_class cls = npc_sv_class_unchecked(sv);
+    bool small = cls == NPC_CLASS_SMALL;
     bool np_out = num_abs(np_dev_V) > np_band_V;
     bool np_forced = small && np_out;
     *push0_known = false;
@@ -161,8 +163,8 @@ static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev
     if (sv == 0u)
         return choose_zero(prev_state, np_dev_V, np_band_V, i_abc, false, R(0.0));
     /* Vectors with a single state (medium, large): nothing to choose. */
-    if (cls == DTC3L_CLASS_MEDIUM || cls == DTC3L_CLASS_LARGE)
-        return dtc3l_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
+    if (cls == NPC_CLASS_MEDIUM || cls == NPC_CLASS_LARGE)
+        return npc_pn_safe_unchecked(prev_state, st[0]); /* st[0] itself unless a leg would step P<->N */
     if (small) {
         const small_choice *e = &small_choice_of[prev_state][sv];
         /* Inside the band: the state with fewer commutations. Its P-type
@@ -181,11 +183,11 @@ static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev
         uint8_t c0 = st[0], c1 = st[1];
         real_t push; /* of e->pick */
         if (reach == (SMALL_FIRST_OK | SMALL_SECOND_OK)) {
-            real_t push0 = num_mul(dtc3l_np_current_unchecked(c0, i_abc), np_dev_V);
-            real_t push1 = num_mul(dtc3l_np_current_unchecked(c1, i_abc), np_dev_V);
+            real_t push0 = num_mul(npc_np_current_unchecked(c0, i_abc), np_dev_V);
+            real_t push1 = num_mul(npc_np_current_unchecked(c1, i_abc), np_dev_V);
             *push0_known = true;
             *push0_VA = push0;
-            /* exactly one balances (push <= 0): that one, no fallback (issue 11) */
+            /* exactly one balances (push <= 0): that one, no fallback */
             if (push0 <= R(0.0)) {
                 if (!(push1 <= R(0.0)))
                     return c0;
@@ -194,20 +196,20 @@ static inline uint8_t choose_state(uint8_t sv, uint8_t prev_state, real_t np_dev
             }
             push = e->pick == c0 ? push0 : push1;
         } else {
-            push = num_mul(dtc3l_np_current_unchecked(e->pick, i_abc), np_dev_V);
+            push = num_mul(npc_np_current_unchecked(e->pick, i_abc), np_dev_V);
             *push0_known = reach == SMALL_FIRST_OK;
             *push0_VA = reach == SMALL_FIRST_OK ? push : R(0.0);
         }
         if (!(push > R(0.0)))
             return e->pick;
         if ((e->reach & SMALL_OTHER_SMALL) != 0u &&
-            num_mul(dtc3l_np_current_unchecked(e->other, i_abc), np_dev_V) < R(0.0))
+            num_mul(npc_np_current_unchecked(e->other, i_abc), np_dev_V) < R(0.0))
             return e->other;
         return e->pick;
     }
     /* Every vector with more than one state is the zero vector or a small one,
      * both handled above; this keeps the function total. */
-    return dtc3l_pn_safe_unchecked(prev_state, st[0]);
+    return npc_pn_safe_unchecked(prev_state, st[0]);
 }
 
 uint8_t dtc3l_choose_state_unchecked(uint8_t sv, uint8_t prev_state, real_t np_dev_V, real_t np_band_V,

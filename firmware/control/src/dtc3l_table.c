@@ -20,11 +20,11 @@
  *    medium vectors, which cost two commutations against a zero state and draw
  *    an uncontrolled NP current, are left to the strong demands.
  */
-#include "dtc/dtc3l.h"
+#include "dtc/dtc3l_table.h"
 
 /* The two tables by the rules above, written out (dtc3l_table and
- * dtc3l_table6 look them up: the interrupt picks a vector 1..3 times a tick,
- * issue 11); columns by dtc3l_demand_index: torque up / flux up, up / down,
+ * dtc3l_table6 look them up: the interrupt picks a vector 1..3 times a tick);
+ * columns by dtc3l_demand_index: torque up / flux up, up / down,
  * down / up, down / down. tests/unit/test_dtc3l.cpp checks every entry of
  * dtc3l_table and dtc3l_table6 against the machine equations. */
 const uint8_t dtc3l_table12_sv[DTC3L_N_SECTORS][4] = {

@@ -94,7 +94,7 @@ static inline void model_apply(const model_matrix *a, const real_t x[4], real_t 
  * shape: REGEN_SHAPE_AT_ZERO at standstill, rising (REGEN_RISE) to 1 at 0.2,
  * 1 up to REGEN_PLATEAU_HI, then down to 0 at speed. Chosen on the capability
  * sweep (docs/envelope.md section 6): the plateau holds rated regenerating
- * torque at 1.5-4 Hz of stator frequency (100-200 rpm; the old linear fade
+ * torque at 1.5-4 Hz of stator frequency (100-200 rpm; a linear fade
  * from 1 rad gave 0.6-0.8 rad there and the shaft ran away); the smaller
  * angle near standstill (0.56 rad at 0, 0.82 rad at 30 rpm) keeps the 30 rpm
  * points from the bias a large rotation gives where the stator frequency is

@@ -11,7 +11,7 @@
 void plaus_reset(plaus_state *p)
 {
     /* member by member: called every tick while stopped or faulted, where a
-     * memset call costs about five times as many instructions */
+     * call to memset would cost several times as much */
     p->sum_ticks = 0u;
     for (int k = 0; k < 3; k++) {
         p->stuck_ticks[k] = 0u;
@@ -75,11 +75,11 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
     real_t w = num_abs(omega_e_rad_s);
     bool judge_open = w > R(2.0) * NUM_PI * PLAUS_PHASE_MIN_HZ;
 
-    /* on the bits too: mag_A is a square root, never negative nor NaN (issue 11: a float
-     * compare here was redone per leg) */
+    /* on the bits too: mag_A is a square root, never negative nor NaN (one integer
+     * compare, where a float compare would be redone per leg) */
     bool flowing = plaus_bits(mag_A) > plaus_bits(PLAUS_CURRENT_A);
     /* |i| against PLAUS_OPEN_A and i against the last reading compared as integers on
-     * the bits (no FPU flag transfer per compare; issue 11): for finite values (ctl.c
+     * the bits (no FPU flag transfer per compare): for finite values (the protection
      * judges nothing else on a sample value that is not a number) |i| orders like its
      * magnitude bits, and readings of |i| >= PLAUS_OPEN_A are equal exactly when their
      * bits are */
@@ -98,7 +98,7 @@ uint32_t plaus_check(plaus_state *p, const hal_sample *x, bool active, bool stop
         if (!open) {
             /* the usual case: both reset, written only when not reset already (open_ticks is
              * 0 exactly when the phase was not open at the last check, and open_peak_A then
-             * too; issue 11: a load and a test instead of two stores per phase) */
+             * too: a load and a test in place of two stores per phase) */
             if (p->open_ticks[k] != 0u) {
                 p->open_ticks[k] = 0u;
                 p->open_peak_A[k] = R(0.0);

@@ -72,8 +72,8 @@ void rbfn_grid_derive(rbfn_grid *g, const real_t *centre, const real_t *width, u
 
 /* The unnormalised terms of rbfn_basis_grid into v (the nearest node 1) and,
  * if @p weighted, sum w_k v_k into *wv; returns their sum (>= 1, NaN for NaN x).
- * @p weighted is a constant at each call (not a test of w against NULL, which
- * the compiler could not drop where w is the caller's state: issue 11). */
+ * @p weighted is a constant at each call, not a test of w against NULL: a
+ * constant folds away, a test of the caller's state would stay. */
 static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32_t n, real_t x, bool weighted,
                                 const real_t *w, real_t *v_out, real_t *wv)
 {
@@ -92,12 +92,12 @@ static inline real_t grid_terms(const rbfn_grid *g, const real_t *centre, uint32
          * [-(1 + delta) d^2, delta d^2]: inside [-87.3, 88.7] for d^2 <=
          * RBFN_GRID_D2_MAX = 80 and any grid below 9,000 nodes (at most
          * 7.2 above 0: inside num_expf_to_88's range). The exp without its
-         * range tests (issue 11). */
+         * range tests. */
         real_t u = num_mul(x - centre[ks], g->inv_width);
         r = num_expf_to_88(num_mul(u, g->d) - g->half_d2);
     } else {
         /* A NaN x fails the test above too: tested here only, off the
-         * common path between the outer nodes (issue 11). */
+         * common path between the outer nodes. */
         if (!(x == x)) {
             for (uint32_t k = 0u; k < n; k++)
                 v_out[k] = x;

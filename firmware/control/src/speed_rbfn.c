@@ -12,7 +12,7 @@
  * Both updates are skipped while the command is limited and the error would
  * push it further into the limit (they would only wind up).
  * The step is two halves (speed_rbfn_command, speed_rbfn_learn), so that a
- * caller can put them in different ticks (ctl.c); the learning uses the basis
+ * caller can put them in different ticks (dtc/ctl_schedule.h); the learning uses the basis
  * and error of the command and must run before the next command.
  * e = X_d - X (rad/s), eps and eps_hat in rad/s^2, B_n = 1/J, A_n = -B/J.
  * Design and tuning: docs/speed_control.md.
@@ -36,8 +36,8 @@ static real_t robust_switch(real_t e, real_t phi)
     if (phi > R(0.0)) {
         /* num_limit(e / phi, 1) with the tests on e, the same bits: outside
          * [-phi, phi] the limit gives +-1 however e / phi rounds; inside, the
-         * rounded quotient stays within [-1, 1]. One instruction fewer, and
-         * the division only inside the layer (issue 11). */
+         * rounded quotient stays within [-1, 1]; the division only inside the
+         * layer. */
         if (e > phi)
             return R(1.0);
         if (e < -phi)
@@ -69,9 +69,8 @@ void speed_rbfn_command(rbfn_state *s, const rbfn_cfg *cfg, const motor_model *m
     real_t u = num_mac(m->J_kgm2, acc, num_mul(m->B_Nms, x));
     /* te = num_limit(u, te_max_Nm), and adapt unless limited in the direction
      * the error pushes (anti-windup): at +limit with e > 0 both laws would
-     * raise U further. Written as one chain of tests (GCC repeated the
-     * compare of u with -te_max: issue 11); te_max_Nm >= 0 (speed_ctl_run
-     * clamps it), so at most one limit holds. */
+     * raise U further. Written as one chain of tests, each compare once;
+     * te_max_Nm >= 0 (speed_ctl_run clamps it), so at most one limit holds. */
     real_t te = u;
     uint32_t learn = RBFN_LEARN_STEP;
     if (u < -te_max_Nm) {

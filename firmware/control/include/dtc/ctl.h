@@ -3,9 +3,17 @@
  * @brief The 200 us control step: observer, speed controller, three-level DTC.
  *
  * ctl_step() is a function of structs: the host SIL, the PIL harness and the
- * target ISR all call it the same way. Configuration (ctl_cfg, written only by
- * the background) is kept apart from mutable state (ctl_state, touched only by
- * the interrupt). Units are SI; speeds are MECHANICAL rad/s unless named _elec.
+ * target ISR all call it the same way. Configuration (ctl_cfg, dtc/ctl_cfg.h,
+ * written only by the background) is kept apart from mutable state (ctl_state,
+ * touched only by the interrupt). Units are SI; speeds are MECHANICAL rad/s
+ * unless named _elec.
+ *
+ * The step's parts, each in a file of its own: the configuration
+ * (ctl_cfg.c), the protection and its sample checks (ctl_protect.c), the
+ * slots of the slow tasks (dtc/ctl_schedule.h), the voltage the inverter
+ * applies (dtc/inverter_model.h), the supervision of the operating point
+ * (ctl_supervise.c), bring-up levels 1-4 (ctl_bringup.c); ctl.c runs them in
+ * the order of a tick.
  */
 #ifndef DTC_CTL_H
 #define DTC_CTL_H
@@ -13,14 +21,17 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "dtc/bringup.h"
+#include "dtc/ctl_cfg.h"
+#include "dtc/ctl_guard.h"
+#include "dtc/ctl_schedule.h"
+#include "dtc/dtc3l.h"
+#include "dtc/inverter_model.h"
 #include "dtc/num.h"
 #include "dtc/observer.h"
-#include "dtc/rs_ident.h"
-#include "dtc/bringup.h"
 #include "dtc/plausibility.h"
+#include "dtc/rs_ident.h"
 #include "dtc/speed_ctl.h"
-#include "dtc/dtc3l.h"
-#include "dtc/ctl_guard.h"
 #include "hal/hal_types.h"
 
 #ifdef __cplusplus
@@ -51,92 +62,6 @@ enum ctl_fault {
      CTL_FAULT_NP_IMBALANCE | CTL_FAULT_OVERSPEED | CTL_FAULT_STALE_SAMPLE | CTL_FAULT_HW | \
      CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID | CTL_FAULT_LOSS_OF_CONTROL | CTL_FAULT_CURRENT_SENSOR | \
      CTL_FAULT_PHASE_LOSS | CTL_FAULT_DC_DIVIDER | CTL_FAULT_STALL)
-
-/** Error codes of ctl_cfg_check() (negative, first violated rule). */
-enum ctl_cfg_error {
-    CTL_CFG_OK = 0,
-    CTL_CFG_E_MOTOR = -1,     /**< a motor parameter not > 0, or Ls, Lr not > Lm */
-    CTL_CFG_E_PERIOD = -2,    /**< period_s outside 20e-6..2e-3 or vdc_nom_V not > 0 */
-    CTL_CFG_E_DTC = -3,       /**< psi_ref not > 0, a band < 0, band2 <= band, level_down >= level_up, duty_min outside 0..0.45 */
-    CTL_CFG_E_OBSERVER = -4,  /**< k_gain < 1, a gain < 0, speed_lpf_hz < 0 or regen_flux_min_frac outside 0.5..1 */
-    CTL_CFG_E_PROTECTION = -5,/**< a trip level not > 0, or vdc_min_V >= vdc_max_V */
-    CTL_CFG_E_SPEED = -6,     /**< speed_cfg_check failed */
-};
-
-/** All tunables of the control core. Written by the background only, through
- *  the parameter layer, which then calls ctl_cfg_derive(). */
-typedef struct {
-    /* nominal motor model used by the observer and the controllers */
-    motor_model motor;
-    real_t period_s;          /**< control period, s (2e-4) */
-    real_t vdc_nom_V;         /**< nominal DC link, V */
-    real_t c_dc_F;            /**< each of the two DC-link capacitors, F (NP prediction; 0 = none) */
-
-    speed_cfg speed;          /**< speed loop: mode, IP, nominal, RBFN, torque limit */
-    dtc3l_cfg dtc;            /**< flux reference, bands, ripple reduction, NP balance */
-    observer_cfg obs;         /**< observer gains and adaptation */
-
-    /* protection */
-    real_t i_trip_A;          /**< instantaneous phase-current trip, A */
-    real_t vdc_max_V;         /**< DC-link over-voltage trip, V */
-    real_t vdc_min_V;         /**< DC-link under-voltage trip while running, V */
-    real_t np_trip_V;         /**< |vc1 - vc2| trip, V */
-    real_t overspeed_rad_s;   /**< estimated-speed trip, rad/s; the speed reference is limited
-                                   to overspeed_rad_s / 1.1 (speed_max_rad_s) */
-    /* field weakening (docs/envelope.md section 3) */
-    real_t fw_voltage_frac;   /**< flux reference <= this x (measured Vdc / sqrt 3) / |omega_e|, 0..1.2 */
-    real_t te_pullout_frac;   /**< torque limit <= this x the pull-out torque at the flux reference, 0..1 */
-    /* switching-frequency regulation (docs/envelope.md section 4) */
-    real_t fsw_max_hz;        /**< device switching frequency above which the torque bands widen, Hz (0 = off) */
-    uint32_t bringup_level;   /**< 1 gate test, 2 ADC readout, 3 V/f, 4 V/f + observer, 5 torque control,
-                                   6 speed control (the drive); dtc/bringup.h, docs/bringup.md */
-    real_t bringup_hz;        /**< V/f electrical frequency at levels 3 and 4, Hz (sign: direction) */
-    real_t stall_time_s;      /**< the speed loop's torque command at the limit this long trips STALL, s (0: off) */
-    real_t bringup_te_Nm;     /**< torque command at level 5, N m (limited to the torque limit) */
-    real_t dead_time_comp_s;  /**< dead time of the power stage, s (0..10e-6, 0 = not compensated): its
-                                   volt-seconds are added to the applied voltage the observer and the
-                                   loss-of-control monitor use (ctl.c, apply_real_inverter) */
-    real_t v_drop_V;          /**< on-state drop of one device, V: subtracted from the applied voltage the
-                                   observer and the loss-of-control monitor use (0 = none) */
-    real_t band_scale_max;    /**< largest widening of the torque bands, x (>= 1) */
-    real_t regen_flux_min_frac; /**< lowest flux for low-speed regeneration, fraction of dtc.psi_ref_Wb,
-                                   0.5..1 (1 = never lowered; ctl.c, regen_flux_factor) */
-    real_t rs_ident_tol;      /**< Rs identified while magnetising replaces the model's when they differ by
-                                   more than this fraction, 0..1 (1 = never; dtc/rs_ident.h) */
-    ctl_guard_cfg guard;      /**< loss-of-control monitor (voltage-model flux check) */
-
-    /* derived by ctl_cfg_derive() */
-    real_t psi_ramp_Wb_s;     /**< flux-reference slew rate, Wb/s: keeps the magnetising
-                                   current transient (the rotor flux lags the stator flux
-                                   by sigma Tr) below a fifth of i_trip_A */
-    real_t np_V_per_A;        /**< period_s / c_dc_F: change of vc1 - vc2 per ampere of NP current over one period */
-    real_t inv_period_per_s;  /**< 1 / period_s */
-    real_t dead_time_per_T;   /**< dead_time_comp_s x inv_period_per_s: the dead time per period (0..0.5) */
-    bool real_inverter;       /**< v_drop_V > 0 or dead_time_comp_s > 0: the observer's voltage is built leg
-                                   by leg (ctl.c, apply_real_inverter); false: the ideal inverter's */
-    real_t drop4_V;           /**< -4 v_drop_V: the drop's slope in the late fraction of a leg's current
-                                   (ctl.c, apply_real_inverter), V */
-    real_t te_pullout_Nm_Wb2; /**< pull-out torque per Wb^2 of stator flux: 1.5 p (1 - sigma) / (2 sigma Ls) */
-    real_t speed_max_rad_s;   /**< speed-reference limit, overspeed_rad_s / 1.1, rad/s */
-    real_t fsw_per_change_hz; /**< device switching frequency per leg change per period: 1 / (6 T), Hz */
-    real_t fsw_lpf_a;         /**< low-pass coefficient (20 ms) of the measured switching frequency per
-                                   regulation step (CTL_SLOW_SLOTS periods, CTL_SLOT_FSW), 0..1 */
-    real_t band_rate_T;       /**< adaptation step of the band scale per regulation step (5 1/s x CTL_SLOW_SLOTS T) */
-    real_t sup_lpf_a;         /**< low-pass coefficient (20 ms) of the torque shortfall per supervision step
-                                   (CTL_SLOW_SLOTS periods), 0..1 */
-    real_t sup_rate_T;        /**< step of the field-weakening trim per supervision step (5 1/s x CTL_SLOW_SLOTS T) */
-    real_t inv_fsw_max_s;     /**< 1 / fsw_max_hz, s (0 when the regulation is off) */
-    real_t fw_v_per_vdc;      /**< fw_voltage_frac / sqrt 3: usable phase voltage per volt of DC link */
-    real_t te_limit_Nm_Wb2;   /**< te_pullout_frac x te_pullout_Nm_Wb2, N m/Wb^2 */
-    real_t slip_rad_s_per_Nm; /**< electrical slip per N m at the rated flux, (rad/s)/(N m) */
-    real_t regen_k2_min;      /**< regen_flux_min_frac^2 */
-    real_t psi_ramp_step_Wb;  /**< psi_ramp_Wb_s x period_s: the flux reference's slew per tick, Wb */
-    real_t speed_T_s;         /**< CTL_RBFN_TICKS x period_s: the speed loop's step, s (0.8 ms) */
-    real_t speed_ramp_step_rad_s; /**< speed.ramp_rad_s2 x speed_T_s: the speed reference's slew per
-                                   speed-loop step, rad/s */
-    real_t inv_speed_T_per_s; /**< inv_period_per_s / CTL_RBFN_TICKS (exact: a power of 2), 1/s */
-    rs_ident_cfg rsid;        /**< constants of the Rs identification */
-} ctl_cfg;
 
 /** Inputs of one control step. */
 typedef struct {
@@ -173,64 +98,6 @@ typedef struct {
     ctl_telemetry tel;
 } ctl_out;
 
-/**
- * The slow tasks take turns (issue 11): tick k has slot k mod CTL_SLOW_SLOTS
- * (an 8-tick cycle, 1.6 ms at 200 us), and each slow task does its heavy part
- * in its own slots only, so no tick carries two heavy ones (the RBFN's learning,
- * the supervision and the regulation are lighter than the command or a monitor):
- *
- *   slot   0      1        2        3           4      5        6        7
- *          guard  speed    plaus    RBFN learn  guard  speed    plaus    RBFN learn
- *                 command  + stall  + supervise        command  + stall  + FSW + level
- *
- * The loss-of-control monitor checks every CTL_GUARD_WINDOW_MAX (4) ticks,
- * in the slots that are CTL_SLOT_GUARD modulo 4 (ctl_guard.h; it sums its
- * inputs every tick), the current plausibility checks every PLAUS_CHECK_TICKS
- * (4) ticks, in the slots that are CTL_SLOT_PLAUS modulo 4 (plausibility.h):
- * their windows and latencies are those of a 4-tick cycle.
- */
-#define CTL_SLOW_SLOTS 8u
-#define CTL_MONITOR_SLOTS 4u /**< the monitors' cycle: CTL_GUARD_WINDOW_MAX = PLAUS_CHECK_TICKS */
-#define CTL_SLOT_GUARD 0u    /**< modulo CTL_MONITOR_SLOTS: slots 0 and 4 */
-#define CTL_SLOT_PLAUS 2u    /**< modulo CTL_MONITOR_SLOTS: slots 2 and 6 */
-/** The speed loop steps every CTL_RBFN_TICKS ticks (800 us, 1.25 kHz),
- *  whatever the controller: its command in the slots that are CTL_SLOT_RBFN
- *  modulo it (1 and 5, never with a monitor), the RBFN's weight and bound
- *  updates of that command in the slots that are CTL_SLOT_RBFN_LEARN modulo
- *  it (3 and 7; before the next command: the same updates wherever they sit
- *  in between; only the telemetry's |W| and zeta_bar wait for them).
- *  docs/speed_control.md, "Rate". */
-#define CTL_RBFN_TICKS 4u
-#define CTL_SLOT_RBFN 1u
-#define CTL_SLOT_RBFN_LEARN 3u
-/** The stall windows (ctl.c stall_step) step once per speed-loop step, in the
- *  slots that are this modulo CTL_RBFN_TICKS (2 and 6, with the plausibility
- *  checks: the lightest slots), on the command held since slot 1 or 5. */
-#define CTL_SLOT_STALL 2u
-/** The supervision of the operating point (ctl.c supervise_flux(): the flux
- *  target with field weakening and its trim, the lowered flux while
- *  regenerating near zero stator frequency, the torque limit) steps once per
- *  slot cycle (every 8th tick) on what the ticks in between summed, in slot 3
- *  (with the RBFN's learning: beside neither a monitor nor the command). The
- *  flux reference ramps to its target every tick. */
-#define CTL_SLOT_SUPERVISE 3u
-/** The switching-frequency regulation (ctl.c regulate_switching_frequency())
- *  sums the leg changes every tick and steps the band scale once per slot
- *  cycle on their mean, in this slot (issue 11: its float work in one tick of
- *  eight). */
-#define CTL_SLOT_FSW 7u
-/** The DTC's voltage level (dtc3l_cmd.decide_level: the back-emf against
- *  the link voltage, with hysteresis) is decided in this slot (a division and
- *  two compares: beside the RBFN's learning, the lightest of the slow tasks). */
-#define CTL_SLOT_LEVEL 7u
-#ifndef __cplusplus
-_Static_assert(CTL_GUARD_WINDOW_MAX == CTL_MONITOR_SLOTS && PLAUS_CHECK_TICKS == CTL_MONITOR_SLOTS &&
-                   CTL_SLOW_SLOTS % CTL_MONITOR_SLOTS == 0u && CTL_SLOW_SLOTS % CTL_RBFN_TICKS == 0u &&
-                   CTL_SLOT_RBFN < CTL_RBFN_TICKS && CTL_SLOT_RBFN_LEARN < CTL_RBFN_TICKS && CTL_SLOT_STALL < CTL_RBFN_TICKS &&
-                   CTL_SLOT_STALL != CTL_SLOT_RBFN && CTL_SLOT_STALL != CTL_SLOT_RBFN_LEARN,
-               "the slow tasks' own rates are the schedule's");
-#endif
-
 /** Run state of the control core. */
 typedef enum {
     CTL_STOPPED = 0,          /**< gates off */
@@ -251,12 +118,12 @@ typedef struct {
     real_t t_magnetise_s;     /**< time spent magnetising */
     real_t speed_ref_ramped_rad_s;
     uint32_t faults;
-    hal_actuation last_act;   /**< actuation applied during the current period (latched at tick k-1) */
-    uint8_t last_state[2];    /**< last_act's two vectors as state numbers 0..26 (kept with it, so the
-                                   tick never converts legs back to a state) */
-    uint8_t end_state;        /**< the state 0..26 the period that just ended ended on (the last vector of
-                                   the actuation latched at k-2): the current period's dead-time edges
-                                   start there (dead_time.h); observe() sets it for the next tick */
+    inverter_period applied;  /**< the period now applied: the actuation latched at tick k-1 (act), its two
+                                   vectors as state numbers 0..26 (state, kept with it, so the tick never
+                                   converts legs back to a state), and the state the period that just ended
+                                   ended on (end_state: the last vector of the actuation latched at k-2; the
+                                   current period's dead-time edges start there; ctl_observe() sets it for the
+                                   next tick) */
     uint32_t faults_active;   /**< fault conditions present at the last step (ctl_clear_faults keeps these) */
     real_t te_ref_Nm;         /**< torque command of the last step */
     observer_out obs_out;     /**< observer outputs of the last step */
@@ -271,12 +138,12 @@ typedef struct {
                                    reset by start()); the other fields are set every step */
     real_t te_short_Nm;       /**< low-passed |te_ref| - |te_est|: the torque the DTC falls short by, N m */
     real_t fw_trim;           /**< voltage-margin trim of the field-weakening flux (0.7..1) */
-    real_t psi_target_Wb;     /**< flux the reference ramps to (supervise()), Wb */
+    real_t psi_target_Wb;     /**< flux the reference ramps to (ctl_supervise_operating_point()), Wb */
     real_t short_sum_Nm;      /**< |te_ref| - |te_est| summed since the last supervision step, N m */
     ctl_guard guard;          /**< loss-of-control monitor */
     uint32_t monitor_faults;  /**< the slow monitors' verdicts at their last steps: CTL_FAULT_LOSS_OF_CONTROL
                                    (the guard's check), CTL_FAULT_STALL (the stall windows, with
-                                   stall_time_s as it was then); detect_faults() adds them every tick */
+                                   stall_time_s as it was then); the protection adds them every tick */
     real_t t_at_limit_s;      /**< time at the torque limit, off speed, in windows whose speed error did not shrink (STALL), s */
     real_t t_stall_win_s;     /**< time in the present stall window, s */
     real_t err_win_start_rad_s; /**< |speed error| (filtered estimate) at the start of that window, rad/s */
@@ -284,21 +151,8 @@ typedef struct {
     real_t w_brake_start_rad_s; /**< |filtered speed estimate| at the start of that window, rad/s */
     bool brake_stall;         /**< braking at the limit did not slow the machine: STALL */
     speed_out speed_held;     /**< the speed loop's outputs of its last step (held between its steps) */
-    uint8_t slow_slot;        /**< this tick's slot of the slow tasks, 0..CTL_SLOW_SLOTS - 1 (CTL_SLOT_*) */
+    uint8_t slow_slot;        /**< this tick's slot of the slow tasks, 0..CTL_SLOW_SLOTS - 1 (dtc/ctl_schedule.h) */
 } ctl_state;
-
-/** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */
-void ctl_cfg_default(ctl_cfg *cfg);
-
-/** Recompute derived quantities (IP gains from wn and zeta, ...) after a change. Context: BG. */
-void ctl_cfg_derive(ctl_cfg *cfg);
-
-/**
- * Check a configuration before it is published (ctl_step stays bounded with a
- * bad one, but it would not control). @return CTL_CFG_OK or the first
- * violated rule (enum ctl_cfg_error). Context: BG.
- */
-int ctl_cfg_check(const ctl_cfg *cfg);
 
 /** Initialise the state (stopped, no faults). Context: BG. */
 void ctl_init(ctl_state *s, const ctl_cfg *cfg);

@@ -15,7 +15,7 @@
  * the observer's flux is not the machine's. The error |psi_vm - hp(psi_obs)|
  * is low-passed (one more wc) and compared with a fraction of the flux
  * reference; above it for guard_time_s, the monitor reports loss of control
- * (ctl.c latches CTL_FAULT_LOSS_OF_CONTROL).
+ * (the control step latches CTL_FAULT_LOSS_OF_CONTROL).
  *
  * What it catches: a diverged speed estimate (the observer's rotor model
  * then rotates its flux at a wrong frequency, so its stator flux leaves the
@@ -25,7 +25,7 @@
  * frequency near zero), where both fluxes are filtered away; those are left
  * to the overspeed trip. Design and measurements: docs/envelope.md.
  *
- * Rate (issue 11): the tick only sums the window's voltage and current
+ * Rate: the tick only sums the window's voltage and current
  * (ctl_guard_accumulate, four additions); the integration, the comparison and
  * the verdict run every CTL_GUARD_WINDOW_MAX ticks (ctl_guard_check) on those
  * sums. The volt-seconds are exact (the voltage is constant over a period);
@@ -47,7 +47,7 @@
 extern "C" {
 #endif
 
-/** Ticks between two checks (the caller's schedule: ctl.c). */
+/** Ticks between two checks (the caller's schedule: dtc/ctl_schedule.h). */
 #define CTL_GUARD_WINDOW_MAX 4u
 
 /** Tunables of the monitor (part of ctl_cfg). */

@@ -3,8 +3,8 @@
  * @brief The project's own exp, sin, cos and atan2 in single precision.
  *
  * Why: libm differs between builds (glibc on the host SIL, newlib on the
- * target) by an ulp here and there, so the same input sequence gave different
- * control outputs on the two (issue 11: RBFN parted at tick 1,529). These use
+ * target) by an ulp here and there, so the same input sequence would give
+ * different control outputs on the two within a few thousand ticks. These use
  * only IEEE + - * / on float, a float -> int32 conversion and the exponent
  * bits of a float, all exactly specified, so every build that compiles them
  * without contraction (-ffp-contract=off) and with float evaluation
@@ -32,8 +32,8 @@ extern "C" {
 /** e^x (see the bounds above). Context: ANY. */
 float num_expf(float x);
 
-/** num_expf for an argument known not to be NaN (the same bits; no NaN test,
- *  which costs three instructions per call on the Cortex-M4F). A NaN argument
+/** num_expf for an argument known not to be NaN (the same bits without the
+ *  NaN test, for callers on the tick's hot path). A NaN argument
  *  is undefined here: callers that cannot rule it out call num_expf.
  *  Context: ANY. */
 float num_expf_not_nan(float x);

@@ -31,7 +31,7 @@
  * here were chosen by the SIL capability sweep, docs/envelope.md section 6).
  * Near zero stator frequency no law helps: the machine is not observable there,
  * so the drive lowers the flux until the stator frequency opposes the rotation
- * (ctl.c, regen_flux_factor; regen_low_flux), and the rotation is then a
+ * (ctl_supervise.c, regen_flux_factor; regen_low_flux), and the rotation is then a
  * quarter of its angle (found on the capability sweep, docs/envelope.md section 6).
  *
  * Discretisation: the 2x2 complex system is advanced over one period with the
@@ -123,7 +123,7 @@ typedef struct {
     real_t te_cmd_Nm;         /**< torque the drive commands in this period, N m; set by the caller
                                    before observer_step (0: none; gates the regenerating-mode rotation) */
     bool regen_low_flux;      /**< set by the caller: the flux is lowered so that the stator frequency
-                                   opposes the rotation (ctl.c, lower_flux_for_regeneration); the
+                                   opposes the rotation (ctl_supervise.c, regen_flux_factor); the
                                    regenerating-mode rotation is then REGEN_LOW_FLUX_SCALE of its angle */
 } observer;
 
@@ -136,8 +136,8 @@ typedef struct {
     real_t omega_m_rad_s;     /**< mechanical speed estimate, filtered, rad/s */
     /* predicted for t_{k+1} with the voltage of the coming period. (The
      * unfiltered speed and the predicted rotor flux are the state's
-     * observer.omega_e_rad_s and psi_r_Wb; issue 11: not copied here, nor the
-     * current error, which nothing read.) */
+     * observer.omega_e_rad_s and psi_r_Wb, not copied here, nor is the
+     * current error, which nothing reads.) */
     real_t is_pred_A[2];      /**< stator current, A */
     real_t psi_s_pred_Wb[2];  /**< stator flux, Wb */
     real_t te_pred_Nm;        /**< torque, N m */
@@ -175,7 +175,7 @@ void observer_model_advance(const observer_model *m, real_t rs_ohm, real_t omega
 
 /**
  * One observer period, the inputs as scalars (they arrive in FPU registers:
- * no stores and loads through the stack, issue 11). Context: ISR.
+ * no stores and loads through the stack). Context: ISR.
  * @param is_a_A, is_b_A  stator current sampled at t_k, alpha and beta, A
  * @param v_a_V, v_b_V    mean stator voltage applied from t_k to t_{k+1}, alpha and beta, V
  * @param[out] out        estimates at t_k and the prediction for t_{k+1}

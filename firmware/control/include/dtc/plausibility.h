@@ -19,8 +19,8 @@
  *    link is a divider or sensor error. A common error of both dividers keeps
  *    them balanced and is visible only against the supply (over/under-voltage).
  *
- * Rate (issue 11): the current checks judge every PLAUS_CHECK_TICKS-th tick
- * (ctl.c's schedule of the slow tasks) and count in ticks, PLAUS_CHECK_TICKS
+ * Rate: the current checks judge every PLAUS_CHECK_TICKS-th tick (the
+ * control step's schedule of the slow tasks, dtc/ctl_schedule.h) and count in ticks, PLAUS_CHECK_TICKS
  * per check: the sum trips on the third implausible check in a row (12 ticks,
  * within 11 ticks of the first implausible sample), a stuck reading is
  * compared with the one PLAUS_CHECK_TICKS ticks before; the divider check
@@ -59,7 +59,7 @@ typedef struct {
     float open_peak_A[3];     /**< largest current magnitude seen meanwhile, A */
     float last_A[3];          /**< the readings of the previous check, A */
     bool cleared;             /**< the history is plaus_reset()'s and no check ran since: a stopped
-                                   or faulted tick need not write it again (issue 11) */
+                                   or faulted tick need not write it again */
 } plaus_state;
 
 /** Forget the history (at every start). Context: ISR or BG. */

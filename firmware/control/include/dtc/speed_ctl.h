@@ -85,7 +85,7 @@ typedef struct {
     real_t domega_ref_rad_s2;   /**< dX_d/dt, rad/s^2 */
     real_t omega_est_rad_s;     /**< X_q: estimated speed, rad/s mechanical */
     real_t te_limit_Nm;         /**< present torque limit, N m (field weakening, pull-out at the
-                                     present flux: ctl.c); 0 or less: te_max_Nm alone */
+                                     present flux: the supervision, ctl_supervise.c); 0 or less: te_max_Nm alone */
 } speed_in;
 
 /** Outputs of one speed-controller step. */
