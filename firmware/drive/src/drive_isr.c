@@ -210,8 +210,8 @@ void drive_isr(void *ctx)
 
     d->tick++;
     snapshot_fill(d, qs_done);
-    /* The scope reads the filled snapshot before it is closed (issue 11: the
-     * closing fence after the scope, so its inputs need not be read again). */
+    /* The scope reads the filled snapshot before it is closed: with the
+     * closing fence after the scope, its inputs need not be read again. */
     scope_sample(&d->scope, &d->snap, in->speed_ref_rad_s, d->out.tel.faults, d->tick);
     snapshot_close(&d->snap);
 

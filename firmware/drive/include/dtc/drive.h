@@ -80,7 +80,7 @@ typedef struct drive {
     };
     uint8_t snap_derived;           /**< DRIVE_SNAP_* the interrupt works out in snap (the armed scope's
                                          sources; written by drive_scope_arm while the scope is stopped;
-                                         next to snap: one load in the tick, issue 11) */
+                                         next to snap, so the tick reaches it with the snapshot's base) */
     drive_timing timing;
     scope scope;                    /**< triggered capture, sampled in drive_isr */
     co_dev co;                      /**< CANopen device, run by drive_background (drive_co.c) */

@@ -42,14 +42,14 @@ typedef struct {
  * Telemetry snapshot guarded by a sequence counter (odd while the ISR writes).
  * The derived fields (speed_err_rad_s, vdc_diff_V, i_peak_A, vdc_V) are worked
  * out from the raw ones by drive_read_snapshot, so every copy has them; in the
- * interrupt's own d->snap only those the armed scope reads (issue 11: the
- * background reads at ms rates, the tick need not pay for them).
+ * interrupt's own d->snap only those the armed scope reads (the background
+ * reads at ms rates; the tick need not pay for them).
  */
 typedef struct {
     volatile uint32_t seq;
     /* The control core's outputs of the tick, written by ctl_step in place
-     * (issue 11: the telemetry is filled once, not filled and then copied);
-     * tel is out.tel under its own name. */
+     * (the telemetry is filled once, not filled and then copied); tel is
+     * out.tel under its own name. */
     union {
         ctl_out out;
         struct {
@@ -58,10 +58,9 @@ typedef struct {
             ctl_telemetry tel;       /**< the control core's telemetry (out.tel) */
         };
     };
-    /* The control core's inputs of the tick, set in place (issue 11: the
-     * sample is read once, straight into the snapshot, not read and then
-     * copied); the six fields below are in.sample's first six under their
-     * snapshot names. */
+    /* The control core's inputs of the tick, set in place (the sample is
+     * read once, straight into the snapshot, not read and then copied); the
+     * six fields below are in.sample's first six under their snapshot names. */
     union {
         ctl_in in;
         struct {
