@@ -67,10 +67,16 @@ def load_rules(path):
     layers = rules.get("layers", {})
     if not layers:
         raise Failure(f"{path}: no [layers]")
+    known = set(layers) | {"hal_types", "hal", "generated"}
     for name, layer in layers.items():
         for key in ("dir", "may_include", "may_use"):
             if key not in layer:
                 raise Failure(f"{path}: layers.{name} has no {key}")
+        for key in ("may_include", "may_use"):
+            unknown = sorted(set(layer[key]) - known)
+            if unknown:
+                raise Failure(f"{path}: layers.{name}.{key} names {', '.join(unknown)}: "
+                              f"not a layer, hal_types, hal or generated")
     for group in rules.get("allowed_cycles", []):
         if not group.get("why") or not group.get("files"):
             raise Failure(f"{path}: an allowed_cycles entry needs why and files")

@@ -96,6 +96,16 @@ class Includes(unittest.TestCase):
     def test_an_include_that_resolves_nowhere(self):
         self.assert_refused("firmware/canopen/src/co_nmt.c", '#include "co_nmt_private.h"', "in no include folder")
 
+    def test_rules_naming_an_unknown_layer_are_refused(self):
+        rules = os.path.join(self.tmp, "tools", "layers.toml")
+        with open(rules, encoding="utf-8") as fh:
+            text = fh.read()
+        with open(rules, "w", encoding="utf-8") as fh:
+            fh.write(text.replace('may_use = ["canopen"]', 'may_use = ["canopen", "drvie"]'))
+        rc, out = self.check()
+        self.assertEqual(rc, 2, out)
+        self.assertIn("layers.canopen.may_use names drvie", out)
+
     def test_a_commented_include_is_no_include(self):
         self.add_line("firmware/control/src/ctl.c", '/* #include "dtc/drive.h" */ // #include "hal/hal.h"')
         rc, out = self.check()
