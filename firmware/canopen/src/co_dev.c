@@ -64,8 +64,8 @@ static void start(co_dev *c)
 }
 
 /* A requested NMT reset is told to the application once, and carried out
- * when it says so: a drive that runs first reacts (CiA 402 0x6007, e.g. a
- * quick stop) instead of being reset under way. */
+ * when it says so: a machine that runs first reacts (for a CiA 402 drive
+ * 0x6007, e.g. a quick stop) instead of being reset under way. */
 static void service_reset(co_dev *c)
 {
     if (c->nmt.reset_req == CO_NMT_RESET_NONE)

@@ -28,6 +28,14 @@ bool drive_co_running(const drive *d)
     return d->run || st == CTL_MAGNETISING || st == CTL_RUNNING;
 }
 
+/* A save for 0x1010:1 or 0x1011:1: the slot image is built on this frame,
+ * sized by the table (the store itself knows no table). */
+static int save_params(drive *d, persist_save_kind kind)
+{
+    uint8_t work[PERSIST_HEADER_SIZE + CO_PERSIST_BYTES];
+    return persist_save(&d->persist, kind, work, sizeof work);
+}
+
 /* ------------------------------------------------------- bound C fields */
 
 /* Where a bound entry lives for reading: the active configuration, the
@@ -258,7 +266,7 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
     case CO_FN_STORE:
         if (v->u != SIGNATURE_SAVE)
             return CO_ABORT_STORE;
-        if (persist_save(d) != HAL_OK)
+        if (save_params(d, PERSIST_SAVE_VALUES) != HAL_OK)
             return CO_ABORT_STORE;
         co_emcy_clear_extra(&d->co.emcy);
         return CO_ABORT_NONE;
@@ -268,9 +276,9 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
         if (drive_co_running(d))
             return CO_ABORT_STATE;
         /* Store the empty set first: if the NVM fails nothing has changed. */
-        if (persist_save_defaults(d) != HAL_OK)
+        if (save_params(d, PERSIST_SAVE_EMPTY) != HAL_OK)
             return CO_ABORT_STORE;
-        (void)persist_load(d);
+        (void)persist_load(&d->persist);
         co_emcy_clear_extra(&d->co.emcy);
         return CO_ABORT_NONE;
     case CO_FN_CONTROLWORD: {
@@ -409,7 +417,7 @@ static void app_reset_node(void *ctx)
     drive *d = ctx;
     d->quick_stop_req = false;
     drive_set_run(d, false);
-    (void)persist_load(d);
+    (void)persist_load(&d->persist);
     scope_stop(&d->scope);
 }
 

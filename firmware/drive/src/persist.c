@@ -1,20 +1,16 @@
 /**
  * @file persist.c
  * @brief Two-slot parameter storage with sequence numbers and CRC-32
- *        (layout and rules in dtc/persist.h).
+ *        (layout and rules in dtc/persist.h). It reaches the values only
+ *        through its persist_params.
  */
 #include "dtc/persist.h"
 
 #include <string.h>
 
-#include "dtc/canopen/co_dev.h"
-#include "dtc/canopen/co_od.h"
-#include "dtc/drive.h"
-#include "dtc/drive_co.h"
-#include "dtc/param_table.h"
 #include "hal/hal.h"
 
-#define RECORD_HEADER 4u
+#define RECORD_HEADER PERSIST_RECORD_HEADER
 #define CHUNK 64u
 
 uint32_t persist_crc32(uint32_t crc, const void *data, size_t len)
@@ -104,46 +100,52 @@ static int newest(const slot_info si[2])
     return -1;
 }
 
-/* Apply the records of a valid slot; @return the number skipped. */
-static uint32_t apply_slot(struct drive *d, uint32_t slot, const slot_info *si, ctl_cfg *edit)
+/* Hand the records of a valid slot to the owner; @return the number skipped. */
+static uint32_t apply_slot(const persist_state *st, uint32_t slot, const slot_info *si)
 {
     uint32_t base = slot * slot_size() + PERSIST_HEADER_SIZE;
     uint32_t at = 0u, skipped = 0u;
     for (uint32_t r = 0u; r < si->count; r++) {
-        uint8_t rec[RECORD_HEADER + 4u];
+        uint8_t rec[RECORD_HEADER];
         if (at + RECORD_HEADER > si->len || hal_nvm_read(base + at, rec, RECORD_HEADER) != HAL_OK)
             return skipped + (si->count - r);
         uint32_t n = rec[3];
         if (at + RECORD_HEADER + n > si->len)
             return skipped + (si->count - r);
-        if (n > 4u) { /* a value this firmware has no entry for: step over it */
+        if (n > PERSIST_VALUE_MAX) { /* a value no owner of this firmware has: step over it */
             at += RECORD_HEADER + n;
             skipped++;
             continue;
         }
-        if (hal_nvm_read(base + at + RECORD_HEADER, rec + RECORD_HEADER, n) != HAL_OK)
+        persist_record v;
+        v.index = (uint16_t)get16(rec);
+        v.sub = rec[2];
+        v.len = (uint8_t)n;
+        if (hal_nvm_read(base + at + RECORD_HEADER, v.value, n) != HAL_OK)
             return skipped + (si->count - r);
         at += RECORD_HEADER + n;
-        const co_param *p = co_od_find(&drive_od, (uint16_t)get16(rec), rec[2], NULL);
-        co_num v;
-        if (p == NULL || (p->flags & CO_F_PERSIST) == 0u ||
-            co_od_check(p, rec + RECORD_HEADER, n, CO_WR_LOAD, &v) != CO_ABORT_NONE) {
+        if (!st->params->take(st->ctx, &v))
             skipped++;
-            continue;
-        }
-        drive_co_apply(d, p, &v, edit);
     }
     return skipped;
 }
 
-uint8_t persist_load(struct drive *d)
+void persist_init(persist_state *st, const persist_params *params, void *ctx)
 {
-    ctl_cfg *e = drive_cfg_edit(d);
-    ctl_cfg_default(e);
-    drive_co_defaults(d);
+    memset(st, 0, sizeof *st);
+    st->params = params;
+    st->ctx = ctx;
+    st->status = PERSIST_EMPTY;
+}
+
+uint8_t persist_load(persist_state *st)
+{
+    st->params->defaults(st->ctx);
 
     slot_info si[2] = {scan(0u), scan(1u)};
     int best = newest(si);
+    uint32_t skipped = best >= 0 ? apply_slot(st, (uint32_t)best, &si[best]) : 0u;
+    skipped += st->params->finish(st->ctx); /* the set as a whole, then in use */
     uint8_t status;
     if (best < 0) {
         if (si[0].io_error || si[1].io_error)
@@ -153,13 +155,7 @@ uint8_t persist_load(struct drive *d)
         else
             status = PERSIST_CORRUPT;
     } else {
-        uint32_t skipped = apply_slot(d, (uint32_t)best, &si[best], e);
         const slot_info *other = &si[best ^ 1];
-        /* A stored configuration the control core refuses is not used at all. */
-        if (ctl_cfg_check(e) != CTL_CFG_OK) {
-            ctl_cfg_default(e);
-            skipped++;
-        }
         if (skipped > 0u)
             status = PERSIST_PARTIAL;
         else if (!other->valid && !other->erased)
@@ -167,37 +163,37 @@ uint8_t persist_load(struct drive *d)
         else
             status = PERSIST_LOADED;
     }
-    drive_cfg_commit(d);
-    d->persist.status = status;
+    st->status = status;
     return status;
 }
 
-/* Write a set (all persistent parameters, or none) to the slot not holding the newest set. */
-static int save(struct drive *d, bool with_values)
+int persist_save(persist_state *st, persist_save_kind kind, uint8_t *work, size_t work_size)
 {
-    /* header and payload in one buffer: one write, one erase of each page */
-    uint8_t buf[PERSIST_HEADER_SIZE + CO_PERSIST_BYTES];
-    uint8_t *h = buf, *payload = buf + PERSIST_HEADER_SIZE;
-    uint32_t len = 0u;
+    if (work_size < PERSIST_HEADER_SIZE)
+        return HAL_ENOSPC;
+    uint8_t *h = work, *payload = work + PERSIST_HEADER_SIZE;
+    size_t room = work_size - PERSIST_HEADER_SIZE;
+    uint32_t len = 0u, cursor = 0u;
     uint16_t count = 0u;
-    if (with_values) {
-        for (uint32_t i = 0u; i < CO_PARAM_COUNT; i++) {
-            const co_param *p = &co_params[i];
-            if ((p->flags & CO_F_PERSIST) == 0u)
-                continue;
-            size_t n = co_dtype_size(p->dtype);
-            if (len + RECORD_HEADER + n > CO_PERSIST_BYTES ||
-                co_od_read(&d->co, p, payload + len + RECORD_HEADER, n, &n) != CO_ABORT_NONE)
-                return HAL_EIO;
-            put16(payload + len, p->index);
-            payload[len + 2u] = p->sub;
-            payload[len + 3u] = (uint8_t)n;
-            len += RECORD_HEADER + (uint32_t)n;
-            count++;
-        }
+    persist_record rec;
+    int more = 0;
+    while (kind == PERSIST_SAVE_VALUES && (more = st->params->next(st->ctx, &cursor, &rec)) > 0) {
+        if (rec.len > PERSIST_VALUE_MAX)
+            return HAL_EIO;
+        if (len + RECORD_HEADER + rec.len > room)
+            return HAL_ENOSPC;
+        put16(payload + len, rec.index);
+        payload[len + 2u] = rec.sub;
+        payload[len + 3u] = rec.len;
+        memcpy(payload + len + RECORD_HEADER, rec.value, rec.len);
+        len += RECORD_HEADER + rec.len;
+        count++;
     }
+    if (more < 0)
+        return more;
     if (slot_size() < PERSIST_HEADER_SIZE + len)
         return HAL_ENOSPC;
+    /* the slot not holding the newest set */
     slot_info si[2] = {scan(0u), scan(1u)};
     int best = newest(si);
     uint32_t target = best == 0 ? 1u : 0u;
@@ -210,20 +206,15 @@ static int save(struct drive *d, bool with_values)
     put32(h + 12, len);
     put32(h + 16, persist_crc32(persist_crc32(0u, h, 16u), payload, len));
 
-    /* One write of header and payload: each page of the slot is erased once
-     * (payload first and header last, as two writes, erased the slot's page
-     * twice per save). Until every byte is written the slot does not validate
-     * (the header's CRC covers the payload: a cut after the header leaves an
+    /* One write of header and payload, so each page of the slot is erased
+     * once. Until every byte is written the slot does not validate (the
+     * header's CRC covers the payload: a cut after the header leaves an
      * erased or torn payload that fails it), and the other slot still holds
      * the previous set. */
-    int rc = hal_nvm_write(target * slot_size(), buf, PERSIST_HEADER_SIZE + len);
+    int rc = hal_nvm_write(target * slot_size(), work, PERSIST_HEADER_SIZE + len);
     if (rc != HAL_OK)
         return rc;
-    d->persist.status = PERSIST_LOADED;
-    d->persist.saves++;
+    st->status = PERSIST_LOADED;
+    st->saves++;
     return HAL_OK;
 }
-
-int persist_save(struct drive *d) { return save(d, true); }
-
-int persist_save_defaults(struct drive *d) { return save(d, false); }

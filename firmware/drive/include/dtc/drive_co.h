@@ -5,10 +5,12 @@
  *        handlers of the function-bound entries (speed reference, store,
  *        restore, CiA 402 words, scope, status) and the background pass.
  *
- * This is the one place where the drive's parameters and commands meet
- * CANopen: the CANopen layer (firmware/canopen) knows nothing of the drive,
- * and the rest of the drive knows CANopen only through these functions.
- * Context: BG only.
+ * This is the one place where the drive's commands meet CANopen: the CANopen
+ * layer (firmware/canopen) knows nothing of the drive, the interrupt side
+ * knows nothing of CANopen, and the persistent values (drive_params.c) go
+ * through this dictionary. The store's commands (0x1010 save, 0x1011
+ * restore, an NMT reset node's reload) call the store object the
+ * application bound (drive_app.c). Context: BG only.
  */
 #ifndef DTC_DRIVE_CO_H
 #define DTC_DRIVE_CO_H
@@ -34,7 +36,7 @@ enum drive_bind {
 /** The drive's object dictionary (co_params of dtc/param_table.h). */
 extern const co_dict drive_od;
 
-/** Fill in d->co_app and initialise d->co bound to it. Context: BG, from drive_init. */
+/** Fill in d->co_app and initialise d->co bound to it. Context: BG, from drive_init (drive_app.c). */
 void drive_co_init(drive *d);
 
 /**
@@ -51,7 +53,7 @@ void drive_co_defaults(drive *d);
 /**
  * Apply an already checked raw value to @p p; configuration entries go into
  * @p edit (a copy from drive_cfg_edit) which the caller commits. Used for
- * batches (load, restore defaults). Context: BG.
+ * batches (a stored set, the defaults: drive_params.c). Context: BG.
  */
 void drive_co_apply(drive *d, const co_param *p, const co_num *raw, ctl_cfg *edit);
 

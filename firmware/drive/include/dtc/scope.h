@@ -84,8 +84,9 @@ typedef struct {
     volatile uint8_t state;             /**< scope_state */
     volatile bool pending;              /**< a trigger to take at the next stored sample once the pretrigger
                                              part is full: set by the ISR on a trigger event or by BG for a
-                                             manual trigger (issue 11: no request flag for the ISR to test
-                                             every tick), cleared by the ISR when it takes it and by scope_arm */
+                                             manual trigger (one flag for both, so the ISR tests no separate
+                                             request every tick), cleared by the ISR when it takes it and by
+                                             scope_arm */
 
     /* interrupt-owned */
     uint16_t pos;                       /**< next ring index */
@@ -140,8 +141,8 @@ void scope_publish_done(scope *s);
  * telemetry snapshot the source offsets refer to (at least 4 bytes: the
  * unused channels read its first word), @p ref_cmd_rad_s the commanded (not ramped) speed
  * reference, @p faults the latched fault bits, @p tick the tick counter.
- * Inline (issue 11: the interrupt's one call site pays no call, no argument
- * set-up and no register saves). Context: ISR.
+ * Inline: the interrupt's one call site pays no call, no argument set-up
+ * and no register saves. Context: ISR.
  */
 static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s, uint32_t faults, uint32_t tick)
 {
@@ -154,7 +155,7 @@ static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s
     bool primed = s->primed;
     s->last_ref_rad_s = ref_cmd_rad_s;
     s->last_faults = faults;
-    if (!primed) /* once (issue 11: no store every tick) */
+    if (!primed) /* once: no store every tick */
         s->primed = true;
 
     uint8_t st = s->state;
@@ -168,7 +169,7 @@ static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s
     } else if (st != (uint8_t)SCOPE_TRIGGERED) {
         return;
     }
-    /* a count down (issue 11: no compare with the decimation while it runs) */
+    /* a count down: no compare with the decimation while it runs */
     uint16_t dec_left = s->dec_left;
     if (dec_left > 1u) {
         s->dec_left = (uint16_t)(dec_left - 1u);
@@ -181,7 +182,7 @@ static inline void scope_sample(scope *s, const void *base, real_t ref_cmd_rad_s
     /* Every channel's word as it is (the unused ones read the base's first
      * word; the reader never reads their columns): no conversion and no
      * per-kind path here, so an integer channel costs what a float one does
-     * (issue 11: the converting loop cost about 70 more per tick). */
+     * and the tick's cost does not depend on the channels' kinds. */
     const uint8_t *b = (const uint8_t *)base;
     uint32_t w0, w1, w2, w3;
     memcpy(&w0, b + s->word_at[0], sizeof w0);

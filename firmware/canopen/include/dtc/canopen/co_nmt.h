@@ -42,7 +42,7 @@ enum {
 typedef enum {
     CO_NMT_RESET_NONE = 0,
     CO_NMT_RESET_COMM = 1, /**< re-read node id and bit rate, boot up again */
-    CO_NMT_RESET_NODE = 2, /**< also stop the drive and reload the stored parameters */
+    CO_NMT_RESET_NODE = 2, /**< also the application's own reset (co_app.reset_node: e.g. stop, reload what it stores) */
 } co_nmt_reset;
 
 /** Heartbeat consumer states (0x1016). */

@@ -53,7 +53,7 @@ struct co_dev;
 #define CO_ABORT_STORE 0x08000020u           /**< cannot be stored (wrong signature, NVM failure) */
 #define CO_ABORT_STATE 0x08000022u           /**< refused in the present device state (running) */
 
-/** CiA 301 data types used by the drive (the numbers are the EDS DataType codes). */
+/** The CiA 301 data types an entry may have (the numbers are the EDS DataType codes). */
 typedef enum {
     CO_DT_BOOLEAN = 0x01,
     CO_DT_INTEGER8 = 0x02,
@@ -72,7 +72,7 @@ enum co_flag {
     CO_F_READ = 1u << 0,    /**< readable by SDO */
     CO_F_WRITE = 1u << 1,   /**< writable by SDO (and RPDO when mapped) */
     CO_F_PERSIST = 1u << 2, /**< saved by 0x1010 and loaded at boot */
-    CO_F_RUNTIME = 1u << 3, /**< may change while the drive runs */
+    CO_F_RUNTIME = 1u << 3, /**< may change while the machine runs (co_app.running) */
     CO_F_PDO = 1u << 4,     /**< may be mapped into a PDO */
     CO_F_LIMITS = 1u << 5,  /**< min/max are checked on write */
 };

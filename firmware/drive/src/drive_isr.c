@@ -1,6 +1,12 @@
 /**
- * @file drive.c
- * @brief The drive application: interrupt body and background-side accessors.
+ * @file drive_isr.c
+ * @brief The drive's interrupt side: the 200 us tick (drive_isr) and the
+ *        background's hand-over to it (the double-buffered configuration, the
+ *        commands, the telemetry snapshot, arming the scope).
+ *
+ * It uses the control law, the scope and the HAL, and nothing of the CANopen
+ * binding or the parameter store: those reach the interrupt only through the
+ * functions below (tools/check_layers.py checks it on the built objects).
  */
 #include "dtc/drive.h"
 
@@ -8,7 +14,6 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "dtc/drive_co.h"
 #include "dtc/num.h"
 #include "hal/hal.h"
 
@@ -26,18 +31,13 @@ static uint32_t period_in_cycles(const ctl_cfg *cfg)
     return (uint32_t)((uint64_t)hal_cycles_hz() * period_us / 1000000u);
 }
 
-void drive_init(drive *d)
+void drive_isr_init(drive *d)
 {
-    memset(d, 0, sizeof *d);
     ctl_cfg_default(&d->cfg[0]); /* derived too */
     d->cfg[1] = d->cfg[0];
     d->period_cycles[0] = d->period_cycles[1] = period_in_cycles(&d->cfg[0]);
     d->cfg_active = 0u;
     scope_init(&d->scope);
-    d->reset_cause = (uint8_t)hal_reset_cause();
-    drive_co_init(d);
-    (void)persist_load(d); /* defaults, then the stored set; status in d->persist */
-    ctl_init(&d->ctl, drive_cfg(d));
 }
 
 const ctl_cfg *drive_cfg(const drive *d) { return &d->cfg[d->cfg_active & 1u]; }
@@ -210,8 +210,8 @@ void drive_isr(void *ctx)
 
     d->tick++;
     snapshot_fill(d, qs_done);
-    /* The scope reads the filled snapshot before it is closed (issue 11: the
-     * closing fence after the scope, so its inputs need not be read again). */
+    /* The scope reads the filled snapshot before it is closed: with the
+     * closing fence after the scope, its inputs need not be read again. */
     scope_sample(&d->scope, &d->snap, in->speed_ref_rad_s, d->out.tel.faults, d->tick);
     snapshot_close(&d->snap);
 
@@ -259,10 +259,4 @@ void drive_scope_arm(drive *d, const scope_src *src, uint8_t n_src)
     d->snap_derived = (uint8_t)which;
     publish_fence();
     scope_arm(&d->scope, src, n_src);
-}
-
-void drive_background(drive *d)
-{
-    drive_co_process(d);
-    hal_watchdog_kick();
 }
