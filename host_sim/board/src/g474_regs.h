@@ -195,7 +195,59 @@ static inline uint32_t reg_value(uint32_t mask, uint32_t x) { return (x * (mask 
 
 /* ------------------------------------------------ FLASH interface (RM0440 §5.7) */
 #define FLASH_ACR_OFS 0x00u                    /* @svd-offset FLASH.FLASH_ACR */
+#define FLASH_PDKEYR_OFS 0x04u                 /* @svd-offset FLASH.FLASH_PDKEYR */
+#define FLASH_KEYR_OFS 0x08u                   /* @svd-offset FLASH.FLASH_KEYR */
+#define FLASH_OPTKEYR_OFS 0x0Cu                /* @svd-offset FLASH.FLASH_OPTKEYR */
+#define FLASH_SR_OFS 0x10u                     /* @svd-offset FLASH.FLASH_SR */
+#define FLASH_CR_OFS 0x14u                     /* @svd-offset FLASH.FLASH_CR */
+#define FLASH_ECCR_OFS 0x18u                   /* @svd-offset FLASH.FLASH_ECCR */
+#define FLASH_OPTR_OFS 0x20u                   /* @svd-offset FLASH.FLASH_OPTR */
+#define FLASH_PCROP1SR_OFS 0x24u               /* @svd-offset FLASH.FLASH_PCROP1SR */
+#define FLASH_PCROP1ER_OFS 0x28u               /* @svd-offset FLASH.FLASH_PCROP1ER */
+#define FLASH_WRP1AR_OFS 0x2Cu                 /* @svd-offset FLASH.FLASH_WRP1AR */
+#define FLASH_WRP1BR_OFS 0x30u                 /* @svd-offset FLASH.FLASH_WRP1BR */
+#define FLASH_PCROP2SR_OFS 0x44u               /* @svd-offset FLASH.FLASH_PCROP2SR */
+#define FLASH_PCROP2ER_OFS 0x48u               /* @svd-offset FLASH.FLASH_PCROP2ER */
+#define FLASH_WRP2AR_OFS 0x4Cu                 /* @svd-offset FLASH.FLASH_WRP2AR */
+#define FLASH_WRP2BR_OFS 0x50u                 /* @svd-offset FLASH.FLASH_WRP2BR */
+#define FLASH_SEC1R_OFS 0x70u                  /* @svd-offset FLASH.FLASH_SEC1R */
+#define FLASH_SEC2R_OFS 0x74u                  /* @svd-offset FLASH.FLASH_SEC2R */
 #define FLASH_ACR_LATENCY (0xFu << 0)          /* @svd FLASH.FLASH_ACR.LATENCY */
+#define FLASH_ACR_ICRST (1u << 11)             /* @svd FLASH.FLASH_ACR.ICRST */
+#define FLASH_ACR_DCRST (1u << 12)             /* @svd FLASH.FLASH_ACR.DCRST */
+#define FLASH_ACR_WRITABLE 0x00047F0Fu         /* @const LATENCY, PRFTEN..SLEEP_PD, DBG_SWEN */
+#define FLASH_KEY1 0x45670123u                 /* @const RM0440 §5.3.5 unlock sequence */
+#define FLASH_KEY2 0xCDEF89ABu                 /* @const */
+#define FLASH_SR_EOP (1u << 0)                 /* @svd FLASH.FLASH_SR.EOP */
+#define FLASH_SR_OPERR (1u << 1)               /* @svd FLASH.FLASH_SR.OPERR */
+#define FLASH_SR_PROGERR (1u << 3)             /* @svd FLASH.FLASH_SR.PROGERR */
+#define FLASH_SR_WRPERR (1u << 4)              /* @svd FLASH.FLASH_SR.WRPERR */
+#define FLASH_SR_PGAERR (1u << 5)              /* @svd FLASH.FLASH_SR.PGAERR */
+#define FLASH_SR_SIZERR (1u << 6)              /* @svd FLASH.FLASH_SR.SIZERR */
+#define FLASH_SR_PGSERR (1u << 7)              /* @svd FLASH.FLASH_SR.PGSERR */
+#define FLASH_SR_MISSERR (1u << 8)             /* @svd FLASH.FLASH_SR.MISSERR */
+#define FLASH_SR_FASTERR (1u << 9)             /* @svd FLASH.FLASH_SR.FASTERR */
+#define FLASH_SR_RDERR (1u << 14)              /* @svd FLASH.FLASH_SR.RDERR */
+#define FLASH_SR_OPTVERR (1u << 15)            /* @svd FLASH.FLASH_SR.OPTVERR */
+#define FLASH_SR_BSY (1u << 16)                /* @svd FLASH.FLASH_SR.BSY */
+#define FLASH_CR_PG (1u << 0)                  /* @svd FLASH.FLASH_CR.PG */
+#define FLASH_CR_PER (1u << 1)                 /* @svd FLASH.FLASH_CR.PER */
+#define FLASH_CR_MER1 (1u << 2)                /* @svd FLASH.FLASH_CR.MER1 */
+#define FLASH_CR_PNB (0x7Fu << 3)              /* @svd FLASH.FLASH_CR.PNB */
+#define FLASH_CR_BKER (1u << 11)               /* @svd FLASH.FLASH_CR.BKER */
+#define FLASH_CR_MER2 (1u << 15)               /* @svd FLASH.FLASH_CR.MER2 */
+#define FLASH_CR_STRT (1u << 16)               /* @svd FLASH.FLASH_CR.START */
+#define FLASH_CR_OPTSTRT (1u << 17)            /* @svd FLASH.FLASH_CR.OPTSTRT */
+#define FLASH_CR_FSTPG (1u << 18)              /* @svd FLASH.FLASH_CR.FSTPG */
+#define FLASH_CR_EOPIE (1u << 24)              /* @svd FLASH.FLASH_CR.EOPIE */
+#define FLASH_CR_OPTLOCK (1u << 30)            /* @svd FLASH.FLASH_CR.OPTLOCK */
+#define FLASH_CR_LOCK (1u << 31)               /* @svd FLASH.FLASH_CR.LOCK */
+#define FLASH_CR_SOFTWARE 0x3F07BFFFu          /* @const the bits software writes; LOCK, OPTLOCK aside */
+#define FLASH_ECCR_ADDR_ECC (0x7FFFFu << 0)    /* @svd FLASH.FLASH_ECCR.ADDR_ECC */
+#define FLASH_ECCR_BK_ECC (1u << 21)           /* @svd FLASH.FLASH_ECCR.BK_ECC */
+#define FLASH_ECCR_ECCCIE (1u << 24)           /* @svd FLASH.FLASH_ECCR.ECCCIE */
+#define FLASH_ECCR_ECCC (1u << 30)             /* @svd FLASH.FLASH_ECCR.ECCC */
+#define FLASH_ECCR_ECCD (1u << 31)             /* @svd FLASH.FLASH_ECCR.ECCD */
 
 /* ------------------------------------------------ RCC (RM0440 §7.4) */
 #define RCC_CR_OFS 0x00u                       /* @svd-offset RCC.RCC_CR */
@@ -474,5 +526,68 @@ static inline uint32_t reg_value(uint32_t mask, uint32_t x) { return (x * (mask 
 #define FDCAN_CKDIV_PDIV (0xFu << 0)           /* @svd FDCAN1.FDCAN_CKDIV.PDIV 0: /1, n: /2n */
 #define FDCAN_CREL_VALUE 0x32141218u           /* @const release 3.2.1, 2018-12-14 (RM0440 FDCAN_CREL) */
 #define FDCAN_ENDN_VALUE 0x87654321u           /* @const the endianness test value */
+
+/* ------------------------------------------------ IWDG (RM0440 §41.4) */
+#define IWDG_KR_OFS 0x00u                      /* @svd-offset IWDG.KR */
+#define IWDG_PR_OFS 0x04u                      /* @svd-offset IWDG.PR */
+#define IWDG_RLR_OFS 0x08u                     /* @svd-offset IWDG.RLR */
+#define IWDG_SR_OFS 0x0Cu                      /* @svd-offset IWDG.SR */
+#define IWDG_WINR_OFS 0x10u                    /* @svd-offset IWDG.WINR */
+#define IWDG_KR_KEY (0xFFFFu << 0)             /* @svd IWDG.KR.KEY */
+#define IWDG_KEY_START 0xCCCCu                 /* @svd IWDG.KR.KEY=0xCCCC */
+#define IWDG_KEY_UNLOCK 0x5555u                /* @svd IWDG.KR.KEY=0x5555 */
+#define IWDG_KEY_REFRESH 0xAAAAu               /* @svd IWDG.KR.KEY=0xAAAA */
+#define IWDG_PR_PR (7u << 0)                   /* @svd IWDG.PR.PR LSI / (4 << PR), PR 6 and 7 alike */
+#define IWDG_RLR_RL (0xFFFu << 0)              /* @svd IWDG.RLR.RL */
+#define IWDG_WINR_WIN (0xFFFu << 0)            /* @svd IWDG.WINR.WIN */
+#define IWDG_SR_PVU (1u << 0)                  /* @svd IWDG.SR.PVU */
+#define IWDG_SR_RVU (1u << 1)                  /* @svd IWDG.SR.RVU */
+#define IWDG_SR_WVU (1u << 2)                  /* @svd IWDG.SR.WVU */
+#define RCC_CSR_IWDGRSTF (1u << 29)            /* @svd RCC.RCC_CSR.IWDGRSTF */
+
+/* ------------------------------------------------ PWR (RM0440 §6.4) */
+#define PWR_CR1_OFS 0x00u                      /* @svd-offset PWR.PWR_CR1 */
+#define PWR_CR2_OFS 0x04u                      /* @svd-offset PWR.PWR_CR2 */
+#define PWR_CR3_OFS 0x08u                      /* @svd-offset PWR.PWR_CR3 */
+#define PWR_CR4_OFS 0x0Cu                      /* @svd-offset PWR.PWR_CR4 */
+#define PWR_SR1_OFS 0x10u                      /* @svd-offset PWR.PWR_SR1 */
+#define PWR_SR2_OFS 0x14u                      /* @svd-offset PWR.PWR_SR2 */
+#define PWR_SCR_OFS 0x18u                      /* @svd-offset PWR.PWR_SCR */
+#define PWR_PUCRA_OFS 0x20u                    /* @svd-offset PWR.PWR_PUCRA first of the fourteen pull registers */
+#define PWR_PDCRG_OFS 0x54u                    /* @svd-offset PWR.PWR_PDCRG last */
+#define PWR_CR5_OFS 0x80u                      /* @svd-offset PWR.PWR_CR5 */
+#define PWR_CR1_LPMS (7u << 0)                 /* @svd PWR.PWR_CR1.LPMS */
+#define PWR_CR1_VOS (3u << 9)                  /* @svd PWR.PWR_CR1.VOS */
+#define PWR_CR1_VOS_RANGE1 (1u << 9)           /* @svd PWR.PWR_CR1.VOS=1 */
+#define PWR_CR1_VOS_RANGE2 (2u << 9)           /* @svd PWR.PWR_CR1.VOS=2 */
+#define PWR_CR1_WRITABLE 0x0000471Fu           /* @const LPMS, FPD_STOP, DBP, VOS, LPR */
+#define PWR_CR3_EIWUL (1u << 15)               /* @svd PWR.PWR_CR3.EIWUL */
+#define PWR_CR5_R1MODE (1u << 8)               /* @svd PWR.PWR_CR5.R1MODE 1: range 1 normal mode, 0: boost */
+
+/* ------------------------------------------------ TIM6 (RM0440, basic timers) */
+#define TIM6_CR1_OFS 0x00u                     /* @svd-offset TIM6.TIM6_CR1 */
+#define TIM6_CR2_OFS 0x04u                     /* @svd-offset TIM6.TIM6_CR2 */
+#define TIM6_DIER_OFS 0x0Cu                    /* @svd-offset TIM6.TIM6_DIER */
+#define TIM6_SR_OFS 0x10u                      /* @svd-offset TIM6.TIM6_SR */
+#define TIM6_EGR_OFS 0x14u                     /* @svd-offset TIM6.TIM6_EGR */
+#define TIM6_CNT_OFS 0x24u                     /* @svd-offset TIM6.TIM6_CNT */
+#define TIM6_PSC_OFS 0x28u                     /* @svd-offset TIM6.TIM6_PSC */
+#define TIM6_ARR_OFS 0x2Cu                     /* @svd-offset TIM6.TIM6_ARR */
+#define TIM6_CR1_CEN (1u << 0)                 /* @svd TIM6.TIM6_CR1.CEN */
+#define TIM6_CR1_UDIS (1u << 1)                /* @svd TIM6.TIM6_CR1.UDIS */
+#define TIM6_CR1_URS (1u << 2)                 /* @svd TIM6.TIM6_CR1.URS */
+#define TIM6_CR1_OPM (1u << 3)                 /* @svd TIM6.TIM6_CR1.OPM */
+#define TIM6_CR1_ARPE (1u << 7)                /* @svd TIM6.TIM6_CR1.ARPE */
+#define TIM6_CR1_UIFREMAP (1u << 11)           /* @svd TIM6.TIM6_CR1.UIFREMAP */
+#define TIM6_CR1_DITHEN (1u << 12)             /* @svd TIM6.TIM6_CR1.DITHEN */
+#define TIM6_CR2_MMS (7u << 4)                 /* @svd TIM6.TIM6_CR2.MMS */
+#define TIM6_DIER_UIE (1u << 0)                /* @svd TIM6.TIM6_DIER.UIE */
+#define TIM6_DIER_UDE (1u << 8)                /* @svd TIM6.TIM6_DIER.UDE */
+#define TIM6_SR_UIF (1u << 0)                  /* @svd TIM6.TIM6_SR.UIF */
+#define TIM6_EGR_UG (1u << 0)                  /* @svd TIM6.TIM6_EGR.UG */
+#define TIM6_CNT_CNT (0xFFFFu << 0)            /* @svd TIM6.TIM6_CNT.CNT */
+#define TIM6_CNT_UIFCPY (1u << 31)             /* @svd TIM6.TIM6_CNT.UIFCPY */
+#define TIM6_PSC_PSC (0xFFFFu << 0)            /* @svd TIM6.TIM6_PSC.PSC */
+#define TIM6_ARR_WHOLE 0xFFFFu                 /* @const ARR without the dithering bits 19:16 */
 
 #endif
