@@ -590,4 +590,95 @@ static inline uint32_t reg_value(uint32_t mask, uint32_t x) { return (x * (mask 
 #define TIM6_PSC_PSC (0xFFFFu << 0)            /* @svd TIM6.TIM6_PSC.PSC */
 #define TIM6_ARR_WHOLE 0xFFFFu                 /* @const ARR without the dithering bits 19:16 */
 
+/* ------------------------------------------------ Cortex-M4 system control space (ARMv7-M ARM B3.2-B3.4,
+ * C1.6-C1.8; Cortex-M4 TRM): absolute addresses, not in the vendor SVD */
+#define SCS_ICTR 0xE000E004u                   /* @core interrupt controller type */
+#define SCS_ACTLR 0xE000E008u                  /* @core */
+#define SYST_CSR 0xE000E010u                   /* @core */
+#define SYST_RVR 0xE000E014u                   /* @core */
+#define SYST_CVR 0xE000E018u                   /* @core */
+#define SYST_CALIB 0xE000E01Cu                 /* @core */
+#define NVIC_ISER0 0xE000E100u                 /* @core set-enable, 8 words */
+#define NVIC_ICER0 0xE000E180u                 /* @core clear-enable */
+#define NVIC_ISPR0 0xE000E200u                 /* @core set-pending */
+#define NVIC_ICPR0 0xE000E280u                 /* @core clear-pending */
+#define NVIC_IABR0 0xE000E300u                 /* @core active bits */
+#define NVIC_IPR0 0xE000E400u                  /* @core priorities, one byte per interrupt */
+#define NVIC_BANK_BYTES 0x20u                  /* @core the 8 words of each bit bank */
+#define SCB_CPUID 0xE000ED00u                  /* @core */
+#define SCB_ICSR 0xE000ED04u                   /* @core */
+#define SCB_VTOR 0xE000ED08u                   /* @core */
+#define SCB_AIRCR 0xE000ED0Cu                  /* @core */
+#define SCB_SCR 0xE000ED10u                    /* @core */
+#define SCB_CCR 0xE000ED14u                    /* @core */
+#define SCB_SHPR1 0xE000ED18u                  /* @core SHPR1-3: exceptions 4-15, one byte each */
+#define SCB_SHPR_END 0xE000ED24u               /* @core the byte after SHPR3 */
+#define SCB_SHCSR 0xE000ED24u                  /* @core */
+#define SCB_CFSR 0xE000ED28u                   /* @core */
+#define SCB_HFSR 0xE000ED2Cu                   /* @core */
+#define SCB_DFSR 0xE000ED30u                   /* @core */
+#define SCB_MMFAR 0xE000ED34u                  /* @core */
+#define SCB_BFAR 0xE000ED38u                   /* @core */
+#define SCB_AFSR 0xE000ED3Cu                   /* @core */
+#define SCB_CPACR 0xE000ED88u                  /* @core */
+#define MPU_TYPE 0xE000ED90u                   /* @core */
+#define MPU_CTRL 0xE000ED94u                   /* @core */
+#define DHCSR 0xE000EDF0u                      /* @core */
+#define DEMCR 0xE000EDFCu                      /* @core */
+#define NVIC_STIR 0xE000EF00u                  /* @core */
+#define FPU_FPCCR 0xE000EF34u                  /* @core */
+#define FPU_FPCAR 0xE000EF38u                  /* @core */
+#define FPU_FPDSCR 0xE000EF3Cu                 /* @core */
+#define DWT_CTRL 0xE0001000u                   /* @core */
+#define DWT_CYCCNT 0xE0001004u                 /* @core */
+#define SYST_CSR_ENABLE (1u << 0)              /* @core */
+#define SYST_CSR_TICKINT (1u << 1)             /* @core */
+#define SYST_CSR_CLKSOURCE (1u << 2)           /* @core 1: the processor clock */
+#define SYST_CSR_COUNTFLAG (1u << 16)          /* @core */
+#define SYST_RVR_RELOAD 0xFFFFFFu              /* @core */
+#define SCB_ICSR_VECTACTIVE 0x1FFu             /* @core the IPSR's exception number, also in xPSR */
+#define SCB_ICSR_RETTOBASE (1u << 11)          /* @core */
+#define SCB_ICSR_VECTPENDING_SHIFT 12u         /* @core */
+#define SCB_ICSR_ISRPENDING (1u << 22)         /* @core */
+#define SCB_ICSR_PENDSTCLR (1u << 25)          /* @core */
+#define SCB_ICSR_PENDSTSET (1u << 26)          /* @core */
+#define SCB_ICSR_PENDSVCLR (1u << 27)          /* @core */
+#define SCB_ICSR_PENDSVSET (1u << 28)          /* @core */
+#define SCB_ICSR_NMIPENDSET (1u << 31)         /* @core */
+#define SCB_AIRCR_VECTRESET (1u << 0)          /* @core */
+#define SCB_AIRCR_VECTCLRACTIVE (1u << 1)      /* @core */
+#define SCB_AIRCR_SYSRESETREQ (1u << 2)        /* @core */
+#define SCB_AIRCR_PRIGROUP (7u << 8)           /* @core */
+#define SCB_AIRCR_VECTKEY 0x05FAu              /* @core the write key in bits 31:16 */
+#define SCB_AIRCR_VECTKEYSTAT 0xFA050000u      /* @core what bits 31:16 read */
+#define SCB_SCR_WRITABLE 0x16u                 /* @core SLEEPONEXIT, SLEEPDEEP, SEVONPEND */
+#define SCB_CCR_STKALIGN (1u << 9)             /* @core */
+#define SCB_CCR_WRITABLE 0x31Bu                /* @core NONBASETHRDENA..STKALIGN without the reserved bits */
+#define SCB_SHCSR_MEMFAULTACT (1u << 0)        /* @core */
+#define SCB_SHCSR_BUSFAULTACT (1u << 1)        /* @core */
+#define SCB_SHCSR_USGFAULTACT (1u << 3)        /* @core */
+#define SCB_SHCSR_SVCALLACT (1u << 7)          /* @core */
+#define SCB_SHCSR_PENDSVACT (1u << 10)         /* @core */
+#define SCB_SHCSR_SYSTICKACT (1u << 11)        /* @core */
+#define SCB_SHCSR_MEMFAULTENA (1u << 16)       /* @core */
+#define SCB_SHCSR_BUSFAULTENA (1u << 17)       /* @core */
+#define SCB_SHCSR_USGFAULTENA (1u << 18)       /* @core */
+#define SCB_SHCSR_ENABLES (7u << 16)           /* @core the three fault enables */
+#define SCB_CFSR_IMPRECISERR (1u << 10)        /* @core BFSR.IMPRECISERR */
+#define SCB_HFSR_FORCED (1u << 30)             /* @core */
+#define SCB_CPACR_CP10 (3u << 20)              /* @core */
+#define SCB_CPACR_CP11 (3u << 22)              /* @core */
+#define MPU_TYPE_8_REGIONS 0x00000800u         /* @core DREGION = 8 */
+#define DEMCR_TRCENA (1u << 24)                /* @core */
+#define DEMCR_WRITABLE 0x010F07F1u             /* @core */
+#define FPU_FPCCR_ASPEN_LSPEN 0xC0000000u      /* @core automatic and lazy state preservation */
+#define FPU_FPDSCR_WRITABLE 0x07C00000u        /* @core AHP, DN, FZ, RMode */
+#define DWT_CTRL_CYCCNTENA (1u << 0)           /* @core */
+#define DWT_CTRL_NUMCOMP_4 0x40000000u         /* @core four comparators */
+#define CPUID_M4F_R0P1 0x410FC241u             /* @core Cortex-M4 r0p1 */
+#define DBGMCU_IDCODE 0xE0042000u              /* @svd DBGMCU.IDCODE */
+#define DBGMCU_APB2FZR 0xE0042010u             /* @svd DBGMCU.APB2_FZ the last of CR and the freeze registers */
+#define DBGMCU_IDCODE_G474 0x20016469u         /* @const DEV_ID 0x469, REV_ID 0x2001 */
+#define RCC_CSR_SFTRSTF (1u << 28)             /* @svd RCC.RCC_CSR.SFTRSTF */
+
 #endif
