@@ -87,4 +87,16 @@ void Default_Handler(void);
 /** @return the board_fault bits recorded since reset. Context: ANY. */
 uint32_t board_faults(void);
 
+/**
+ * The board_fault bits recorded since reset (board_faults.c). A word of its
+ * own, named, so a debugger or the emulated board reads it by symbol.
+ */
+extern volatile uint32_t g_board_faults;
+
+/**
+ * Record the board_fault bits @p bits (kept until reset). Every driver
+ * records its own faults here. Context: ANY.
+ */
+static inline void board_fault_record(uint32_t bits) { g_board_faults |= bits; }
+
 #endif /* HAL_STM32G4_BOARD_H */

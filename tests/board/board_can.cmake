@@ -1,7 +1,8 @@
 # FDCAN1 on the twin (host_sim/board/src/fdcan*.c) with small test images built here by
 # arm-none-eabi-gcc (the host build needs no target preset):
-#   can_drv_<rate>.elf   the port's own CAN driver (hal/stm32g4/hal_stm32g4.c) at 170 MHz,
-#                        hal_can_open(<rate>), one frame out, then an echo of every frame in
+#   can_drv_<rate>.elf   the port's own CAN driver (hal/stm32g4/fdcan.c, with the clock tree,
+#                        the pin map and the fault word it needs) at 170 MHz,
+#                        fdcan_open(<rate>), one frame out, then an echo of every frame in
 #   can_model_<n>.elf    register-level checks (case 0) and one wrong use per case (1..9)
 # and, where the twin runs it far enough, the real image build/stm32g4/dtc-fw.elf.
 find_program(DTC_ARM_GCC arm-none-eabi-gcc)
@@ -19,22 +20,24 @@ set(BCAN_FLAGS -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -O2 -f
     -I${CMAKE_SOURCE_DIR}/firmware/control/include) # dtc/npc.h: the leg planner's leg codes and rule
 set(BCAN_LINK -T${BCAN_HAL}/stm32g474.ld -nostartfiles -Wl,--gc-sections --specs=nano.specs --specs=nosys.specs)
 
-# The port's vector table and reset handler, without board_init()'s HRTIM/ADC start-up.
+# The port's vector table and reset handler; each image brings the board_init() it needs.
 add_custom_command(OUTPUT ${BCAN_OUT}/startup_test.o
   COMMAND ${CMAKE_COMMAND} -E make_directory ${BCAN_OUT}
-  COMMAND ${DTC_ARM_GCC} ${BCAN_FLAGS} -Dboard_init=test_early_init -c ${BCAN_HAL}/startup_stm32g474.c
-          -o ${BCAN_OUT}/startup_test.o
+  COMMAND ${DTC_ARM_GCC} ${BCAN_FLAGS} -c ${BCAN_HAL}/startup_stm32g474.c -o ${BCAN_OUT}/startup_test.o
   DEPENDS ${BCAN_HAL}/startup_stm32g474.c ${BCAN_HAL}/board.h ${BCAN_HAL}/stm32g474_regs.h
   VERBATIM)
 
+# The CAN driver and what it calls: the clock tree and time base, the pins, the fault word.
+set(BCAN_DRIVER ${BCAN_HAL}/fdcan.c ${BCAN_HAL}/clock.c ${BCAN_HAL}/pins.c ${BCAN_HAL}/board_faults.c)
+file(GLOB BCAN_HEADERS CONFIGURE_DEPENDS ${BCAN_HAL}/*.h)
 set(BCAN_IMAGES)
 foreach(rate 125000 250000 500000 1000000)
   set(elf ${BCAN_OUT}/can_drv_${rate}.elf)
   add_custom_command(OUTPUT ${elf}
     COMMAND ${DTC_ARM_GCC} ${BCAN_FLAGS} -DCAN_BITRATE=${rate}u ${BCAN_SRC}/can_driver_image.c
-            ${BCAN_HAL}/npc_plan.c ${BCAN_OUT}/startup_test.o ${BCAN_LINK} -o ${elf}
-    DEPENDS ${BCAN_SRC}/can_driver_image.c ${BCAN_SRC}/semihost_min.h ${BCAN_HAL}/hal_stm32g4.c
-            ${BCAN_HAL}/npc_plan.c ${BCAN_HAL}/stm32g474_regs.h ${BCAN_HAL}/stm32g474.ld ${BCAN_OUT}/startup_test.o
+            ${BCAN_DRIVER} ${BCAN_OUT}/startup_test.o ${BCAN_LINK} -o ${elf}
+    DEPENDS ${BCAN_SRC}/can_driver_image.c ${BCAN_SRC}/semihost_min.h ${BCAN_DRIVER} ${BCAN_HEADERS}
+            ${BCAN_HAL}/stm32g474.ld ${BCAN_OUT}/startup_test.o
     VERBATIM)
   list(APPEND BCAN_IMAGES ${elf})
 endforeach()
@@ -48,9 +51,9 @@ foreach(case RANGE 0 9)
     VERBATIM)
   list(APPEND BCAN_IMAGES ${elf})
 endforeach()
-# The real drive + CANopen firmware (the libraries of the target build) with the port's HAL,
-# started without the control tick (HRTIM/ADC are not modelled in this branch). Needs the
-# stm32g4 preset built first; without it the test skips and says so.
+# The real drive + CANopen firmware (the libraries of the target build) with the port's whole
+# binding, started without the watchdog and the control tick. Needs the stm32g4 preset built
+# first; without it the test skips and says so.
 set(DTC_STM32G4_BUILD_DIR ${CMAKE_SOURCE_DIR}/build/stm32g4 CACHE PATH
     "target build whose firmware libraries the twin's CANopen test image links")
 set(BCAN_FWLIBS ${DTC_STM32G4_BUILD_DIR}/firmware/libdtc_drive.a ${DTC_STM32G4_BUILD_DIR}/firmware/libdtc_control.a
@@ -63,12 +66,14 @@ foreach(lib ${BCAN_FWLIBS} ${DTC_STM32G4_BUILD_DIR}/generated/include/dtc/param_
 endforeach()
 if(BCAN_HAVE_FW)
   set(elf ${BCAN_OUT}/canopen_image.elf)
+  include(${BCAN_HAL}/sources.cmake)
+  list(TRANSFORM DTC_STM32G4_BINDING_SOURCES PREPEND ${BCAN_HAL}/ OUTPUT_VARIABLE BCAN_BINDING)
   add_custom_command(OUTPUT ${elf}
     COMMAND ${DTC_ARM_GCC} ${BCAN_FLAGS} -I${CMAKE_SOURCE_DIR}/firmware/drive/include
             -I${CMAKE_SOURCE_DIR}/firmware/canopen/include -I${CMAKE_SOURCE_DIR}/firmware/control/include
-            -I${DTC_STM32G4_BUILD_DIR}/generated/include ${BCAN_SRC}/canopen_image.c ${BCAN_HAL}/npc_plan.c
+            -I${DTC_STM32G4_BUILD_DIR}/generated/include ${BCAN_SRC}/canopen_image.c ${BCAN_BINDING}
             ${BCAN_OUT}/startup_test.o -Wl,--start-group ${BCAN_FWLIBS} -lm -Wl,--end-group ${BCAN_LINK} -o ${elf}
-    DEPENDS ${BCAN_SRC}/canopen_image.c ${BCAN_SRC}/semihost_min.h ${BCAN_HAL}/hal_stm32g4.c ${BCAN_FWLIBS}
+    DEPENDS ${BCAN_SRC}/canopen_image.c ${BCAN_SRC}/semihost_min.h ${BCAN_BINDING} ${BCAN_HEADERS} ${BCAN_FWLIBS}
             ${BCAN_HAL}/stm32g474.ld ${BCAN_OUT}/startup_test.o
     VERBATIM)
   list(APPEND BCAN_IMAGES ${elf})

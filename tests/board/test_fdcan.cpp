@@ -1,6 +1,6 @@
 // FDCAN1 on the emulated STM32G474 (host_sim/board/src/fdcan.c, fdcan_bus.c) with the
 // in-memory CAN backend of hal_host:
-//  - FdcanDriver.*: the port's own driver (hal_stm32g4.c) in a test image at 170 MHz: bit
+//  - FdcanDriver.*: the port's own driver (hal/stm32g4/fdcan.c) in a test image at 170 MHz: bit
 //    timing read back per bit rate, a frame out on the backend, frames in through the
 //    standard filters (echoed by the image), bus-off injected and recovered by the driver,
 //    error counters, a node alone on the bus, a bus at another bit rate;

@@ -88,6 +88,24 @@ TEST_F(Board, PulseShorterThanTheDeadTimeDisappears) {
   for (double t = 300 * tc; t < 320 * tc + 1e-6; t += 50e-9) EXPECT_EQ(hrtim_levels(b, t0 + t) & 1u, 0u);
 }
 
+// The master's flags at a period end with the port's preload scheme (PREEN, MREPU: an update at
+// every repetition event), RM0440 HRTIM_MISR: the repetition MREP (bit 4) and the update MUPD
+// (bit 6), never the sync input's SYNC (bit 5), which nothing drives; MICR clears them.
+TEST_F(Board, MasterPeriodEndSetsRepetitionAndUpdateFlags) {
+  timers(1000);
+  hrtim_write(b, 0x00, 5u | 8u | (1u << 27) | (1u << 29));
+  const double t0 = board_now(b), per = 1000.0 / rcc_hclk_hz(b);
+  hrtim_write(b, 0x00, 5u | 8u | (1u << 27) | (1u << 29) | (0x7Fu << 16));
+  ASSERT_FALSE(faulted()) << msg();
+  hrtim_write(b, 0x08, 0x7Fu);  // MICR: the start's own flags cleared
+  EXPECT_EQ(hrtim_read(b, 0x04) & 0x7Fu, 0u);
+  b->cycles = (uint64_t)std::llround((t0 + 1.5 * per) * board_core_hz(b));  // into the second period
+  hrtim_event(b);
+  EXPECT_EQ(hrtim_read(b, 0x04) & 0x70u, (1u << 4) | (1u << 6)) << "MREP and MUPD, not SYNC";
+  hrtim_write(b, 0x08, (1u << 4) | (1u << 6));
+  EXPECT_EQ(hrtim_read(b, 0x04) & 0x70u, 0u);
+}
+
 // External event 6 (the fault line's second input, PB5) as a reset of output 1, through its digital
 // filter EE6F = 1100 (N = 8 samples at fEEVS / 16, fEEVS = fHRTIM) and 3 tHRTIM of resynchronisation
 // (RM0440 HRTIM_EECR2/3, §27.3.7): output 1 falls at the 8th sample of the low level, stays reset

@@ -1,6 +1,6 @@
-// A power cut at every step of a parameter save, on the emulated board (issue 9 "safe against a
-// reset at any point of a write", issue 10 "a reset or power cut injected at every step of a
-// parameter save leaves a bootable valid set").
+// A power cut at every step of a parameter save, on the emulated board: the store is safe
+// against a reset at any point of a write, and a reset or power cut injected at every step of a
+// parameter save leaves a bootable valid set.
 //
 // The flashable image build/stm32g4/dtc-fw.elf runs on the twin with a second node on its CAN
 // bus (hal_host's loopback backend); the test speaks CiA 301 SDO to it with frames built here by

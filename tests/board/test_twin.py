@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The emulated board ("twin") against dtc-sim and closed-form values (issue 10).
+"""The emulated board ("twin") against dtc-sim and closed-form values.
 
   test_twin.py case2 CONTROLLER   CASE2 on the twin and on dtc-sim with the same controller:
                                   recovery time within 10 %, steady and estimate errors within
@@ -44,7 +44,7 @@ EEV_N = 8                     # ... N = 8 consecutive samples (RM0440, HRTIM_EEC
 EEV_SYNC = 3 * T_HRTIM        # resynchronisation before acting on the outputs (as FLT3)
 INNER_MIN = (EEV_N - 1) * T_EEV_SAMPLE + EEV_SYNC  # the line falls just after a sample
 INNER_MAX = EEV_N * T_EEV_SAMPLE + EEV_SYNC        # ... or just on one
-ALL_OFF_WITHIN = 1.0e-6       # issue 9: outputs inactive within a microsecond
+ALL_OFF_WITHIN = 1.0e-6       # the requirement: every output inactive within a microsecond of a fault
 EMCY_HW = 0x2320              # tools/params/parameters.toml [[emcy]] CTL_FAULT_HW
 ERR_REG_CURRENT = 1 << 1      # CiA 301 0x1001 bit 1
 MIN_PULSE = 2.0e-6            # BOARD_MIN_PULSE_NS: shortest second-vector pulse (npc_plan.c)

@@ -269,7 +269,7 @@ int twin_run_main(int argc, char **argv) {
       board_irq_stat st;
       board_irq_get(b, EXC_ADC1_2, &st);
       uint32_t bf = 0;
-      board_read_symbol(b, "g_board", 4, &bf);
+      board_read_symbol(b, "g_board_faults", 0, &bf);
       fprintf(stderr, "dtc-board: the image's control tick did not start within %.1f s (%llu ADC interrupts, board "
               "faults 0x%X, g_drive.tick %u)\n", BOOT_LIMIT_S, (unsigned long long)st.count, bf, tick);
       board_close(b);
@@ -506,7 +506,7 @@ int twin_metrics_extend(board *b, const char *path, const sim_metrics *m, double
   }
   cJSON_AddNumberToObject(bd, "sim_seconds_per_wall_second", m->wall_seconds > 0 ? m->sim_seconds / m->wall_seconds : 0.0);
   uint32_t bf = 0;
-  board_read_symbol(b, "g_board", 4, &bf); /* board_state.faults (second word) */
+  board_read_symbol(b, "g_board_faults", 0, &bf); /* the binding's fault word (board.h) */
   if (fault_t >= 0) {
     cJSON *ft = cJSON_AddObjectToObject(bd, "fault");
     cJSON_AddNumberToObject(ft, "line_low_at_s", fault_t);

@@ -67,8 +67,8 @@ void adc_reset(board *b) {
     g->n_modelled = gi == 0 ? 2 : 1;
     for (int i = 0; i < 2; i++) {
       adc_unit *u = &g->u[i];
-      u->cr = 1u << 29;         /* DEEPPWD */
-      u->cfgr = 1u << 31;       /* JQDIS */
+      u->cr = ADC_CR_DEEPPWD;   /* reset values */
+      u->cfgr = ADC_CFGR_JQDIS;
       u->advregen_t = u->cal_done_t = u->rdy_t = u->dis_t = -1;
       u->cal_end_t = -1;
     }
@@ -78,15 +78,15 @@ void adc_reset(board *b) {
 }
 
 static double adc_clk(board *b, const adc_group *g) {
-  unsigned ck = (g->ccr >> 16) & 3u;
+  uint32_t ck = g->ccr & ADC_CCR_CKMODE;
   double h = rcc_hclk_hz(b);
-  return ck == 1 ? h : ck == 2 ? h / 2 : ck == 3 ? h / 4 : 0;
+  return ck == ADC_CCR_CKMODE_HCLK ? h : ck == ADC_CCR_CKMODE_HCLK_DIV2 ? h / 2 : ck == ADC_CCR_CKMODE_HCLK_DIV4 ? h / 4 : 0;
 }
 
 static void update_irq(board *b) {
   for (int gi = 0; gi < 2; gi++)
     for (int i = 0; i < 2; i++)
-      if (b->adc.g[gi].u[i].isr & b->adc.g[gi].u[i].ier & 0x7FFu) {
+      if (b->adc.g[gi].u[i].isr & b->adc.g[gi].u[i].ier & ADC_ISR_ALL) {
         scs_set_pending(b, 16 + (gi == 0 ? IRQ_ADC1_2 : IRQ_ADC3));
         break;
       }
@@ -98,16 +98,28 @@ static void settle(board *b) { /* time-driven bits */
     for (int i = 0; i < 2; i++) {
       adc_unit *u = &b->adc.g[gi].u[i];
       if (u->cal_done_t >= 0 && now >= u->cal_done_t - EPS_T) {
-        u->cr &= ~(1u << 31);
+        u->cr &= ~ADC_CR_ADCAL;
         u->cal_end_t = u->cal_done_t;
         u->cal_done_t = -1;
         u->calibrated = true;
       }
-      if (u->rdy_t >= 0 && now >= u->rdy_t - EPS_T) { u->isr |= 1u; u->ready = true; u->rdy_t = -1; update_irq(b); }
+      if (u->rdy_t >= 0 && now >= u->rdy_t - EPS_T) { u->isr |= ADC_ISR_ADRDY; u->ready = true; u->rdy_t = -1; update_irq(b); }
     }
 }
 
-static bool dual(const adc_group *g) { return (g->ccr & 0x1Fu) == 5u; }
+static bool dual(const adc_group *g) { return reg_field(g->ccr, ADC_CCR_DUAL) == ADC_DUAL_INJ_SIMULT; }
+
+/* The injected sequence's length (JL + 1) and the channel of rank r (0..3). */
+static int seq_len(uint32_t jsqr) { return (int)reg_field(jsqr, ADC_JSQR_JL) + 1; }
+
+static int rank_channel(uint32_t jsqr, int r) {
+  return (int)reg_field(jsqr >> (ADC_JSQ_STRIDE * (unsigned)r), ADC_JSQR_JSQ1);
+}
+
+/* Sampling time code (SMPx) of channel ch. */
+static uint32_t smp_code(const adc_unit *u, int ch) {
+  return reg_field(u->smpr[ch / ADC_SMPR_CHANNELS] >> (ADC_SMPR_BITS * (unsigned)(ch % ADC_SMPR_CHANNELS)), ADC_SMPR1_SMP0);
+}
 
 static const chan_pin *find_pin(int adc, int ch) {
   for (size_t i = 0; i < sizeof k_map / sizeof k_map[0]; i++)
@@ -117,9 +129,9 @@ static const chan_pin *find_pin(int adc, int ch) {
 
 static bool check_sequence(board *b, adc_group *g, int i) {
   adc_unit *u = &g->u[i];
-  int len = (int)(u->jsqr & 3u) + 1;
+  int len = seq_len(u->jsqr);
   for (int r = 0; r < len; r++) {
-    int ch = (int)(u->jsqr >> (9 + 6 * r)) & 0x1F;
+    int ch = rank_channel(u->jsqr, r);
     const chan_pin *p = find_pin(g->first + i, ch);
     if (!p) {
       board_fault(b, "ADC%d_JSQR rank %d: channel %d is not wired to an analog input of this board (docs/board.md)",
@@ -127,7 +139,7 @@ static bool check_sequence(board *b, adc_group *g, int i) {
       return false;
     }
     gpio_port *gp = &b->gpio[p->port - 'A'];
-    if (((gp->moder >> (2 * p->pin)) & 3u) != 3u) {
+    if (((gp->moder >> (2 * p->pin)) & GPIO_MODER_MODE0) != GPIO_MODE_ANALOG) {
       board_fault(b, "ADC%d channel %d: pin P%c%d is not in analog mode (GPIO MODER)", g->first + i, ch, p->port, p->pin);
       return false;
     }
@@ -137,16 +149,12 @@ static bool check_sequence(board *b, adc_group *g, int i) {
 
 static double rank_time(board *b, adc_group *g, int i, int r) { /* sampling + conversion, s */
   adc_unit *u = &g->u[i];
-  int ch = (int)(u->jsqr >> (9 + 6 * r)) & 0x1F;
-  uint32_t smp = (u->smpr[ch / 10] >> (3 * (ch % 10))) & 7u;
-  return (k_smp[smp] + 12.5) / adc_clk(b, g);
+  return (k_smp[smp_code(u, rank_channel(u->jsqr, r))] + 12.5) / adc_clk(b, g);
 }
 
 static double sample_time(board *b, adc_group *g, int i, int r) {
   adc_unit *u = &g->u[i];
-  int ch = (int)(u->jsqr >> (9 + 6 * r)) & 0x1F;
-  uint32_t smp = (u->smpr[ch / 10] >> (3 * (ch % 10))) & 7u;
-  return k_smp[smp] / adc_clk(b, g);
+  return k_smp[smp_code(u, rank_channel(u->jsqr, r))] / adc_clk(b, g);
 }
 
 static int n_units(const adc_group *g) { return dual(g) ? 2 : 1; }
@@ -167,7 +175,7 @@ static void start_sequence(board *b, adc_group *g, double when) {
     if (!check_sequence(b, g, i)) return;
   g->busy = true;
   g->rank = 0;
-  g->len = (int)(g->u[0].jsqr & 3u) + 1;
+  g->len = seq_len(g->u[0].jsqr);
   g->t_trig = when;
   g->rank_sample_t = -1;
   double t = when; /* sequence end, for the JEOS event */
@@ -184,16 +192,16 @@ void adc_hrtim_trigger(board *b, int trg, double when) {
   for (int gi = 0; gi < 2; gi++) {
     adc_group *g = &b->adc.g[gi];
     adc_unit *m = &g->u[0];
-    if (!(m->cr & (1u << 3))) continue;                 /* JADSTART = 0: triggers ignored */
-    if (((m->jsqr >> 7) & 3u) == 0u) continue;          /* software trigger selected */
-    if (hrtim_trigger_of(gi, (m->jsqr >> 2) & 0x1Fu) != trg) continue; /* not this ADC's trigger */
+    if (!(m->cr & ADC_CR_JADSTART)) continue;           /* triggers ignored */
+    if (!(m->jsqr & ADC_JSQR_JEXTEN)) continue;         /* software trigger selected */
+    if (hrtim_trigger_of(gi, reg_field(m->jsqr, ADC_JSQR_JEXTSEL)) != trg) continue; /* not this ADC's trigger */
     start_sequence(b, g, when);
   }
 }
 
 static uint16_t convert(board *b, adc_group *g, int i, int r, double t) {
   adc_unit *u = &g->u[i];
-  int ch = (int)(u->jsqr >> (9 + 6 * r)) & 0x1F;
+  int ch = rank_channel(u->jsqr, r);
   const chan_pin *p = find_pin(g->first + i, ch);
   double v = twin_pin_voltage(b, p->port, p->pin, t);
   double c = floor(v / VREF * 4096.0); /* ideal 12-bit transfer: 1 LSB = VREF / 4096 */
@@ -202,7 +210,7 @@ static uint16_t convert(board *b, adc_group *g, int i, int r, double t) {
   int32_t code = (int32_t)c;
   for (int k = 0; k < 4; k++) { /* offsets, §21.4.26 */
     uint32_t o = u->ofr[k];
-    if ((o & (1u << 31)) && (int)((o >> 26) & 0x1Fu) == ch) code -= (int32_t)(o & 0xFFFu);
+    if ((o & ADC_OFR_EN) && (int)reg_field(o, ADC_OFR_CH) == ch) code -= (int32_t)reg_field(o, ADC_OFR_OFFSET);
   }
   /* the phase-current pins: remember when they were sampled, per trigger */
   adc_current_instants *ci = &b->adc.cur;
@@ -252,7 +260,7 @@ double adc_next_event(board *b) {
     }
     if (g->busy) {
       uint32_t ie = g->u[0].ier | g->u[1].ier;
-      double n = (ie & (1u << 5)) ? g->rank_end_t : (ie & (1u << 6)) ? g->seq_end_t : INFINITY;
+      double n = (ie & ADC_IER_JEOCIE) ? g->rank_end_t : (ie & ADC_IER_JEOSIE) ? g->seq_end_t : INFINITY;
       if (n < t) t = n;
     }
   }
@@ -285,13 +293,13 @@ void adc_advance(board *b, double upto) {
       adc_unit *u = &g->u[i];
       int16_t c = (int16_t)g->pending_code[i];
       u->jdr[g->rank] = (uint32_t)(int32_t)c; /* right aligned; a negative offset result is sign extended */
-      u->isr |= 1u << 5;                      /* JEOC */
+      u->isr |= ADC_ISR_JEOC;
     }
     double t_end = g->rank_end_t;
     g->rank++;
     if (g->rank >= g->len) {
       g->busy = false;
-      for (int i = 0; i < n_units(g); i++) g->u[i].isr |= 1u << 6; /* JEOS */
+      for (int i = 0; i < n_units(g); i++) g->u[i].isr |= ADC_ISR_JEOS;
     } else {
       schedule_rank(b, g, t_end);
     }
@@ -300,16 +308,21 @@ void adc_advance(board *b, double upto) {
   a->in_advance = false;
 }
 
-/* Which group and unit an offset from 0x50000000 addresses; unit 3 = the common registers. NULL after a
+/* Which group and unit an offset from ADC1's base addresses; unit 3 = the common registers. NULL after a
  * refusal (ADC4/ADC5 and reserved space are not modelled). */
+#define UNIT_COMMON (int)(ADC_COMMON_OFS / ADC_UNIT_STRIDE)
+_Static_assert(ADC1_BASE + ADC_COMMON_OFS == ADC12_COMMON_BASE && ADC3_BASE + ADC_COMMON_OFS == ADC345_COMMON_BASE,
+               "each group's common registers in the fourth 0x100 of its block");
+_Static_assert(ADC3_BASE - ADC1_BASE == APB_AHB_BLOCK, "ADC3/4/5 in the block after ADC1/2");
+
 static adc_group *locate(board *b, uint32_t off, bool write, int *unit, uint32_t *r) {
-  int gi = (int)(off / 0x400u);
-  uint32_t local = off % 0x400u;
-  *unit = (int)(local / 0x100u);
-  *r = local % 0x100u;
+  int gi = (int)(off / APB_AHB_BLOCK);
+  uint32_t local = off % APB_AHB_BLOCK;
+  *unit = (int)(local / ADC_UNIT_STRIDE);
+  *r = local % ADC_UNIT_STRIDE;
   if (gi > 1) { board_fault(b, "%s of ADC offset 0x%03X: outside ADC1-5", write ? "write" : "read", off); return NULL; }
   adc_group *g = &b->adc.g[gi];
-  if (*unit < 3 && *unit >= g->n_modelled) {
+  if (*unit < UNIT_COMMON && *unit >= g->n_modelled) {
     board_fault(b, "%s of ADC%d register offset 0x%02X: ADC%d is not modelled (not used on this board)",
                 write ? "write" : "read", g->first + *unit, *r, g->first + *unit);
     return NULL;
@@ -323,54 +336,54 @@ uint32_t adc_read(board *b, uint32_t off) {
   uint32_t r;
   adc_group *g = locate(b, off, false, &i, &r);
   if (!g) return 0;
-  if (i == 3) {
+  if (i == UNIT_COMMON) {
     switch (r) {
-    case 0x00: return (g->u[0].isr & 0xFFFu) | ((g->u[1].isr & 0xFFFu) << 16); /* CSR */
-    case 0x08: return g->ccr;
+    case ADC_CSR_OFS: return (g->u[0].isr & ADC_ISR_ALL) | ((g->u[1].isr & ADC_ISR_ALL) << ADC_CSR_SLV_SHIFT);
+    case ADC_CCR_OFS: return g->ccr;
     }
     board_fault(b, "read of ADC%s common register offset 0x%02X: not modelled", g->first == 1 ? "12" : "345", r);
     return 0;
   }
   adc_unit *u = &g->u[i];
   switch (r) {
-  case 0x00: return u->isr;
-  case 0x04: return u->ier;
-  case 0x08: return u->cr;
-  case 0x0C: return u->cfgr;
-  case 0x10: return u->cfgr2;
-  case 0x14: return u->smpr[0];
-  case 0x18: return u->smpr[1];
-  case 0x4C: return u->jsqr;
-  case 0x60: case 0x64: case 0x68: case 0x6C: return u->ofr[(r - 0x60u) / 4u];
-  case 0x80: case 0x84: case 0x88: case 0x8C: return u->jdr[(r - 0x80u) / 4u];
-  case 0xB0: return u->difsel;
-  case 0xB4: return u->calfact;
+  case ADC_ISR_OFS: return u->isr;
+  case ADC_IER_OFS: return u->ier;
+  case ADC_CR_OFS: return u->cr;
+  case ADC_CFGR_OFS: return u->cfgr;
+  case ADC_CFGR2_OFS: return u->cfgr2;
+  case ADC_SMPR1_OFS: return u->smpr[0];
+  case ADC_SMPR2_OFS: return u->smpr[1];
+  case ADC_JSQR_OFS: return u->jsqr;
+  case ADC_OFR1_OFS: case ADC_OFR1_OFS + 4u: case ADC_OFR1_OFS + 8u: case ADC_OFR4_OFS: return u->ofr[(r - ADC_OFR1_OFS) / 4u];
+  case ADC_JDR1_OFS: case ADC_JDR1_OFS + 4u: case ADC_JDR1_OFS + 8u: case ADC_JDR4_OFS: return u->jdr[(r - ADC_JDR1_OFS) / 4u];
+  case ADC_DIFSEL_OFS: return u->difsel;
+  case ADC_CALFACT_OFS: return u->calfact;
   }
   board_fault(b, "read of ADC%d register offset 0x%02X: not modelled", g->first + i, r);
   return 0;
 }
 
-static bool any_enabled(const adc_group *g) { return (g->u[0].cr & 1u) || (g->u[1].cr & 1u); }
+static bool any_enabled(const adc_group *g) { return (g->u[0].cr & ADC_CR_ADEN) || (g->u[1].cr & ADC_CR_ADEN); }
 
 static void write_cr(board *b, adc_group *g, int i, uint32_t v) {
   adc_unit *u = &g->u[i];
   const int n = g->first + i;
   double now = board_now(b);
-  const uint32_t ok = 0x3Fu | (1u << 28) | (1u << 29) | (1u << 30) | (1u << 31);
+  const uint32_t ok = ADC_CR_START_STOP | ADC_CR_ADVREGEN | ADC_CR_DEEPPWD | ADC_CR_ADCALDIF | ADC_CR_ADCAL;
   if (v & ~ok) { board_fault(b, "ADC%d_CR 0x%08X: reserved bits", n, v); return; }
   uint32_t cr = u->cr;
-  bool en = cr & 1u;
-  if (v & (1u << 2)) { board_fault(b, "ADC%d_CR ADSTART: regular conversions not modelled", n); return; }
-  /* rw bits: DEEPPWD, ADVREGEN, ADCALDIF; only while disabled (§21.7, ADC_CR) */
-  uint32_t rw = (1u << 28) | (1u << 29) | (1u << 30);
+  bool en = cr & ADC_CR_ADEN;
+  if (v & ADC_CR_ADSTART) { board_fault(b, "ADC%d_CR ADSTART: regular conversions not modelled", n); return; }
+  /* rw bits, only while disabled (§21.7, ADC_CR) */
+  uint32_t rw = ADC_CR_ADVREGEN | ADC_CR_DEEPPWD | ADC_CR_ADCALDIF;
   if ((v & rw) != (cr & rw)) {
-    if (en || (cr & (1u << 31))) { board_fault(b, "ADC%d_CR: DEEPPWD/ADVREGEN/ADCALDIF changed while enabled or calibrating", n); return; }
-    if ((v & (1u << 28)) && (v & (1u << 29))) { board_fault(b, "ADC%d_CR: ADVREGEN set while DEEPPWD = 1 (§21.4.6)", n); return; }
-    if ((v & (1u << 28)) && !(cr & (1u << 28))) u->advregen_t = now;
-    if (!(v & (1u << 28))) { u->advregen_t = -1; u->calibrated = false; }
+    if (en || (cr & ADC_CR_ADCAL)) { board_fault(b, "ADC%d_CR: DEEPPWD/ADVREGEN/ADCALDIF changed while enabled or calibrating", n); return; }
+    if ((v & ADC_CR_ADVREGEN) && (v & ADC_CR_DEEPPWD)) { board_fault(b, "ADC%d_CR: ADVREGEN set while DEEPPWD = 1 (§21.4.6)", n); return; }
+    if ((v & ADC_CR_ADVREGEN) && !(cr & ADC_CR_ADVREGEN)) u->advregen_t = now;
+    if (!(v & ADC_CR_ADVREGEN)) { u->advregen_t = -1; u->calibrated = false; }
     cr = (cr & ~rw) | (v & rw);
   }
-  if (v & (1u << 31)) { /* ADCAL */
+  if (v & ADC_CR_ADCAL) {
     if (en) { board_fault(b, "ADC%d_CR: ADCAL set while ADEN = 1 (§21.4.8)", n); return; }
     if (u->advregen_t < 0 || now - u->advregen_t < TADCVREG_STUP - 1e-9) {
       board_fault(b, "ADC%d_CR: ADCAL %.2f us after ADVREGEN: the regulator needs tADCVREG_STUP = 20 us (§21.4.6)",
@@ -378,49 +391,52 @@ static void write_cr(board *b, adc_group *g, int i, uint32_t v) {
       return;
     }
     if (!(adc_clk(b, g) > 0)) { board_fault(b, "ADC%d_CR: ADCAL with the asynchronous ADC clock (CKMODE = 0, not modelled)", n); return; }
-    cr |= 1u << 31;
+    cr |= ADC_CR_ADCAL;
     u->cal_done_t = now + CAL_CLOCKS / adc_clk(b, g);
   }
-  if (v & 1u && !en) { /* ADEN */
-    if (cr & (1u << 31)) { board_fault(b, "ADC%d_CR: ADEN set during calibration (§21.4.9)", n); return; }
+  if ((v & ADC_CR_ADEN) && !en) {
+    if (cr & ADC_CR_ADCAL) { board_fault(b, "ADC%d_CR: ADEN set during calibration (§21.4.9)", n); return; }
     if (u->cal_end_t >= 0 && now - u->cal_end_t < 4.0 / adc_clk(b, g) - 1e-12) {
       board_fault(b, "ADC%d_CR: ADEN within 4 ADC clocks of the end of the calibration (§21.4.9)", n); return;
     }
-    if (!(cr & (1u << 28)) || now - u->advregen_t < TADCVREG_STUP - 1e-9) { board_fault(b, "ADC%d_CR: ADEN without the regulator started (§21.4.6)", n); return; }
+    if (!(cr & ADC_CR_ADVREGEN) || now - u->advregen_t < TADCVREG_STUP - 1e-9) { board_fault(b, "ADC%d_CR: ADEN without the regulator started (§21.4.6)", n); return; }
     if (!u->calibrated) { board_fault(b, "ADC%d_CR: ADEN before any calibration (the model asks for ADCAL first, §21.4.8)", n); return; }
-    cr |= 1u;
+    cr |= ADC_CR_ADEN;
     u->rdy_t = now + 4.0 / adc_clk(b, g);
   }
-  if (v & (1u << 3)) { /* JADSTART */
-    if (!(cr & 1u) || !u->ready || (cr & 2u)) { board_fault(b, "ADC%d_CR: JADSTART while not enabled and ready (ADEN/ADRDY, §21.4.16)", n); return; }
+  if (v & ADC_CR_JADSTART) {
+    if (!(cr & ADC_CR_ADEN) || !u->ready || (cr & ADC_CR_ADDIS)) { board_fault(b, "ADC%d_CR: JADSTART while not enabled and ready (ADEN/ADRDY, §21.4.16)", n); return; }
     if (i == 1 && dual(g)) { board_fault(b, "ADC%d_CR: JADSTART on the slave in dual mode (the master starts both, §21.4.31)", n); return; }
-    if (!(u->cfgr & (1u << 31))) { board_fault(b, "ADC%d: JADSTART with the injected queue enabled (JQDIS = 0, not modelled)", n); return; }
+    if (!(u->cfgr & ADC_CFGR_JQDIS)) { board_fault(b, "ADC%d: JADSTART with the injected queue enabled (JQDIS = 0, not modelled)", n); return; }
     if (dual(g)) {
       adc_unit *s = &g->u[1];
-      if (!(s->cr & 1u) || !s->ready) { board_fault(b, "ADC%d_CR: JADSTART in dual mode with ADC%d not enabled and ready", n, n + 1); return; }
-      if ((s->jsqr & 3u) != (u->jsqr & 3u)) { board_fault(b, "dual injected mode: ADC%d and ADC%d JSQR lengths differ (JL)", n, n + 1); return; }
-      if ((s->jsqr >> 7) & 3u) { board_fault(b, "dual injected mode: ADC%d has its own trigger enabled (JEXTEN must be 0 on the slave)", n + 1); return; }
+      if (!(s->cr & ADC_CR_ADEN) || !s->ready) { board_fault(b, "ADC%d_CR: JADSTART in dual mode with ADC%d not enabled and ready", n, n + 1); return; }
+      if (seq_len(s->jsqr) != seq_len(u->jsqr)) { board_fault(b, "dual injected mode: ADC%d and ADC%d JSQR lengths differ (JL)", n, n + 1); return; }
+      if (s->jsqr & ADC_JSQR_JEXTEN) { board_fault(b, "dual injected mode: ADC%d has its own trigger enabled (JEXTEN must be 0 on the slave)", n + 1); return; }
     }
-    uint32_t jextsel = (u->jsqr >> 2) & 0x1Fu, jexten = (u->jsqr >> 7) & 3u;
-    if (jexten > 1u) { board_fault(b, "ADC%d_JSQR JEXTEN %u: only the rising edge is modelled", n, jexten); return; }
-    if (jexten == 1u && hrtim_trigger_of(g->first == 1 ? 0 : 1, jextsel) == 0) {
+    uint32_t jextsel = reg_field(u->jsqr, ADC_JSQR_JEXTSEL), jexten = u->jsqr & ADC_JSQR_JEXTEN;
+    if (jexten && jexten != ADC_JSQR_JEXTEN_RISING) {
+      board_fault(b, "ADC%d_JSQR JEXTEN %u: only the rising edge is modelled", n, reg_field(jexten, ADC_JSQR_JEXTEN));
+      return;
+    }
+    if (jexten && hrtim_trigger_of(g->first == 1 ? 0 : 1, jextsel) == 0) {
       board_fault(b, "ADC%d_JSQR JEXTSEL %u: not an HRTIM ADC trigger in ADC%s's injected trigger table (other sources are not modelled)",
                   n, jextsel, g->first == 1 ? "1/2" : "3/4/5");
       return;
     }
     for (int k = 0; k < n_units(g); k++) if (!check_sequence(b, g, k)) return;
-    cr |= 1u << 3;
+    cr |= ADC_CR_JADSTART;
     u->cr = cr;
-    if (jexten == 0u) start_sequence(b, g, now);
+    if (!jexten) start_sequence(b, g, now);
   }
-  if (v & (1u << 5)) { /* JADSTP */
+  if (v & ADC_CR_JADSTP) {
     g->busy = false;
-    cr &= ~((1u << 3) | (1u << 5));
+    cr &= ~(ADC_CR_JADSTART | ADC_CR_JADSTP);
   }
-  if (v & 2u) { /* ADDIS */
-    if (!(cr & 1u)) { board_fault(b, "ADC%d_CR: ADDIS while ADEN = 0 (§21.4.9)", n); return; }
-    if (cr & ((1u << 2) | (1u << 3))) { board_fault(b, "ADC%d_CR: ADDIS with a conversion started (JADSTART, §21.4.9)", n); return; }
-    cr &= ~3u;
+  if (v & ADC_CR_ADDIS) {
+    if (!(cr & ADC_CR_ADEN)) { board_fault(b, "ADC%d_CR: ADDIS while ADEN = 0 (§21.4.9)", n); return; }
+    if (cr & (ADC_CR_ADSTART | ADC_CR_JADSTART)) { board_fault(b, "ADC%d_CR: ADDIS with a conversion started (JADSTART, §21.4.9)", n); return; }
+    cr &= ~(ADC_CR_ADEN | ADC_CR_ADDIS);
     u->ready = false;
   }
   u->cr = cr;
@@ -433,17 +449,17 @@ void adc_write(board *b, uint32_t off, uint32_t v) {
   adc_group *g = locate(b, off, true, &i, &r);
   if (!g) return;
   const char *gname = g->first == 1 ? "12" : "345";
-  if (i == 3) {
-    if (r == 0x08) {
+  if (i == UNIT_COMMON) {
+    if (r == ADC_CCR_OFS) {
       if (any_enabled(g)) { board_fault(b, "ADC%s_CCR written with an ADC of the group enabled (RM0440 §21.7, ADC_CCR)", gname); return; }
-      uint32_t d = v & 0x1Fu, ck = (v >> 16) & 3u;
-      if (d != 0u && (d != 5u || g->n_modelled < 2)) {
+      uint32_t d = reg_field(v, ADC_CCR_DUAL);
+      if (d != ADC_DUAL_INDEPENDENT && (d != ADC_DUAL_INJ_SIMULT || g->n_modelled < 2)) {
         board_fault(b, "ADC%s_CCR DUAL %u: only %s modelled", gname, d,
                     g->n_modelled < 2 ? "independent (0) is (ADC4 is not)" : "independent (0) and injected simultaneous (5) are");
         return;
       }
-      if (ck == 0u) { board_fault(b, "ADC%s_CCR CKMODE 0: the asynchronous clock is not modelled", gname); return; }
-      if (v & ~(0x1Fu | (3u << 16) | (0xFu << 8))) { board_fault(b, "ADC%s_CCR 0x%08X: bits not modelled", gname, v); return; }
+      if ((v & ADC_CCR_CKMODE) == ADC_CCR_CKMODE_ASYNC) { board_fault(b, "ADC%s_CCR CKMODE 0: the asynchronous clock is not modelled", gname); return; }
+      if (v & ~(ADC_CCR_DUAL | ADC_CCR_CKMODE | ADC_CCR_DELAY)) { board_fault(b, "ADC%s_CCR 0x%08X: bits not modelled", gname, v); return; }
       g->ccr = v;
       return;
     }
@@ -452,38 +468,38 @@ void adc_write(board *b, uint32_t off, uint32_t v) {
   }
   adc_unit *u = &g->u[i];
   const int n = g->first + i;
-  bool jstarted = (u->cr & (1u << 3)) != 0;
+  bool jstarted = (u->cr & ADC_CR_JADSTART) != 0;
   switch (r) {
-  case 0x00: u->isr &= ~(v & 0x7FFu); return;
-  case 0x04:
-    if (v & ~((1u << 5) | (1u << 6) | 1u)) { board_fault(b, "ADC%d_IER 0x%08X: only ADRDYIE, JEOCIE, JEOSIE modelled", n, v); return; }
+  case ADC_ISR_OFS: u->isr &= ~(v & ADC_ISR_ALL); return;
+  case ADC_IER_OFS:
+    if (v & ~(ADC_IER_JEOCIE | ADC_IER_JEOSIE | ADC_IER_ADRDYIE)) { board_fault(b, "ADC%d_IER 0x%08X: only ADRDYIE, JEOCIE, JEOSIE modelled", n, v); return; }
     u->ier = v;
     update_irq(b);
     return;
-  case 0x08: write_cr(b, g, i, v); return;
-  case 0x0C:
-    if (u->cr & 1u && (v ^ u->cfgr)) { board_fault(b, "ADC%d_CFGR changed while ADEN = 1 is not modelled", n); return; }
-    if (v & ~(1u << 31)) { board_fault(b, "ADC%d_CFGR 0x%08X: only JQDIS modelled (12-bit, right aligned, no auto/discontinuous)", n, v); return; }
+  case ADC_CR_OFS: write_cr(b, g, i, v); return;
+  case ADC_CFGR_OFS:
+    if ((u->cr & ADC_CR_ADEN) && (v ^ u->cfgr)) { board_fault(b, "ADC%d_CFGR changed while ADEN = 1 is not modelled", n); return; }
+    if (v & ~ADC_CFGR_JQDIS) { board_fault(b, "ADC%d_CFGR 0x%08X: only JQDIS modelled (12-bit, right aligned, no auto/discontinuous)", n, v); return; }
     u->cfgr = v;
     return;
-  case 0x10:
+  case ADC_CFGR2_OFS:
     if (v) { board_fault(b, "ADC%d_CFGR2 0x%08X: oversampling/gain not modelled", n, v); return; }
     return;
-  case 0x14: case 0x18:
-    if (jstarted) { board_fault(b, "ADC%d_SMPR%u changed with JADSTART = 1 (§21.4.12)", n, (r - 0x14u) / 4u + 1u); return; }
-    if (r == 0x14u && (v & (1u << 31))) { board_fault(b, "ADC%d_SMPR1 SMPPLUS not modelled", n); return; }
-    u->smpr[(r - 0x14u) / 4u] = v;
+  case ADC_SMPR1_OFS: case ADC_SMPR2_OFS:
+    if (jstarted) { board_fault(b, "ADC%d_SMPR%u changed with JADSTART = 1 (§21.4.12)", n, (r - ADC_SMPR1_OFS) / 4u + 1u); return; }
+    if (r == ADC_SMPR1_OFS && (v & ADC_SMPR1_SMPPLUS)) { board_fault(b, "ADC%d_SMPR1 SMPPLUS not modelled", n); return; }
+    u->smpr[(r - ADC_SMPR1_OFS) / 4u] = v;
     return;
-  case 0x4C:
+  case ADC_JSQR_OFS:
     if (jstarted) { board_fault(b, "ADC%d_JSQR written with JADSTART = 1 and JQDIS = 1 (§21.4.21)", n); return; }
     u->jsqr = v;
     return;
-  case 0x60: case 0x64: case 0x68: case 0x6C:
-    if (jstarted) { board_fault(b, "ADC%d_OFR%u written with a conversion started", n, (r - 0x60u) / 4u + 1u); return; }
-    if (v & ((1u << 24) | (1u << 25))) { board_fault(b, "ADC%d_OFR: OFFSETPOS/SATEN not modelled", n); return; }
-    u->ofr[(r - 0x60u) / 4u] = v;
+  case ADC_OFR1_OFS: case ADC_OFR1_OFS + 4u: case ADC_OFR1_OFS + 8u: case ADC_OFR4_OFS:
+    if (jstarted) { board_fault(b, "ADC%d_OFR%u written with a conversion started", n, (r - ADC_OFR1_OFS) / 4u + 1u); return; }
+    if (v & (ADC_OFR_OFFSETPOS | ADC_OFR_SATEN)) { board_fault(b, "ADC%d_OFR: OFFSETPOS/SATEN not modelled", n); return; }
+    u->ofr[(r - ADC_OFR1_OFS) / 4u] = v;
     return;
-  case 0xB0:
+  case ADC_DIFSEL_OFS:
     if (v) { board_fault(b, "ADC%d_DIFSEL 0x%08X: differential inputs not wired on this board", n, v); return; }
     u->difsel = v;
     return;

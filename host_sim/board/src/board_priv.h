@@ -9,6 +9,7 @@
 #include "board_twin/twin.h"
 #include "hrtim.h"
 #include "adc.h"
+#include "g474_regs.h"
 
 /* Memory map, RM0440 §2.2 (Figure 3, Table 4). */
 #define FLASH_BASE 0x08000000u
@@ -188,7 +189,7 @@ bool exc_poll_unmasked(board *b);
 void rcc_reset(board *b, bool power_on);
 uint32_t rcc_read(board *b, uint32_t off);
 void rcc_write(board *b, uint32_t off, uint32_t v);
-bool rcc_clock_enabled(board *b, int enr_index, int bit);
+bool rcc_clock_enabled(board *b, uint32_t enr_ofs, uint32_t bit); /* RCC_*ENR_OFS, its enable bit */
 double rcc_sysclk_hz(board *b);
 double rcc_hclk_hz(board *b);
 void rcc_check_clocking(board *b, double hclk_hz, const char *why);
@@ -214,6 +215,9 @@ int flash_nvm_save(board *b);
 void gpio_reset(board *b);
 uint32_t gpio_read(board *b, int port, uint32_t off);
 void gpio_write(board *b, int port, uint32_t off, uint32_t v, uint32_t mask);
+/* the same with offsets from GPIOA's base (port x at x * GPIO_PORT_STRIDE), for the peripheral map */
+uint32_t gpio_mmio_read(board *b, uint32_t off);
+void gpio_mmio_write(board *b, uint32_t off, uint32_t v, uint32_t mask);
 
 void iwdg_reset(board *b);
 uint32_t iwdg_read(board *b, uint32_t off);

@@ -129,57 +129,58 @@ void board_power_on(board *b) {
   b->resets++;
 }
 
+/* The peripheral map: every modelled peripheral, the addresses it answers, its clock gate and
+ * its model's register callbacks. An access is routed by address to its slot; a slot whose clock
+ * is off in RCC, or an address no slot answers, stops the run with a message. */
 typedef struct {
-  uint32_t base;
+  uint32_t base, size;      /* the addresses the slot answers */
   const char *name;
-  int enr, bit; /* RCC enable register index (0 AHB1ENR .. 6 APB2ENR) and bit; enr<0: always clocked */
+  uint32_t gate_ofs;        /* RCC enable register of its clock (RCC_*ENR_OFS), 0: always clocked */
+  uint32_t gate_bit;        /* and its enable bit */
+  uint32_t origin;          /* the model's offsets count from here (one model may answer several slots) */
+  uint32_t (*read)(board *b, uint32_t off);
+  void (*write)(board *b, uint32_t off, uint32_t v);                      /* 32-bit writes only */
+  void (*write_lanes)(board *b, uint32_t off, uint32_t v, uint32_t mask); /* byte, half-word, word */
 } periph_slot;
 
-/* Modelled peripherals and their clock gates (RM0440 §7.4.16-7.4.22). */
+#define GATE(enr, bit) RCC_##enr##_OFS, RCC_##enr##_##bit
+#define GPIO_SLOT(x, name) \
+  {GPIOA_BASE + (x) * GPIO_PORT_STRIDE, GPIO_PORT_STRIDE, name, RCC_AHB2ENR_OFS, RCC_AHB2ENR_GPIOAEN << (x), \
+   GPIOA_BASE, gpio_mmio_read, NULL, gpio_mmio_write}
+
+/* RM0440 §2.2 (memory map) and §7.4.16-7.4.22 (clock enables). GPIO takes byte, half-word and
+ * word accesses (RM0440 §9.4); the other models take 32-bit writes. */
 static const periph_slot k_slots[] = {
-  {0x40001000u, "TIM6", 4, 4},        /* APB1ENR1.TIM6EN */
-  {0x40003000u, "IWDG", -1, 0},       /* clocked by LSI, no enable bit */
-  {0x40007000u, "PWR", 4, 28},        /* APB1ENR1.PWREN */
-  {0x40016800u, "HRTIM", 6, 26},      /* APB2ENR.HRTIM1EN; master, timers A-F, common */
-  {0x40021000u, "RCC", -1, 0},
-  {0x40022000u, "FLASH", 0, 8},       /* AHB1ENR.FLASHEN (set at reset) */
-  {0x48000000u, "GPIOA", 1, 0}, {0x48000400u, "GPIOB", 1, 1}, {0x48000800u, "GPIOC", 1, 2},
-  {0x48000C00u, "GPIOD", 1, 3}, {0x48001000u, "GPIOE", 1, 4}, {0x48001400u, "GPIOF", 1, 5},
-  {0x48001800u, "GPIOG", 1, 6},
-  {0x50000000u, "ADC12", 1, 13},      /* AHB2ENR.ADC12EN: ADC1, ADC2 and their common registers */
-  {0x50000400u, "ADC345", 1, 14},     /* AHB2ENR.ADC345EN: ADC3 (ADC4, ADC5 refused), common registers */
-  {0x40006400u, "FDCAN1", 4, 25},     /* APB1ENR1.FDCANEN (fdcan.c) */
-  {0x4000A400u, "SRAMCAN", 4, 25},    /* FDCAN message RAM, same clock gate */
+  {TIM6_BASE, APB_AHB_BLOCK, "TIM6", GATE(APB1ENR1, TIM6EN), TIM6_BASE, tim6_read, tim6_write, NULL},
+  {IWDG_BASE, APB_AHB_BLOCK, "IWDG", 0, 0, IWDG_BASE, iwdg_read, iwdg_write, NULL}, /* LSI, no enable bit */
+  {PWR_BASE, APB_AHB_BLOCK, "PWR", GATE(APB1ENR1, PWREN), PWR_BASE, pwr_read, pwr_write, NULL},
+  {HRTIM_MASTER_BASE, HRTIM_SIZE, "HRTIM", GATE(APB2ENR, HRTIM1EN), HRTIM_MASTER_BASE, hrtim_read, hrtim_write, NULL},
+  {RCC_BASE, APB_AHB_BLOCK, "RCC", 0, 0, RCC_BASE, rcc_read, rcc_write, NULL},
+  {FLASH_R_BASE, APB_AHB_BLOCK, "FLASH", GATE(AHB1ENR, FLASHEN), FLASH_R_BASE, flash_read, flash_write, NULL},
+  GPIO_SLOT(0, "GPIOA"), GPIO_SLOT(1, "GPIOB"), GPIO_SLOT(2, "GPIOC"), GPIO_SLOT(3, "GPIOD"),
+  GPIO_SLOT(4, "GPIOE"), GPIO_SLOT(5, "GPIOF"), GPIO_SLOT(6, "GPIOG"),
+  /* ADC1, ADC2 and their common registers; ADC3 (ADC4, ADC5 refused) and theirs: one model */
+  {ADC1_BASE, APB_AHB_BLOCK, "ADC12", GATE(AHB2ENR, ADC12EN), ADC1_BASE, adc_read, adc_write, NULL},
+  {ADC3_BASE, APB_AHB_BLOCK, "ADC345", GATE(AHB2ENR, ADC345EN), ADC1_BASE, adc_read, adc_write, NULL},
+  {FDCAN1_BASE, APB_AHB_BLOCK, "FDCAN1", GATE(APB1ENR1, FDCANEN), FDCAN1_BASE, fdcan_read, fdcan_write, NULL},
+  /* FDCAN message RAM, behind the same clock gate */
+  {SRAMCAN_BASE, APB_AHB_BLOCK, "SRAMCAN", GATE(APB1ENR1, FDCANEN), SRAMCAN_BASE, fdcan_ram_read, fdcan_ram_write, NULL},
 };
+_Static_assert(GPIOA_BASE + 6u * GPIO_PORT_STRIDE == GPIOG_BASE, "GPIO ports A-G");
 
 static const periph_slot *find_slot(board *b, uint32_t addr, bool write) {
   for (size_t i = 0; i < sizeof k_slots / sizeof k_slots[0]; i++) {
-    uint32_t size = k_slots[i].base == 0x40016800u ? 0x800u : 0x400u; /* HRTIM spans 2 KiB */
-    if (addr - k_slots[i].base < size) {
-      const periph_slot *s = &k_slots[i];
-      if (s->enr >= 0 && !rcc_clock_enabled(b, s->enr, s->bit)) {
-        board_fault(b, "%s of %s register 0x%08X while its clock is disabled in RCC", write ? "write" : "read",
-                    s->name, addr);
-        return NULL;
-      }
-      return s;
+    const periph_slot *s = &k_slots[i];
+    if (addr - s->base >= s->size) continue;
+    if (s->gate_ofs && !rcc_clock_enabled(b, s->gate_ofs, s->gate_bit)) {
+      board_fault(b, "%s of %s register 0x%08X while its clock is disabled in RCC", write ? "write" : "read",
+                  s->name, addr);
+      return NULL;
     }
+    return s;
   }
   board_fault(b, "%s of unmodelled peripheral %s at 0x%08X", write ? "write" : "read", periph_name(addr), addr);
   return NULL;
-}
-
-static uint32_t periph_read32(board *b, const periph_slot *s, uint32_t off) {
-  if (s->base == 0x40021000u) return rcc_read(b, off);
-  if (s->base == 0x40007000u) return pwr_read(b, off);
-  if (s->base == 0x40022000u) return flash_read(b, off);
-  if (s->base == 0x40003000u) return iwdg_read(b, off);
-  if (s->base == 0x40001000u) return tim6_read(b, off);
-  if (s->base == 0x40016800u) return hrtim_read(b, off);
-  if (s->base == 0x50000000u || s->base == 0x50000400u) return adc_read(b, s->base - 0x50000000u + off);
-  if (s->base == 0x40006400u) return fdcan_read(b, off);
-  if (s->base == 0x4000A400u) return fdcan_ram_read(b, off);
-  return gpio_read(b, (int)((s->base - 0x48000000u) / 0x400u), off);
 }
 
 static uint64_t mmio_periph_read(uc_engine *uc, uint64_t offset, unsigned size, void *u) {
@@ -188,13 +189,10 @@ static uint64_t mmio_periph_read(uc_engine *uc, uint64_t offset, unsigned size, 
   uint32_t addr = PERIPH_BASE + (uint32_t)offset;
   const periph_slot *s = find_slot(b, addr, false);
   if (!s) return 0;
-  uint32_t off = (addr - s->base) & ~3u;
-  uint32_t v = periph_read32(b, s, off);
+  uint32_t v = s->read(b, (addr - s->origin) & ~3u);
   unsigned sh = (addr & 3u) * 8u;
   return size >= 4 ? v : (v >> sh) & ((1u << (size * 8)) - 1u);
 }
-
-static uint64_t next_event(board *b, double t_end);
 
 static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uint64_t value, void *u) {
   (void)uc;
@@ -202,24 +200,18 @@ static void mmio_periph_write(uc_engine *uc, uint64_t offset, unsigned size, uin
   uint32_t addr = PERIPH_BASE + (uint32_t)offset;
   const periph_slot *s = find_slot(b, addr, true);
   if (!s) return;
-  uint32_t off = (addr - s->base) & ~3u;
+  uint32_t off = (addr - s->origin) & ~3u;
   uint32_t v = (uint32_t)value;
-  if (s->base >= 0x48000000u && s->base < 0x48001C00u) { /* GPIO: byte, half-word and word access (RM0440 §9.4) */
+  if (s->write_lanes) {
     unsigned sh = (addr & 3u) * 8u;
     uint32_t mask = size >= 4 ? 0xFFFFFFFFu : ((1u << (size * 8)) - 1u) << sh;
-    gpio_write(b, (int)((s->base - 0x48000000u) / 0x400u), off, v << sh, mask);
+    s->write_lanes(b, off, v << sh, mask);
   } else if (size != 4) {
     board_fault(b, "%u-byte write to %s register 0x%08X: the model accepts 32-bit writes only", size, s->name, addr);
     return;
-  } else if (s->base == 0x40021000u) rcc_write(b, off, v);
-  else if (s->base == 0x40007000u) pwr_write(b, off, v);
-  else if (s->base == 0x40022000u) flash_write(b, off, v);
-  else if (s->base == 0x40001000u) tim6_write(b, off, v);
-  else if (s->base == 0x40016800u) hrtim_write(b, off, v);
-  else if (s->base == 0x50000000u || s->base == 0x50000400u) adc_write(b, s->base - 0x50000000u + off, v);
-  else if (s->base == 0x40006400u) fdcan_write(b, off, v);
-  else if (s->base == 0x4000A400u) fdcan_ram_write(b, off, v);
-  else iwdg_write(b, off, v);
+  } else {
+    s->write(b, off, v);
+  }
   /* A write may schedule an earlier event (oscillator ready, flash busy, timer): shorten the
    * slice to it. Interrupts pended by models end the slice themselves (scs_set_pending).
    * Not ending every slice here keeps frequent writes (watchdog refresh) cheap. */

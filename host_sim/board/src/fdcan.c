@@ -13,18 +13,20 @@
 #include <math.h>
 #include <string.h>
 
-/* FDCAN_CCCR bits */
-#define CCCR_INIT (1u << 0)
-#define CCCR_CCE (1u << 1)
-#define CCCR_ASM (1u << 2)
-#define CCCR_CSA (1u << 3)
-#define CCCR_CSR (1u << 4)
-#define CCCR_MON (1u << 5)
-#define CCCR_TEST (1u << 7)
+#define CCCR_INIT FDCAN_CCCR_INIT
+#define CCCR_CCE FDCAN_CCCR_CCE
+#define CCCR_ASM FDCAN_CCCR_ASM
+#define CCCR_CSA FDCAN_CCCR_CSA
+#define CCCR_CSR FDCAN_CCCR_CSR
+#define CCCR_TEST FDCAN_CCCR_TEST
 /* bits writable only with CCE=1 and INIT=1 (FDCAN_CCCR description): ASM (set only; cleared at
  * any time), MON, DAR, TEST, FDOE, BRSE, PXHD, EFBI, TXP, NISO */
-#define CCCR_PROTECTED 0xF3E4u
-#define CCCR_WRITABLE 0xF3F7u /* all but CSA (read-only) and the reserved bits 10, 11 */
+#define CCCR_PROTECTED                                                                                             \
+  (FDCAN_CCCR_ASM | FDCAN_CCCR_MON | FDCAN_CCCR_DAR | FDCAN_CCCR_TEST | FDCAN_CCCR_FDOE | FDCAN_CCCR_BRSE |         \
+   FDCAN_CCCR_PXHD | FDCAN_CCCR_EFBI | FDCAN_CCCR_TXP | FDCAN_CCCR_NISO)
+/* all but CSA (read-only) and the reserved bits 10, 11 */
+#define CCCR_WRITABLE (CCCR_PROTECTED | FDCAN_CCCR_INIT | FDCAN_CCCR_CCE | FDCAN_CCCR_CSR)
+_Static_assert(CCCR_PROTECTED == 0xF3E4u && CCCR_WRITABLE == 0xF3F7u, "CCCR's protected and writable bits");
 
 void fdcan_reset(board *b) {
   fdcan_state *f = &b->fdcan;
@@ -39,9 +41,9 @@ void fdcan_reset(board *b) {
   f->dbtp = 0x00000A33u;
   f->cccr = CCCR_INIT;
   f->nbtp = 0x06000A03u;
-  f->tocc = 0xFFFF0000u;
-  f->xidam = 0x1FFFFFFFu;
-  f->lec = 7;
+  f->tocc = FDCAN_TOCC_TOP;
+  f->xidam = FDCAN_XIDAM_EIDM;
+  f->lec = FDCAN_LEC_NO_CHANGE;
   f->init_sync_t = -1;
   f->on_bus_t = -1;
   f->tx_cur = -1;
@@ -53,7 +55,7 @@ void fdcan_reset(board *b) {
 /* ---- clocks and bit timing ---- */
 
 static double pclk1_hz(board *b) {
-  uint32_t ppre1 = (b->rcc.cfgr >> 8) & 7u; /* RCC_CFGR.PPRE1: 0xx /1, 100 /2 .. 111 /16 */
+  uint32_t ppre1 = reg_field(b->rcc.cfgr, RCC_CFGR_PPRE1); /* 0xx /1, 100 /2 .. 111 /16 */
   return rcc_hclk_hz(b) / (ppre1 < 4 ? 1.0 : (double)(1u << (ppre1 - 3u)));
 }
 
@@ -61,17 +63,18 @@ static double pclk1_hz(board *b) {
  * 0 when the selected source is not running. */
 double fdcan_kernel_hz(board *b, const char **src) {
   const rcc_state *r = &b->rcc;
-  uint32_t sel = (r->ccipr >> 24) & 3u;
+  uint32_t sel = reg_field(r->ccipr, RCC_CCIPR_FDCANSEL);
   static const char *names[] = {"HSE", "PLLQ", "PCLK1", "reserved"};
   if (src) *src = names[sel];
   switch (sel) {
-  case 0: return (r->cr & (1u << 17)) ? b->cfg.hse_hz : 0.0; /* HSERDY */
+  case 0: return (r->cr & RCC_CR_HSERDY) ? b->cfg.hse_hz : 0.0;
   case 1: {
     uint32_t p = r->pllcfgr;
-    if (!(r->cr & (1u << 25)) || !(p & (1u << 20))) return 0.0; /* PLLRDY, PLLQEN */
-    double in = (p & 3u) == 2u ? 16e6 : (p & 3u) == 3u ? b->cfg.hse_hz : 0.0;
-    double m = (double)(((p >> 4) & 0xFu) + 1u), n = (double)((p >> 8) & 0x7Fu);
-    double q = 2.0 * (double)(((p >> 21) & 3u) + 1u);
+    if (!(r->cr & RCC_CR_PLLRDY) || !(p & RCC_PLLCFGR_PLLQEN)) return 0.0;
+    uint32_t psrc = reg_field(p, RCC_PLLCFGR_PLLSRC);
+    double in = psrc == RCC_PLLSRC_HSI16 ? 16e6 : psrc == RCC_PLLSRC_HSE ? b->cfg.hse_hz : 0.0;
+    double m = (double)(reg_field(p, RCC_PLLCFGR_PLLM) + 1u), n = (double)reg_field(p, RCC_PLLCFGR_PLLN);
+    double q = 2.0 * (double)(reg_field(p, RCC_PLLCFGR_PLLQ) + 1u);
     return in / m * n / q;
   }
   case 2: return pclk1_hz(b);
@@ -85,12 +88,12 @@ void fdcan_timing(board *b, fdcan_bit_timing *t) {
   const fdcan_state *f = &b->fdcan;
   memset(t, 0, sizeof *t);
   t->kernel_hz = fdcan_kernel_hz(b, &t->kernel_src);
-  uint32_t pdiv = f->ckdiv & 0xFu;
+  uint32_t pdiv = reg_field(f->ckdiv, FDCAN_CKDIV_PDIV);
   t->ckdiv = pdiv ? 2u * pdiv : 1u;
-  t->prescaler = ((f->nbtp >> 16) & 0x1FFu) + 1u;
-  t->tseg1 = ((f->nbtp >> 8) & 0xFFu) + 1u;
-  t->tseg2 = (f->nbtp & 0x7Fu) + 1u;
-  t->sjw = ((f->nbtp >> 25) & 0x7Fu) + 1u;
+  t->prescaler = reg_field(f->nbtp, FDCAN_NBTP_NBRP) + 1u;
+  t->tseg1 = reg_field(f->nbtp, FDCAN_NBTP_NTSEG1) + 1u;
+  t->tseg2 = reg_field(f->nbtp, FDCAN_NBTP_NTSEG2) + 1u;
+  t->sjw = reg_field(f->nbtp, FDCAN_NBTP_NSJW) + 1u;
   t->ntq = 1u + t->tseg1 + t->tseg2;
   t->sample_point = (double)(1u + t->tseg1) / (double)t->ntq;
   t->bitrate = t->kernel_hz / (double)t->ckdiv / (double)t->prescaler / (double)t->ntq;
@@ -112,7 +115,7 @@ bool fdcan_check_timing(board *b) {
                 t.kernel_src);
     return false;
   }
-  if (((f->nbtp >> 8) & 0xFFu) == 0 || (f->nbtp & 0x7Fu) == 0) {
+  if (!(f->nbtp & FDCAN_NBTP_NTSEG1) || !(f->nbtp & FDCAN_NBTP_NTSEG2)) {
     board_fault(b, "FDCAN_NBTP 0x%08X: NTSEG1 and NTSEG2 must be at least 1 (RM0440 FDCAN_NBTP: 0 is forbidden)",
                 f->nbtp);
     return false;
@@ -157,7 +160,7 @@ void fdcan_update_irq(board *b) {
     if (act & (1u << i)) line[(f->ils >> ils_group(i)) & 1u] = true;
   for (int l = 0; l < 2; l++) {
     int exc = 16 + 21 + l;
-    if (line[l] && (f->ile & (1u << l)) && !b->scs.pending[exc] && !b->scs.active[exc]) scs_set_pending(b, exc);
+    if (line[l] && (f->ile & (FDCAN_ILE_EINT0 << l)) && !b->scs.pending[exc] && !b->scs.active[exc]) scs_set_pending(b, exc);
   }
 }
 
@@ -263,14 +266,15 @@ static void init_sync_done(board *b) {
 
 static uint32_t rxfs(const fdcan_state *f, int n) {
   uint32_t put = (f->rxf_get[n] + f->rxf_fill[n]) % FDCAN_N_FIFO;
-  uint32_t lost = (f->ir >> (n ? 5 : 2)) & 1u; /* a copy of IR.RFnL */
-  return f->rxf_fill[n] | (f->rxf_get[n] << 8) | (put << 16) | ((f->rxf_fill[n] == FDCAN_N_FIFO) ? 1u << 24 : 0u) |
-         (lost << 25);
+  bool lost = (f->ir & (n ? FDCAN_IR_RF1L : FDCAN_IR_RF0L)) != 0; /* a copy of IR.RFnL */
+  return reg_value(FDCAN_RXFS_FFL, f->rxf_fill[n]) | reg_value(FDCAN_RXFS_FGI, f->rxf_get[n]) |
+         reg_value(FDCAN_RXFS_FPI, put) | (f->rxf_fill[n] == FDCAN_N_FIFO ? FDCAN_RXFS_FF : 0u) |
+         (lost ? FDCAN_RXFS_RFL : 0u);
 }
 
 static void rxfa(board *b, int n, uint32_t v) {
   fdcan_state *f = &b->fdcan;
-  if (!reserved_ok(b, n ? "RXF1A" : "RXF0A", v, 7u)) return;
+  if (!reserved_ok(b, n ? "RXF1A" : "RXF0A", v, FDCAN_RXFA_FAI)) return;
   uint32_t rel = (v + FDCAN_N_FIFO - f->rxf_get[n]) % FDCAN_N_FIFO;
   if (v >= FDCAN_N_FIFO || rel >= f->rxf_fill[n]) {
     board_fault(b, "FDCAN_RXF%dA acknowledges element %u, which is not in Rx FIFO %d (get index %u, fill level %u):"
@@ -283,22 +287,22 @@ static void rxfa(board *b, int n, uint32_t v) {
 }
 
 static uint32_t txfqs(const fdcan_state *f) {
-  if (f->txbc & (1u << 24)) { /* Tx queue: TFQPI = first free buffer; TFFL, TFGI unused */
+  if (f->txbc & FDCAN_TXBC_TFQM) { /* Tx queue: TFQPI = first free buffer; TFFL, TFGI unused */
     uint32_t free_idx = 0;
     while (free_idx < FDCAN_N_FIFO && (f->txbrp & (1u << free_idx))) free_idx++;
-    return free_idx >= FDCAN_N_FIFO ? (1u << 21) : (free_idx << 16);
+    return free_idx >= FDCAN_N_FIFO ? FDCAN_TXFQS_TFQF : reg_value(FDCAN_TXFQS_TFQPI, free_idx);
   }
-  return (FDCAN_N_FIFO - f->tx_count) | (f->tx_get << 8) | (f->tx_put << 16) |
-         (f->tx_count == FDCAN_N_FIFO ? 1u << 21 : 0u);
+  return reg_value(FDCAN_TXFQS_TFFL, FDCAN_N_FIFO - f->tx_count) | reg_value(FDCAN_TXFQS_TFGI, f->tx_get) |
+         reg_value(FDCAN_TXFQS_TFQPI, f->tx_put) | (f->tx_count == FDCAN_N_FIFO ? FDCAN_TXFQS_TFQF : 0u);
 }
 
 static void txbar(board *b, uint32_t v) {
   fdcan_state *f = &b->fdcan;
-  if (v & ~7u) {
+  if (v & ~FDCAN_TXB_ALL) {
     board_fault(b, "FDCAN_TXBAR 0x%08X requests Tx buffer(s) beyond element 2: the STM32G4 has 3 Tx buffers", v);
     return;
   }
-  bool queue = (f->txbc & (1u << 24)) != 0;
+  bool queue = (f->txbc & FDCAN_TXBC_TFQM) != 0;
   for (uint32_t k = 0; k < FDCAN_N_FIFO && v; k++) {
     uint32_t i = queue ? k : (f->tx_put + k) % FDCAN_N_FIFO;
     if (!(v & (1u << i))) {
@@ -333,7 +337,7 @@ static void txbar(board *b, uint32_t v) {
 
 static void txefa(board *b, uint32_t v) {
   fdcan_state *f = &b->fdcan;
-  if (!reserved_ok(b, "TXEFA", v, 3u)) return;
+  if (!reserved_ok(b, "TXEFA", v, FDCAN_TXEFA_EFAI)) return;
   uint32_t rel = (v + FDCAN_N_FIFO - f->tef_get) % FDCAN_N_FIFO;
   if (v >= FDCAN_N_FIFO || rel >= f->tef_fill) {
     board_fault(b, "FDCAN_TXEFA acknowledges element %u, which is not in the Tx event FIFO (get %u, fill %u)", v,
@@ -346,10 +350,10 @@ static void txefa(board *b, uint32_t v) {
 
 static uint32_t tscv(board *b) {
   const fdcan_state *f = &b->fdcan;
-  if ((f->tscc & 3u) != 1u) return 0;
+  if (reg_field(f->tscc, FDCAN_TSCC_TSS) != FDCAN_TSS_INTERNAL) return 0;
   double bits = (board_now(b) - f->tscv_base_t) / fdcan_bit_s(b);
   if (!isfinite(bits) || bits < 0) return 0;
-  return (uint32_t)fmod(floor(bits / (double)(((f->tscc >> 16) & 0xFu) + 1u)), 65536.0);
+  return (uint32_t)fmod(floor(bits / (double)(reg_field(f->tscc, FDCAN_TSCC_TCP) + 1u)), 65536.0);
 }
 
 uint32_t fdcan_timestamp(board *b) { return tscv(b); }
@@ -359,63 +363,65 @@ uint32_t fdcan_timestamp(board *b) { return tscv(b); }
 uint32_t fdcan_read(board *b, uint32_t off) {
   fdcan_state *f = &b->fdcan;
   switch (off) {
-  case 0x000: return 0x32141218u; /* CREL */
-  case 0x004: return 0x87654321u; /* ENDN */
-  case 0x00C: return f->dbtp;
-  case 0x010: return f->test | (f->on_bus || !init_effective(f) ? 1u << 7 : 0u); /* RX: recessive while idle */
-  case 0x014: return f->rwd & 0xFFu;
-  case 0x018: return f->cccr;
-  case 0x01C: return f->nbtp;
-  case 0x020: return f->tscc;
-  case 0x024: return tscv(b);
-  case 0x028: return f->tocc;
-  case 0x02C: return 0xFFFFu; /* TOCV: the timeout counter is not modelled (ETOC faults) */
-  case 0x040: {                /* ECR: CEL is cleared by the read; REC counts the recovery sequences */
+  case FDCAN_CREL_OFS: return FDCAN_CREL_VALUE;
+  case FDCAN_ENDN_OFS: return FDCAN_ENDN_VALUE;
+  case FDCAN_DBTP_OFS: return f->dbtp;
+  case FDCAN_TEST_OFS: return f->test | (f->on_bus || !init_effective(f) ? FDCAN_TEST_RX : 0u); /* RX: recessive while idle */
+  case FDCAN_RWD_OFS: return f->rwd & FDCAN_RWD_WDC;
+  case FDCAN_CCCR_OFS: return f->cccr;
+  case FDCAN_NBTP_OFS: return f->nbtp;
+  case FDCAN_TSCC_OFS: return f->tscc;
+  case FDCAN_TSCV_OFS: return tscv(b);
+  case FDCAN_TOCC_OFS: return f->tocc;
+  case FDCAN_TOCV_OFS: return 0xFFFFu; /* the timeout counter is not modelled (ETOC faults) */
+  case FDCAN_ECR_OFS: {                /* CEL is cleared by the read; REC counts the recovery sequences */
     uint32_t r = f->bo ? fdcan_bus_recovery_sequences(b) : f->rec;
     uint32_t tec = f->tec > 255u ? 255u : f->tec, rec = r > 127u ? 127u : r;
-    uint32_t v = tec | (rec << 8) | (f->rec >= 128u ? 1u << 15 : 0u) | (f->cel << 16);
+    uint32_t v = reg_value(FDCAN_ECR_TEC, tec) | reg_value(FDCAN_ECR_REC, rec) | (f->rec >= 128u ? FDCAN_ECR_RP : 0u) |
+                 reg_value(FDCAN_ECR_CEL, f->cel);
     f->cel = 0;
     return v;
   }
-  case 0x044: { /* PSR: LEC and DLEC go back to 7 ("no change") on a read */
+  case FDCAN_PSR_OFS: { /* LEC and DLEC go back to 7 ("no change") on a read */
     uint32_t seq = fdcan_bus_recovery_sequences(b);
     if (seq != f->recovery_lec_seq) { /* each 11 recessive bits of a recovery: Bit0Error */
       f->recovery_lec_seq = seq;
-      f->lec = 5u;
+      f->lec = FDCAN_LEC_BIT0;
     }
-    uint32_t v = f->lec | ((uint32_t)f->act << 3) | (f->ep ? 1u << 5 : 0u) | (f->ew ? 1u << 6 : 0u) |
-                 (f->bo ? 1u << 7 : 0u) | (7u << 8);
-    f->lec = 7;
+    uint32_t v = reg_value(FDCAN_PSR_LEC, f->lec) | reg_value(FDCAN_PSR_ACT, f->act) | (f->ep ? FDCAN_PSR_EP : 0u) |
+                 (f->ew ? FDCAN_PSR_EW : 0u) | (f->bo ? FDCAN_PSR_BO : 0u) | reg_value(FDCAN_PSR_DLEC, FDCAN_LEC_NO_CHANGE);
+    f->lec = FDCAN_LEC_NO_CHANGE;
     return v;
   }
-  case 0x048: return f->tdcr;
-  case 0x050: return f->ir;
-  case 0x054: return f->ie;
-  case 0x058: return f->ils;
-  case 0x05C: return f->ile;
-  case 0x080: return f->rxgfc;
-  case 0x084: return f->xidam;
-  case 0x088: return f->hpms;
-  case 0x090: return rxfs(f, 0);
-  case 0x094: return 0; /* RXF0A */
-  case 0x098: return rxfs(f, 1);
-  case 0x09C: return 0;
-  case 0x0C0: return f->txbc;
-  case 0x0C4: return txfqs(f);
-  case 0x0C8: return f->txbrp;
-  case 0x0CC: return 0; /* TXBAR: bits clear once TXBRP is set */
-  case 0x0D0: return 0; /* TXBCR: cancellations finish at once in the model */
-  case 0x0D4: return f->txbto;
-  case 0x0D8: return f->txbcf;
-  case 0x0DC: return f->txbtie;
-  case 0x0E0: return f->txbcie;
-  case 0x0E4: {
+  case FDCAN_TDCR_OFS: return f->tdcr;
+  case FDCAN_IR_OFS: return f->ir;
+  case FDCAN_IE_OFS: return f->ie;
+  case FDCAN_ILS_OFS: return f->ils;
+  case FDCAN_ILE_OFS: return f->ile;
+  case FDCAN_RXGFC_OFS: return f->rxgfc;
+  case FDCAN_XIDAM_OFS: return f->xidam;
+  case FDCAN_HPMS_OFS: return f->hpms;
+  case FDCAN_RXF0S_OFS: return rxfs(f, 0);
+  case FDCAN_RXF0A_OFS: return 0;
+  case FDCAN_RXF1S_OFS: return rxfs(f, 1);
+  case FDCAN_RXF1A_OFS: return 0;
+  case FDCAN_TXBC_OFS: return f->txbc;
+  case FDCAN_TXFQS_OFS: return txfqs(f);
+  case FDCAN_TXBRP_OFS: return f->txbrp;
+  case FDCAN_TXBAR_OFS: return 0; /* bits clear once TXBRP is set */
+  case FDCAN_TXBCR_OFS: return 0; /* cancellations finish at once in the model */
+  case FDCAN_TXBTO_OFS: return f->txbto;
+  case FDCAN_TXBCF_OFS: return f->txbcf;
+  case FDCAN_TXBTIE_OFS: return f->txbtie;
+  case FDCAN_TXBCIE_OFS: return f->txbcie;
+  case FDCAN_TXEFS_OFS: {
     uint32_t put = (f->tef_get + f->tef_fill) % FDCAN_N_FIFO;
-    return f->tef_fill | (f->tef_get << 8) | (put << 16) | (f->tef_fill == FDCAN_N_FIFO ? 1u << 24 : 0u) |
-           (((f->ir >> 12) & 1u) << 25);
+    return reg_value(FDCAN_TXEFS_EFFL, f->tef_fill) | reg_value(FDCAN_TXEFS_EFGI, f->tef_get) |
+           reg_value(FDCAN_TXEFS_EFPI, put) | (f->tef_fill == FDCAN_N_FIFO ? FDCAN_TXEFS_EFF : 0u) |
+           ((f->ir & FDCAN_IR_TEFL) ? FDCAN_TXEFS_TEFL : 0u);
   }
-  case 0x0E8: return 0;
-  case 0x100: return f->ckdiv;
+  case FDCAN_TXEFA_OFS: return 0;
+  case FDCAN_CKDIV_OFS: return f->ckdiv;
   }
   board_fault(b, "read of reserved FDCAN1 offset 0x%03X", off);
   return 0;
@@ -430,96 +436,98 @@ void fdcan_write(board *b, uint32_t off, uint32_t v) {
   fdcan_state *f = &b->fdcan;
   board_end_slice(b); /* the bus schedule may change (INIT, a Tx request): end the slice after this store */
   switch (off) {
-  case 0x000: read_only(b, "CREL", v); return;
-  case 0x004: read_only(b, "ENDN", v); return;
-  case 0x00C:
-    if (protected_ok(b, "DBTP", v) && reserved_ok(b, "DBTP", v, 0x009F1FFFu)) f->dbtp = v;
+  case FDCAN_CREL_OFS: read_only(b, "CREL", v); return;
+  case FDCAN_ENDN_OFS: read_only(b, "ENDN", v); return;
+  case FDCAN_DBTP_OFS:
+    if (protected_ok(b, "DBTP", v) && reserved_ok(b, "DBTP", v, FDCAN_DBTP_WRITABLE)) f->dbtp = v;
     return;
-  case 0x010:
+  case FDCAN_TEST_OFS:
     if (!protected_ok(b, "TEST", v)) return;
     if (!(f->cccr & CCCR_TEST)) {
       board_fault(b, "FDCAN_TEST written with CCCR.TEST=0 (RM0440 FDCAN_TEST: write access only in test mode)");
       return;
     }
-    if (reserved_ok(b, "TEST", v & ~0x80u, 0x70u)) f->test = v & 0x70u;
-    if ((f->test >> 5) & 3u) board_fault(b, "FDCAN_TEST.TX=%u (Tx pin control) is not modelled", (f->test >> 5) & 3u);
+    if (reserved_ok(b, "TEST", v & ~FDCAN_TEST_RX, FDCAN_TEST_LBCK | FDCAN_TEST_TX)) f->test = v & (FDCAN_TEST_LBCK | FDCAN_TEST_TX);
+    if (f->test & FDCAN_TEST_TX) board_fault(b, "FDCAN_TEST.TX=%u (Tx pin control) is not modelled", reg_field(f->test, FDCAN_TEST_TX));
     return;
-  case 0x014:
-    if (protected_ok(b, "RWD", v) && reserved_ok(b, "RWD", v & ~0xFF00u, 0xFFu)) f->rwd = v & 0xFFu;
+  case FDCAN_RWD_OFS:
+    if (protected_ok(b, "RWD", v) && reserved_ok(b, "RWD", v & ~FDCAN_RWD_WDV, FDCAN_RWD_WDC)) f->rwd = v & FDCAN_RWD_WDC;
     return;
-  case 0x018: write_cccr(b, v); return;
-  case 0x01C:
-    if (!protected_ok(b, "NBTP", v) || !reserved_ok(b, "NBTP", v, 0xFFFFFF7Fu)) return;
+  case FDCAN_CCCR_OFS: write_cccr(b, v); return;
+  case FDCAN_NBTP_OFS:
+    if (!protected_ok(b, "NBTP", v) ||
+        !reserved_ok(b, "NBTP", v, FDCAN_NBTP_NTSEG2 | FDCAN_NBTP_NTSEG1 | FDCAN_NBTP_NBRP | FDCAN_NBTP_NSJW))
+      return;
     f->nbtp = v;
     return;
-  case 0x020:
-    if (!protected_ok(b, "TSCC", v) || !reserved_ok(b, "TSCC", v, 0x000F0003u)) return;
-    if ((v & 3u) == 2u) { board_fault(b, "FDCAN_TSCC.TSS=10 (external timestamp, TIM3) is not modelled"); return; }
+  case FDCAN_TSCC_OFS:
+    if (!protected_ok(b, "TSCC", v) || !reserved_ok(b, "TSCC", v, FDCAN_TSCC_TSS | FDCAN_TSCC_TCP)) return;
+    if (reg_field(v, FDCAN_TSCC_TSS) == FDCAN_TSS_EXTERNAL) { board_fault(b, "FDCAN_TSCC.TSS=10 (external timestamp, TIM3) is not modelled"); return; }
     f->tscc = v;
     return;
-  case 0x024: f->tscv_base_t = board_now(b); return; /* any write restarts the counter */
-  case 0x028:
-    if (!protected_ok(b, "TOCC", v) || !reserved_ok(b, "TOCC", v, 0xFFFF0007u)) return;
-    if (v & 1u) { board_fault(b, "FDCAN_TOCC.ETOC=1: the timeout counter is not modelled"); return; }
+  case FDCAN_TSCV_OFS: f->tscv_base_t = board_now(b); return; /* any write restarts the counter */
+  case FDCAN_TOCC_OFS:
+    if (!protected_ok(b, "TOCC", v) || !reserved_ok(b, "TOCC", v, FDCAN_TOCC_TOP | FDCAN_TOCC_TOS | FDCAN_TOCC_ETOC)) return;
+    if (v & FDCAN_TOCC_ETOC) { board_fault(b, "FDCAN_TOCC.ETOC=1: the timeout counter is not modelled"); return; }
     f->tocc = v;
     return;
-  case 0x02C: return; /* TOCV: a write restarts a counter that is not enabled */
-  case 0x040: read_only(b, "ECR", v); return;
-  case 0x044: read_only(b, "PSR", v); return;
-  case 0x048:
-    if (protected_ok(b, "TDCR", v) && reserved_ok(b, "TDCR", v, 0x7F7Fu)) f->tdcr = v;
+  case FDCAN_TOCV_OFS: return; /* a write restarts a counter that is not enabled */
+  case FDCAN_ECR_OFS: read_only(b, "ECR", v); return;
+  case FDCAN_PSR_OFS: read_only(b, "PSR", v); return;
+  case FDCAN_TDCR_OFS:
+    if (protected_ok(b, "TDCR", v) && reserved_ok(b, "TDCR", v, FDCAN_TDCR_TDCF | FDCAN_TDCR_TDCO)) f->tdcr = v;
     return;
-  case 0x050: /* IR: write 1 to clear; writing all ones (reserved bits included) is the usual idiom */
+  case FDCAN_IR_OFS: /* write 1 to clear; writing all ones (reserved bits included) is the usual idiom */
     f->ir &= ~v;
     return;
-  case 0x054:
-    if (reserved_ok(b, "IE", v, 0x00FFFFFFu)) { f->ie = v; fdcan_update_irq(b); }
+  case FDCAN_IE_OFS:
+    if (reserved_ok(b, "IE", v, FDCAN_IR_ALL)) { f->ie = v; fdcan_update_irq(b); }
     return;
-  case 0x058:
-    if (reserved_ok(b, "ILS", v, 0x7Fu)) { f->ils = v; fdcan_update_irq(b); }
+  case FDCAN_ILS_OFS:
+    if (reserved_ok(b, "ILS", v, FDCAN_ILS_ALL)) { f->ils = v; fdcan_update_irq(b); }
     return;
-  case 0x05C:
-    if (reserved_ok(b, "ILE", v, 3u)) { f->ile = v; fdcan_update_irq(b); }
+  case FDCAN_ILE_OFS:
+    if (reserved_ok(b, "ILE", v, FDCAN_ILE_EINT0 | FDCAN_ILE_EINT1)) { f->ile = v; fdcan_update_irq(b); }
     return;
-  case 0x080:
-    if (!protected_ok(b, "RXGFC", v) || !reserved_ok(b, "RXGFC", v, 0x0F1F033Fu)) return;
-    if (((v >> 16) & 0x1Fu) > FDCAN_N_STD || ((v >> 24) & 0xFu) > FDCAN_N_EXT) {
+  case FDCAN_RXGFC_OFS:
+    if (!protected_ok(b, "RXGFC", v) || !reserved_ok(b, "RXGFC", v, FDCAN_RXGFC_WRITABLE)) return;
+    if (reg_field(v, FDCAN_RXGFC_LSS) > FDCAN_N_STD || reg_field(v, FDCAN_RXGFC_LSE) > FDCAN_N_EXT) {
       board_fault(b, "FDCAN_RXGFC 0x%08X: LSS %u / LSE %u exceed the 28 standard / 8 extended filter elements of"
-                  " the STM32G4 message RAM", v, (v >> 16) & 0x1Fu, (v >> 24) & 0xFu);
+                  " the STM32G4 message RAM", v, reg_field(v, FDCAN_RXGFC_LSS), reg_field(v, FDCAN_RXGFC_LSE));
       return;
     }
     f->rxgfc = v;
     return;
-  case 0x084:
-    if (protected_ok(b, "XIDAM", v) && reserved_ok(b, "XIDAM", v, 0x1FFFFFFFu)) f->xidam = v;
+  case FDCAN_XIDAM_OFS:
+    if (protected_ok(b, "XIDAM", v) && reserved_ok(b, "XIDAM", v, FDCAN_XIDAM_EIDM)) f->xidam = v;
     return;
-  case 0x088: read_only(b, "HPMS", v); return;
-  case 0x090: read_only(b, "RXF0S", v); return;
-  case 0x094: rxfa(b, 0, v); return;
-  case 0x098: read_only(b, "RXF1S", v); return;
-  case 0x09C: rxfa(b, 1, v); return;
-  case 0x0C0:
-    if (!protected_ok(b, "TXBC", v) || !reserved_ok(b, "TXBC", v, 1u << 24)) return;
+  case FDCAN_HPMS_OFS: read_only(b, "HPMS", v); return;
+  case FDCAN_RXF0S_OFS: read_only(b, "RXF0S", v); return;
+  case FDCAN_RXF0A_OFS: rxfa(b, 0, v); return;
+  case FDCAN_RXF1S_OFS: read_only(b, "RXF1S", v); return;
+  case FDCAN_RXF1A_OFS: rxfa(b, 1, v); return;
+  case FDCAN_TXBC_OFS:
+    if (!protected_ok(b, "TXBC", v) || !reserved_ok(b, "TXBC", v, FDCAN_TXBC_TFQM)) return;
     f->txbc = v;
     return;
-  case 0x0C4: read_only(b, "TXFQS", v); return;
-  case 0x0C8: read_only(b, "TXBRP", v); return;
-  case 0x0CC: txbar(b, v); return;
-  case 0x0D0:
-    if (reserved_ok(b, "TXBCR", v, 7u)) fdcan_bus_cancel(b, v);
+  case FDCAN_TXFQS_OFS: read_only(b, "TXFQS", v); return;
+  case FDCAN_TXBRP_OFS: read_only(b, "TXBRP", v); return;
+  case FDCAN_TXBAR_OFS: txbar(b, v); return;
+  case FDCAN_TXBCR_OFS:
+    if (reserved_ok(b, "TXBCR", v, FDCAN_TXB_ALL)) fdcan_bus_cancel(b, v);
     return;
-  case 0x0D4: read_only(b, "TXBTO", v); return;
-  case 0x0D8: read_only(b, "TXBCF", v); return;
-  case 0x0DC:
-    if (reserved_ok(b, "TXBTIE", v, 7u)) f->txbtie = v;
+  case FDCAN_TXBTO_OFS: read_only(b, "TXBTO", v); return;
+  case FDCAN_TXBCF_OFS: read_only(b, "TXBCF", v); return;
+  case FDCAN_TXBTIE_OFS:
+    if (reserved_ok(b, "TXBTIE", v, FDCAN_TXB_ALL)) f->txbtie = v;
     return;
-  case 0x0E0:
-    if (reserved_ok(b, "TXBCIE", v, 7u)) f->txbcie = v;
+  case FDCAN_TXBCIE_OFS:
+    if (reserved_ok(b, "TXBCIE", v, FDCAN_TXB_ALL)) f->txbcie = v;
     return;
-  case 0x0E4: read_only(b, "TXEFS", v); return;
-  case 0x0E8: txefa(b, v); return;
-  case 0x100:
-    if (!protected_ok(b, "CKDIV", v) || !reserved_ok(b, "CKDIV", v, 0xFu)) return;
+  case FDCAN_TXEFS_OFS: read_only(b, "TXEFS", v); return;
+  case FDCAN_TXEFA_OFS: txefa(b, v); return;
+  case FDCAN_CKDIV_OFS:
+    if (!protected_ok(b, "CKDIV", v) || !reserved_ok(b, "CKDIV", v, FDCAN_CKDIV_PDIV)) return;
     f->ckdiv = v;
     return;
   }

@@ -19,34 +19,13 @@
 
 #define PAGE 2048u
 #define BANK_SIZE (256u * 1024u)
-#define KEY1 0x45670123u
-#define KEY2 0xCDEF89ABu
 #define T_PROG_S 82e-6   /* double-word programming time, order of the datasheet's typical */
 #define T_ERASE_S 22e-3  /* page erase */
 #define T_MASS_S 23e-3
 
-#define SR_EOP (1u << 0)
-#define SR_OPERR (1u << 1)
-#define SR_PROGERR (1u << 3)
-#define SR_WRPERR (1u << 4)
-#define SR_PGAERR (1u << 5)
-#define SR_SIZERR (1u << 6)
-#define SR_PGSERR (1u << 7)
-#define SR_MISSERR (1u << 8)
-#define SR_FASTERR (1u << 9)
-#define SR_ERRS (SR_PROGERR | SR_WRPERR | SR_PGAERR | SR_SIZERR | SR_PGSERR | SR_MISSERR | SR_FASTERR)
-#define SR_BSY (1u << 16)
-#define CR_PG (1u << 0)
-#define CR_PER (1u << 1)
-#define CR_MER1 (1u << 2)
-#define CR_BKER (1u << 11)
-#define CR_MER2 (1u << 15)
-#define CR_STRT (1u << 16)
-#define CR_OPTSTRT (1u << 17)
-#define CR_FSTPG (1u << 18)
-#define CR_EOPIE (1u << 24)
-#define CR_OPTLOCK (1u << 30)
-#define CR_LOCK (1u << 31)
+#define SR_ERRS                                                                                             \
+  (FLASH_SR_PROGERR | FLASH_SR_WRPERR | FLASH_SR_PGAERR | FLASH_SR_SIZERR | FLASH_SR_PGSERR | FLASH_SR_MISSERR | \
+   FLASH_SR_FASTERR)
 
 /* pending operation completed at busy_until */
 enum { OP_NONE, OP_PROG, OP_ERASE, OP_MASS };
@@ -58,7 +37,7 @@ void flash_reset(board *b) {
   memset(f, 0, sizeof *f);
   memcpy(f->dirty, dirty, sizeof dirty);
   f->acr = 0x00040600u; /* SVD: 0x00040601; RM0440 §5.7.1 gives LATENCY=0 at reset (HSI16 needs 0 WS) */
-  f->cr = CR_LOCK | CR_OPTLOCK;
+  f->cr = FLASH_CR_LOCK | FLASH_CR_OPTLOCK;
   f->busy_until = -1;
   b->fl.op = OP_NONE;
 }
@@ -87,17 +66,18 @@ uint32_t flash_read(board *b, uint32_t off) {
   flash_state *f = &b->fl;
   double now = board_now(b);
   switch (off) {
-  case 0x00: return f->acr;
-  case 0x10: return f->sr | (f->busy_until >= now ? SR_BSY : 0u);
-  case 0x14: return f->cr;
-  case 0x18: return f->eccr;
-  case 0x20: return 0xFFEFF8AAu; /* OPTR factory value: RDP level 0, DBANK=1, nBOOT0=1 */
-  case 0x24: case 0x44: return 0xFFFF0000u;
-  case 0x28: case 0x48: return 0;
-  case 0x2C: case 0x30: case 0x4C: case 0x50: return 0x000000FFu; /* WRP areas empty (start > end) */
-  case 0x70: return 0xFFF0FF00u;
-  case 0x74: return 0xFFFFFF00u;
-  case 0x04: case 0x08: case 0x0C: return 0;
+  case FLASH_ACR_OFS: return f->acr;
+  case FLASH_SR_OFS: return f->sr | (f->busy_until >= now ? FLASH_SR_BSY : 0u);
+  case FLASH_CR_OFS: return f->cr;
+  case FLASH_ECCR_OFS: return f->eccr;
+  case FLASH_OPTR_OFS: return 0xFFEFF8AAu; /* factory value: RDP level 0, DBANK=1, nBOOT0=1 */
+  case FLASH_PCROP1SR_OFS: case FLASH_PCROP2SR_OFS: return 0xFFFF0000u; /* factory values */
+  case FLASH_PCROP1ER_OFS: case FLASH_PCROP2ER_OFS: return 0;
+  case FLASH_WRP1AR_OFS: case FLASH_WRP1BR_OFS: case FLASH_WRP2AR_OFS: case FLASH_WRP2BR_OFS:
+    return 0x000000FFu; /* WRP areas empty (start > end) */
+  case FLASH_SEC1R_OFS: return 0xFFF0FF00u;
+  case FLASH_SEC2R_OFS: return 0xFFFFFF00u;
+  case FLASH_PDKEYR_OFS: case FLASH_KEYR_OFS: case FLASH_OPTKEYR_OFS: return 0;
   }
   board_fault(b, "read of reserved FLASH offset 0x%02X", off);
   return 0;
@@ -157,8 +137,9 @@ void flash_data_read(board *b, uint32_t addr, unsigned size) {
   for (uint32_t a = off & ~7u; a < off + size; a += 8) {
     if (a >= FLASH_SIZE || !ecc_is_bad(b, a)) continue;
     b->cut.ecc_errors++;
-    if (!(b->fl.eccr & (1u << 31)))
-      b->fl.eccr = (b->fl.eccr & (1u << 24)) | (1u << 31) | ((a >= BANK_SIZE ? 1u : 0u) << 21) | ((a % BANK_SIZE) & 0x7FFFFu);
+    if (!(b->fl.eccr & FLASH_ECCR_ECCD))
+      b->fl.eccr = (b->fl.eccr & FLASH_ECCR_ECCCIE) | FLASH_ECCR_ECCD | (a >= BANK_SIZE ? FLASH_ECCR_BK_ECC : 0u) |
+                   ((a % BANK_SIZE) & FLASH_ECCR_ADDR_ECC);
     scs_set_pending(b, 2);
     return;
   }
@@ -197,8 +178,8 @@ static void complete_op(board *b) {
     for (uint32_t a = b->fl.op_off; a < b->fl.op_off + b->fl.op_len; a += 8) ecc_mark(b, a, false);
   for (uint32_t p = b->fl.op_off / PAGE; p <= (b->fl.op_off + b->fl.op_len - 1) / PAGE; p++) f->dirty[p] = 1;
   board_flash_update(b, b->fl.op_off, b->fl.op_len);
-  if (f->cr & CR_EOPIE) f->sr |= SR_EOP; /* EOP only with EOPIE (§5.7.5) */
-  f->cr &= ~CR_STRT;
+  if (f->cr & FLASH_CR_EOPIE) f->sr |= FLASH_SR_EOP; /* EOP only with EOPIE (§5.7.5) */
+  f->cr &= ~FLASH_CR_STRT;
   b->fl.op = OP_NONE;
   f->busy_until = -1;
   if (b->cfg.nvm_path) flash_nvm_save(b);
@@ -211,22 +192,22 @@ void flash_event(board *b) {
 
 static void write_cr(board *b, uint32_t v) {
   flash_state *f = &b->fl;
-  if (f->cr & CR_LOCK) {
+  if (f->cr & FLASH_CR_LOCK) {
     board_fault(b, "FLASH_CR 0x%08X written while LOCK=1: the write is ignored by the hardware (RM0440 §5.3.5)", v);
     return;
   }
-  if (v & (CR_OPTSTRT | CR_FSTPG)) { board_fault(b, "FLASH_CR: option-byte and fast programming are not modelled"); return; }
+  if (v & (FLASH_CR_OPTSTRT | FLASH_CR_FSTPG)) { board_fault(b, "FLASH_CR: option-byte and fast programming are not modelled"); return; }
   if (b->fl.op != OP_NONE) complete_op(b); /* the CPU stalls on a busy flash */
   /* OPTLOCK is cleared only by the OPTKEYR sequence, LOCK only by KEYR: software can set them */
-  f->cr = (v & 0x3F07BFFFu) | (v & (CR_LOCK | CR_OPTLOCK)) | (f->cr & CR_OPTLOCK);
-  if (v & CR_STRT) {
-    uint32_t ops = (v & CR_PER ? 1u : 0u) + (v & (CR_MER1 | CR_MER2) ? 1u : 0u) + (v & CR_PG ? 1u : 0u);
-    if (ops != 1 || (v & CR_PG) || (f->sr & SR_ERRS)) { f->sr |= SR_PGSERR; f->cr &= ~CR_STRT; return; }
-    if (v & CR_PER) {
-      uint32_t page = (v >> 3) & 0x7Fu, bank = (v & CR_BKER) ? 1u : 0u;
+  f->cr = (v & FLASH_CR_SOFTWARE) | (v & (FLASH_CR_LOCK | FLASH_CR_OPTLOCK)) | (f->cr & FLASH_CR_OPTLOCK);
+  if (v & FLASH_CR_STRT) {
+    uint32_t ops = (v & FLASH_CR_PER ? 1u : 0u) + (v & (FLASH_CR_MER1 | FLASH_CR_MER2) ? 1u : 0u) + (v & FLASH_CR_PG ? 1u : 0u);
+    if (ops != 1 || (v & FLASH_CR_PG) || (f->sr & SR_ERRS)) { f->sr |= FLASH_SR_PGSERR; f->cr &= ~FLASH_CR_STRT; return; }
+    if (v & FLASH_CR_PER) {
+      uint32_t page = reg_field(v, FLASH_CR_PNB), bank = (v & FLASH_CR_BKER) ? 1u : 0u;
       start_op(b, OP_ERASE, bank * BANK_SIZE + page * PAGE, PAGE, T_ERASE_S);
     } else {
-      uint32_t from = (v & CR_MER1) ? 0u : BANK_SIZE, to = (v & CR_MER2) ? 2u * BANK_SIZE : BANK_SIZE;
+      uint32_t from = (v & FLASH_CR_MER1) ? 0u : BANK_SIZE, to = (v & FLASH_CR_MER2) ? 2u * BANK_SIZE : BANK_SIZE;
       start_op(b, OP_MASS, from, to - from, T_MASS_S);
     }
   }
@@ -235,32 +216,32 @@ static void write_cr(board *b, uint32_t v) {
 void flash_write(board *b, uint32_t off, uint32_t v) {
   flash_state *f = &b->fl;
   switch (off) {
-  case 0x00: {
-    uint32_t lat = v & 0xFu;
-    if (v & ~0x00047F0Fu) { board_fault(b, "FLASH_ACR 0x%08X writes reserved bits", v); return; }
+  case FLASH_ACR_OFS: {
+    uint32_t lat = reg_field(v, FLASH_ACR_LATENCY);
+    if (v & ~FLASH_ACR_WRITABLE) { board_fault(b, "FLASH_ACR 0x%08X writes reserved bits", v); return; }
     double hclk = rcc_hclk_hz(b);
     if (hclk > flash_max_hclk(b, lat) + 1.0) {
       board_fault(b, "FLASH_ACR.LATENCY=%u is too few wait states for HCLK %.3f MHz (RM0440 §5.3.3)", lat, hclk / 1e6);
       return;
     }
-    f->acr = v & ~0x1800u; /* ICRST/DCRST are pulses */
+    f->acr = v & ~(FLASH_ACR_ICRST | FLASH_ACR_DCRST); /* pulses */
     return;
   }
-  case 0x04: return; /* PDKEYR */
-  case 0x08:        /* KEYR: KEY1 then KEY2 unlocks CR; anything else locks it out until reset */
-    if (f->key_locked_out || !(f->cr & CR_LOCK) || v != (f->key_stage ? KEY2 : KEY1)) {
+  case FLASH_PDKEYR_OFS: return;
+  case FLASH_KEYR_OFS: /* KEY1 then KEY2 unlocks CR; anything else locks it out until reset */
+    if (f->key_locked_out || !(f->cr & FLASH_CR_LOCK) || v != (f->key_stage ? FLASH_KEY2 : FLASH_KEY1)) {
       f->key_locked_out = true;
       f->key_stage = 0;
       bus_error(b);
       return;
     }
     if (f->key_stage == 0) f->key_stage = 1;
-    else { f->key_stage = 0; f->cr &= ~CR_LOCK; }
+    else { f->key_stage = 0; f->cr &= ~FLASH_CR_LOCK; }
     return;
-  case 0x0C: board_fault(b, "FLASH_OPTKEYR: option-byte programming is not modelled"); return;
-  case 0x10: f->sr &= ~(v & (SR_EOP | SR_OPERR | SR_ERRS | (1u << 14) | (1u << 15))); return;
-  case 0x14: write_cr(b, v); return;
-  case 0x18: f->eccr &= ~(v & 0xC0000000u); return;
+  case FLASH_OPTKEYR_OFS: board_fault(b, "FLASH_OPTKEYR: option-byte programming is not modelled"); return;
+  case FLASH_SR_OFS: f->sr &= ~(v & (FLASH_SR_EOP | FLASH_SR_OPERR | SR_ERRS | FLASH_SR_RDERR | FLASH_SR_OPTVERR)); return;
+  case FLASH_CR_OFS: write_cr(b, v); return;
+  case FLASH_ECCR_OFS: f->eccr &= ~(v & (FLASH_ECCR_ECCC | FLASH_ECCR_ECCD)); return; /* rc_w1 */
   }
   board_fault(b, "write 0x%08X to FLASH offset 0x%02X (reserved or option bytes, not modelled)", v, off);
 }
@@ -270,27 +251,27 @@ void flash_mem_write(board *b, uint32_t addr, unsigned size, uint32_t v) {
   flash_state *f = &b->fl;
   uint32_t off = addr - FLASH_BASE;
   if (b->fl.op != OP_NONE) complete_op(b); /* stall until not busy */
-  if (!(f->cr & CR_PG) || (f->cr & (CR_PER | CR_MER1 | CR_MER2))) {
-    f->sr |= SR_PGSERR;
+  if (!(f->cr & FLASH_CR_PG) || (f->cr & (FLASH_CR_PER | FLASH_CR_MER1 | FLASH_CR_MER2))) {
+    f->sr |= FLASH_SR_PGSERR;
     f->pg_half = false;
     return;
   }
-  if (size != 4) { f->sr |= SR_SIZERR; f->pg_half = false; return; }
+  if (size != 4) { f->sr |= FLASH_SR_SIZERR; f->pg_half = false; return; }
   if (!f->pg_half) {
-    if (f->sr & SR_ERRS) { f->sr |= SR_PGSERR; return; } /* errors of a previous operation not cleared */
-    if (off & 7u) { f->sr |= SR_PGAERR; return; }
+    if (f->sr & SR_ERRS) { f->sr |= FLASH_SR_PGSERR; return; } /* errors of a previous operation not cleared */
+    if (off & 7u) { f->sr |= FLASH_SR_PGAERR; return; }
     f->pg_half = true;
     f->pg_addr = off;
     f->pg_word0 = v;
     return;
   }
   f->pg_half = false;
-  if (off != f->pg_addr + 4u) { f->sr |= SR_PGAERR; return; }
+  if (off != f->pg_addr + 4u) { f->sr |= FLASH_SR_PGAERR; return; }
   uint32_t cur0, cur1;
   memcpy(&cur0, b->flash + f->pg_addr, 4);
   memcpy(&cur1, b->flash + f->pg_addr + 4, 4);
   bool zeros = f->pg_word0 == 0 && v == 0;
-  if ((cur0 != 0xFFFFFFFFu || cur1 != 0xFFFFFFFFu) && !zeros) { f->sr |= SR_PROGERR; return; }
+  if ((cur0 != 0xFFFFFFFFu || cur1 != 0xFFFFFFFFu) && !zeros) { f->sr |= FLASH_SR_PROGERR; return; }
   b->fl.op_w0 = f->pg_word0;
   b->fl.op_w1 = v;
   start_op(b, OP_PROG, f->pg_addr, 8, T_PROG_S);

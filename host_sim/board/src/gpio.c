@@ -22,19 +22,24 @@ void gpio_reset(board *b) {
 /* Level of an input-capable pin: driven from outside (board_drive_pin), else its pull. The
  * Schmitt trigger also samples in alternate-function mode (RM0440 §9.3.12), so an AF input such
  * as HRTIM_FLT3 reads its line in IDR too. */
+/* A pin's 2-bit field (MODER, OSPEEDR, PUPDR) and its 4-bit alternate function. */
+static uint32_t pin2(uint32_t reg, int pin) { return reg_field(reg >> (2 * pin), GPIO_MODER_MODE0); }
+
+static uint32_t pin_af(const gpio_port *p, int pin) { return reg_field(p->afr[pin / 8] >> (4 * (pin % 8)), GPIO_AFRL_AF0); }
+
 static uint32_t input_level(const gpio_port *p, int pin) {
-  uint32_t bit = 1u << pin, pull = (p->pupdr >> (2 * pin)) & 3u;
+  uint32_t bit = 1u << pin, pull = pin2(p->pupdr, pin);
   if (p->ext_mask & bit) return (p->ext_level & bit) ? 1u : 0u;
-  return ((p->idr_in & bit) || pull == 1u) ? 1u : 0u;
+  return ((p->idr_in & bit) || pull == GPIO_PULL_UP) ? 1u : 0u;
 }
 
 static uint32_t idr(const gpio_port *p) {
   uint32_t v = 0;
   for (int pin = 0; pin < 16; pin++) {
-    uint32_t mode = (p->moder >> (2 * pin)) & 3u;
+    uint32_t mode = pin2(p->moder, pin);
     uint32_t bit = 1u << pin;
-    if (mode == 1u) v |= p->odr & bit;
-    else if (mode == 0u || mode == 2u) v |= input_level(p, pin) << pin;
+    if (mode == GPIO_MODE_OUTPUT) v |= p->odr & bit;
+    else if (mode == GPIO_MODE_INPUT || mode == GPIO_MODE_AF) v |= input_level(p, pin) << pin;
   }
   return v;
 }
@@ -43,16 +48,14 @@ static uint32_t idr(const gpio_port *p) {
  * peripheral a low input (docs/board.md: an analog pin reads low). */
 bool gpio_flt3_low(const board *b) {
   const gpio_port *p = &b->gpio[1];
-  uint32_t mode = (p->moder >> 20) & 3u, af = (p->afr[1] >> 8) & 0xFu;
-  if (mode != 2u || af != 13u) return true;
+  if (pin2(p->moder, 10) != GPIO_MODE_AF || pin_af(p, 10) != 13u) return true;
   return input_level(p, 10) == 0u;
 }
 
 /* HRTIM_EEV6 (external event 6, source 1) as the HRTIM sees it: PB5 in AF13, else a low input. */
 bool gpio_eev6_low(const board *b) {
   const gpio_port *p = &b->gpio[1];
-  uint32_t mode = (p->moder >> 10) & 3u, af = (p->afr[0] >> 20) & 0xFu;
-  if (mode != 2u || af != 13u) return true;
+  if (pin2(p->moder, 5) != GPIO_MODE_AF || pin_af(p, 5) != 13u) return true;
   return input_level(p, 5) == 0u;
 }
 
@@ -68,19 +71,19 @@ void board_drive_pin(board *b, char port, int pin, int level) {
 uint32_t gpio_read(board *b, int port, uint32_t off) {
   gpio_port *p = &b->gpio[port];
   switch (off) {
-  case 0x00: return p->moder;
-  case 0x04: return p->otyper;
-  case 0x08: return p->ospeedr;
-  case 0x0C: return p->pupdr;
-  case 0x10: return idr(p);
-  case 0x14: return p->odr;
-  case 0x18: return 0; /* BSRR is write-only */
-  case 0x1C:
+  case GPIO_MODER_OFS: return p->moder;
+  case GPIO_OTYPER_OFS: return p->otyper;
+  case GPIO_OSPEEDR_OFS: return p->ospeedr;
+  case GPIO_PUPDR_OFS: return p->pupdr;
+  case GPIO_IDR_OFS: return idr(p);
+  case GPIO_ODR_OFS: return p->odr;
+  case GPIO_BSRR_OFS: return 0; /* write-only */
+  case GPIO_LCKR_OFS:
     if (p->lck_seq == 3) p->lck_seq = 4;
     return p->lckr;
-  case 0x20: return p->afr[0];
-  case 0x24: return p->afr[1];
-  case 0x28: return 0;
+  case GPIO_AFRL_OFS: return p->afr[0];
+  case GPIO_AFRH_OFS: return p->afr[1];
+  case GPIO_BRR_OFS: return 0;
   }
   board_fault(b, "read of reserved GPIO%c offset 0x%02X", 'A' + port, off);
   return 0;
@@ -88,7 +91,7 @@ uint32_t gpio_read(board *b, int port, uint32_t off) {
 
 /* Lock per pin (LCKR[15:0] once LCKK is set); `bits_per_pin` maps a register's field. */
 static uint32_t locked_mask(const gpio_port *p, int bits_per_pin, int first_pin) {
-  if (!(p->lckr & (1u << 16))) return 0;
+  if (!(p->lckr & GPIO_LCKR_LCKK)) return 0;
   uint32_t m = 0;
   for (int i = 0; i < 32 / bits_per_pin; i++)
     if (p->lckr & (1u << (first_pin + i))) m |= ((1u << bits_per_pin) - 1u) << (i * bits_per_pin);
@@ -110,54 +113,52 @@ static void config_write(board *b, int port, const char *name, uint32_t *reg, ui
 static void mark_changes(board *b, int port) {
   gpio_port *p = &b->gpio[port];
   for (int pin = 0; pin < 16; pin++) {
-    uint32_t mode = (p->moder >> (2 * pin)) & 3u, rmode = (k_moder_reset[port] >> (2 * pin)) & 3u;
-    uint32_t af = (p->afr[pin / 8] >> (4 * (pin % 8))) & 0xFu;
-    if (mode != rmode || af != 0u) p->changed |= 1u << pin;
+    if (pin2(p->moder, pin) != pin2(k_moder_reset[port], pin) || pin_af(p, pin) != 0u) p->changed |= 1u << pin;
   }
 }
 
 void gpio_write(board *b, int port, uint32_t off, uint32_t v, uint32_t mask) {
   gpio_port *p = &b->gpio[port];
   switch (off) {
-  case 0x00: config_write(b, port, "MODER", &p->moder, v, mask, 2, 0); break;
-  case 0x04:
-    if (v & mask & 0xFFFF0000u) { board_fault(b, "GPIO%c_OTYPER bits 31:16 are reserved", 'A' + port); return; }
+  case GPIO_MODER_OFS: config_write(b, port, "MODER", &p->moder, v, mask, 2, 0); break;
+  case GPIO_OTYPER_OFS:
+    if (v & mask & ~GPIO_PINS) { board_fault(b, "GPIO%c_OTYPER bits 31:16 are reserved", 'A' + port); return; }
     config_write(b, port, "OTYPER", &p->otyper, v, mask, 1, 0);
     break;
-  case 0x08: config_write(b, port, "OSPEEDR", &p->ospeedr, v, mask, 2, 0); break;
-  case 0x0C: {
+  case GPIO_OSPEEDR_OFS: config_write(b, port, "OSPEEDR", &p->ospeedr, v, mask, 2, 0); break;
+  case GPIO_PUPDR_OFS: {
     for (int pin = 0; pin < 16; pin++)
-      if ((mask >> (2 * pin) & 3u) == 3u && ((v >> (2 * pin)) & 3u) == 3u) {
+      if (pin2(mask, pin) == GPIO_PUPDR_PUPD0 && pin2(v, pin) == GPIO_PULL_RESERVED) {
         board_fault(b, "GPIO%c_PUPDR pin %d = 11 is reserved (RM0440 §9.4.4)", 'A' + port, pin);
         return;
       }
     config_write(b, port, "PUPDR", &p->pupdr, v, mask, 2, 0);
     break;
   }
-  case 0x10: board_fault(b, "write to read-only GPIO%c_IDR", 'A' + port); return;
-  case 0x14:
-    if (v & mask & 0xFFFF0000u) { board_fault(b, "GPIO%c_ODR bits 31:16 are reserved", 'A' + port); return; }
+  case GPIO_IDR_OFS: board_fault(b, "write to read-only GPIO%c_IDR", 'A' + port); return;
+  case GPIO_ODR_OFS:
+    if (v & mask & ~GPIO_PINS) { board_fault(b, "GPIO%c_ODR bits 31:16 are reserved", 'A' + port); return; }
     p->odr = (p->odr & ~mask) | (v & mask);
     break;
-  case 0x18: { /* BSRR: set has priority over reset (§9.4.7) */
+  case GPIO_BSRR_OFS: { /* set (bits 0-15) has priority over reset (bits 16-31), §9.4.7 */
     uint32_t w = v & mask;
-    p->odr = (p->odr & ~(w >> 16)) | (w & 0xFFFFu);
+    p->odr = (p->odr & ~(w >> 16)) | (w & GPIO_PINS);
     break;
   }
-  case 0x1C: { /* LCKR key sequence: 1+pattern, 0+pattern, 1+pattern, read (§9.4.8) */
+  case GPIO_LCKR_OFS: { /* key sequence: 1+pattern, 0+pattern, 1+pattern, read (§9.4.8) */
     if (mask != 0xFFFFFFFFu) { board_fault(b, "GPIO%c_LCKR needs a 32-bit write", 'A' + port); return; }
-    if (p->lckr & (1u << 16)) return; /* locked until reset */
-    uint32_t k = v & (1u << 16), pat = v & 0xFFFFu;
+    if (p->lckr & GPIO_LCKR_LCKK) return; /* locked until reset */
+    uint32_t k = v & GPIO_LCKR_LCKK, pat = v & GPIO_PINS;
     if (p->lck_seq == 0 && k) { p->lck_seq = 1; p->lckr = pat; }
     else if (p->lck_seq == 1 && !k && pat == p->lckr) p->lck_seq = 2;
-    else if (p->lck_seq == 2 && k && pat == p->lckr) { p->lck_seq = 3; p->lckr = pat | (1u << 16); }
+    else if (p->lck_seq == 2 && k && pat == p->lckr) { p->lck_seq = 3; p->lckr = pat | GPIO_LCKR_LCKK; }
     else { p->lck_seq = 0; p->lckr = 0; }
     break;
   }
-  case 0x20: config_write(b, port, "AFRL", &p->afr[0], v, mask, 4, 0); break;
-  case 0x24: config_write(b, port, "AFRH", &p->afr[1], v, mask, 4, 8); break;
-  case 0x28:
-    if (v & mask & 0xFFFF0000u) { board_fault(b, "GPIO%c_BRR bits 31:16 are reserved", 'A' + port); return; }
+  case GPIO_AFRL_OFS: config_write(b, port, "AFRL", &p->afr[0], v, mask, 4, 0); break;
+  case GPIO_AFRH_OFS: config_write(b, port, "AFRH", &p->afr[1], v, mask, 4, 8); break;
+  case GPIO_BRR_OFS:
+    if (v & mask & ~GPIO_PINS) { board_fault(b, "GPIO%c_BRR bits 31:16 are reserved", 'A' + port); return; }
     p->odr &= ~(v & mask);
     break;
   default: board_fault(b, "write to reserved GPIO%c offset 0x%02X", 'A' + port, off); return;
@@ -178,9 +179,17 @@ size_t board_pins(const board *b, board_pin *out, size_t max) {
       board_pin *o = &out[n++];
       o->port = (char)('A' + port);
       o->pin = pin;
-      o->mode = (int)((p->moder >> (2 * pin)) & 3u);
-      o->af = (int)((p->afr[pin / 8] >> (4 * (pin % 8))) & 0xFu);
+      o->mode = (int)pin2(p->moder, pin);
+      o->af = (int)pin_af(p, pin);
       o->changed = (p->changed >> pin) & 1u;
     }
   return n;
+}
+
+uint32_t gpio_mmio_read(board *b, uint32_t off) {
+  return gpio_read(b, (int)(off / GPIO_PORT_STRIDE), off % GPIO_PORT_STRIDE);
+}
+
+void gpio_mmio_write(board *b, uint32_t off, uint32_t v, uint32_t mask) {
+  gpio_write(b, (int)(off / GPIO_PORT_STRIDE), off % GPIO_PORT_STRIDE, v, mask);
 }

@@ -41,28 +41,37 @@
 #define EPS_T 1e-12
 #define FLT_SYNC_TICKS 3.0 /* fault input synchronisation, in tHRTIM (docs/board.md: 20-60 ns) */
 #define EEV_SYNC_TICKS 3.0 /* external event resynchronisation before acting on outputs, in tHRTIM */
-#define RST_EEV6 (1u << 26) /* SETx1R/RSTx1R.EXTEVNT6 */
 
-/* register offsets from 0x40016800 */
-#define OFS_TIM(t) (0x80u + 0x80u * (unsigned)(t))
-#define OFS_COMMON 0x380u
+/* The model's window starts at the master timer: offsets of the timers' and the common block. */
+#define OFS_TIMA (HRTIM_TIMA_BASE - HRTIM_MASTER_BASE)
+#define OFS_TIMS_END (OFS_TIMA + HRTIM_NTIM * HRTIM_TIM_STRIDE)
+#define OFS_COMMON (HRTIM_COMMON_BASE - HRTIM_MASTER_BASE)
+_Static_assert(OFS_TIMS_END == HRTIM_TIMF_BASE + HRTIM_TIM_STRIDE - HRTIM_MASTER_BASE, "timers A-F");
+_Static_assert(OFS_TIMS_END == OFS_COMMON, "the common registers follow timer F");
 
 static const char *k_tname = "ABCDEF";
 
 void hrtim_reset(board *b) {
   hrtim_state *h = &b->hrtim;
   memset(h, 0, sizeof *h);
-  h->mper = h->p_mper = 0xFFDFu;
-  for (int t = 0; t < 6; t++) h->tim[t].per = h->tim[t].p_per = 0xFFDFu;
+  h->mper = h->p_mper = HRTIM_PER_MAX; /* reset values of MPER and PERxR */
+  for (int t = 0; t < HRTIM_NTIM; t++) h->tim[t].per = h->tim[t].p_per = HRTIM_PER_MAX;
   h->flt3_apply_t = -1;
   h->flt3_line_low = gpio_flt3_low(b);
   h->eev6_apply_t = -1;
   h->eev6_pin_low = gpio_eev6_low(b);
-  for (int t = 0; t < 6; t++) h->tim[t].last_tr[0].t = h->tim[t].last_tr[1].t = -1;
+  for (int t = 0; t < HRTIM_NTIM; t++) h->tim[t].last_tr[0].t = h->tim[t].last_tr[1].t = -1;
 }
 
 static double f_hrtim(board *b) { return rcc_hclk_hz(b); } /* APB2 prescaler 1: fHRTIM = PCLK2 = HCLK */
-static unsigned ckpsc(uint32_t cr) { return cr & 7u; }
+static unsigned ckpsc(uint32_t cr) { return reg_field(cr, HRTIM_MCR_CK_PSC); } /* MCR and TIMxCR alike */
+
+/* Dead times of a timer, s: rising (DTR) and falling (DTF) edges, in tDTG = 2^DTPRSC x tHRTIM / 8. */
+static void dead_times(board *b, const hrtim_timer *x, double *dtr, double *dtf) {
+  double tdtg = (double)(1u << reg_field(x->dtr, HRTIM_DTxR_DTPRSC)) / (8.0 * f_hrtim(b));
+  *dtr = (double)reg_field(x->dtr, HRTIM_DTxR_DTRx) * tdtg;
+  *dtf = (double)reg_field(x->dtr, HRTIM_DTxR_DTFx) * tdtg;
+}
 
 /* ---- waveform queue ---- */
 
@@ -85,15 +94,15 @@ static void ref_edge(board *b, int t, int out, double when, uint8_t level) {
   hrtim_state *h = &b->hrtim;
   hrtim_timer *x = &h->tim[t];
   hrtim_wave *o1 = &h->wave[2 * t], *o2 = &h->wave[2 * t + 1];
-  if (!(x->outr & (1u << 8))) { /* DTEN = 0: each output follows its own crossbar */
+  if (!(x->outr & HRTIM_OUTxR_DTEN)) { /* each output follows its own crossbar */
     hrtim_wave *w = out ? o2 : o1;
     wave_cut(w, when);
     wave_push(b, w, when, level);
     return;
   }
   if (out) return; /* DTEN = 1: output 2 is derived from output 1's reference (§27.3.10) */
-  double tdtg = (double)(1u << ((x->dtr >> 10) & 7u)) / (8.0 * f_hrtim(b));
-  double dtr = (double)(x->dtr & 0x1FFu) * tdtg, dtf = (double)((x->dtr >> 16) & 0x1FFu) * tdtg;
+  double dtr, dtf;
+  dead_times(b, x, &dtr, &dtf);
   wave_cut(o1, when);
   wave_cut(o2, when);
   if (level) {
@@ -109,17 +118,17 @@ static void ref_edge(board *b, int t, int out, double when, uint8_t level) {
 
 static uint8_t out_level(const hrtim_state *h, int o, double t) {
   const hrtim_timer *x = &h->tim[o / 2];
-  unsigned sh = (o & 1) ? 16u : 0u; /* OUTxR fields of output 2 are 16 bits up */
-  uint8_t pol = (x->outr >> (1u + sh)) & 1u;
+  uint32_t outr = (o & 1) ? x->outr >> HRTIM_OUTxR_OUT2_SHIFT : x->outr; /* output 2's fields as output 1's */
+  uint8_t pol = (outr & HRTIM_OUTxR_POL1) != 0;
   uint8_t active;
   if (h->oen & (1u << o)) {
     const hrtim_wave *w = &h->wave[o];
     active = w->level;
     for (int i = 0; i < w->n && w->e[i].t <= t + EPS_T; i++) active = w->e[i].level;
   } else if (h->fault_state & (1u << o)) {
-    active = ((x->outr >> (4u + sh)) & 3u) == 1u; /* FAULTx = 1 active, 2 inactive */
+    active = (outr & HRTIM_OUTxR_FAULT1) == HRTIM_OUTxR_FAULT1_ACTIVE; /* else inactive */
   } else {
-    active = (x->outr >> (3u + sh)) & 1u;          /* IDLESx */
+    active = (outr & HRTIM_OUTxR_IDLES1) != 0;
   }
   return active ^ pol;
 }
@@ -164,19 +173,13 @@ static void transfer(hrtim_state *h, int which) { /* which: -1 master, 0..5 time
   memcpy(x->rst, x->p_rst, sizeof x->rst);
 }
 
-/* Dead times of timer t, s: rising (DTR) and falling (DTF) edges. */
-static void dead_times(board *b, const hrtim_timer *x, double *dtr, double *dtf) {
-  double tdtg = (double)(1u << ((x->dtr >> 10) & 7u)) / (8.0 * f_hrtim(b));
-  *dtr = (double)(x->dtr & 0x1FFu) * tdtg;
-  *dtf = (double)((x->dtr >> 16) & 0x1FFu) * tdtg;
-}
 
 /* The reference transitions of timer t's output `out` over the present period: its set/reset
  * programme (plan) run through the set/reset latch together with the external event 6 reset
  * request, as known so far (active at the period start, then eev6_hist). A reset request beats a
  * set at the same instant (§27.3.7); an event-6 change at the instant of a set is taken first. */
 static int ref_transitions(const hrtim_state *h, const hrtim_timer *x, int out, hrtim_edge *tr) {
-  bool uses_eev = (x->rst[out] & RST_EEV6) != 0;
+  bool uses_eev = (x->rst[out] & HRTIM_RST_EXTEVNT6) != 0;
   bool eev = uses_eev && h->eev6_on_at_t0;
   uint8_t level = x->ref_start[out];
   int n = 0;
@@ -204,7 +207,7 @@ static int ref_transitions(const hrtim_state *h, const hrtim_timer *x, int out, 
 static void emit_from(board *b, int t, int out, double from) {
   hrtim_state *h = &b->hrtim;
   hrtim_timer *x = &h->tim[t];
-  bool dten = (x->outr & (1u << 8)) != 0;
+  bool dten = (x->outr & HRTIM_OUTxR_DTEN) != 0;
   if (dten && out) return; /* output 2 is derived from output 1's reference (§27.3.10) */
   hrtim_edge tr[8 + HRTIM_EEV_HIST + 1];
   int n = ref_transitions(h, x, out, tr);
@@ -228,15 +231,15 @@ static void emit_from(board *b, int t, int out, double from) {
   x->ref[out] = n ? tr[n - 1].level : x->ref_start[out];
 }
 
-/* Crossbar of timer t for the period starting at t0 (RM0440 §27.3.5): events PER (bit 2) and
- * CMP1-4 (bits 3-6); set and reset on one event is refused (the model does not arbitrate). */
+/* Crossbar of timer t for the period starting at t0 (RM0440 §27.3.5): events PER and CMP1-4; set
+ * and reset on one event is refused (the model does not arbitrate). */
 static void plan_period(board *b, int t, double t0) {
   hrtim_state *h = &b->hrtim;
   hrtim_timer *x = &h->tim[t];
   for (int out = 0; out < 2; out++) {
     x->ref_start[out] = x->ref[out];
     x->n_plan[out] = 0;
-    uint32_t s = x->set[out], r = x->rst[out] & ~RST_EEV6;
+    uint32_t s = x->set[out], r = x->rst[out] & ~HRTIM_RST_EXTEVNT6;
     if (s & r) {
       board_fault(b, "HRTIM_SET%c%dR/RST%c%dR 0x%08X/0x%08X: set and reset on the same event (not modelled)",
                   k_tname[t], out + 1, k_tname[t], out + 1, s, r);
@@ -245,8 +248,8 @@ static void plan_period(board *b, int t, double t0) {
     struct { uint32_t c; uint32_t bit; } ev[5];
     int m = 0;
     for (int k = 0; k < 4; k++)
-      if (((s | r) >> (3 + k)) & 1u) { ev[m].c = x->cmp[k]; ev[m].bit = 1u << (3 + k); m++; }
-    if ((s | r) & 4u) { ev[m].c = x->per; ev[m].bit = 4u; m++; }
+      if ((s | r) & (HRTIM_SET_CMP1 << k)) { ev[m].c = x->cmp[k]; ev[m].bit = HRTIM_SET_CMP1 << k; m++; }
+    if ((s | r) & HRTIM_SET_PER) { ev[m].c = x->per; ev[m].bit = HRTIM_SET_PER; m++; }
     for (int i = 1; i < m; i++) /* insertion sort by count */
       for (int j = i; j > 0 && ev[j].c < ev[j - 1].c; j--) { __typeof__(ev[0]) tmp = ev[j]; ev[j] = ev[j - 1]; ev[j - 1] = tmp; }
     for (int i = 0; i < m; i++) {
@@ -261,7 +264,7 @@ static void plan_period(board *b, int t, double t0) {
 static void period_start(board *b, double t0) {
   hrtim_state *h = &b->hrtim;
   twin_sync(b, t0); /* the plant runs up to the period boundary on the old programme */
-  for (int t = 0; t < 6; t++) /* the last reference transition of the period that ends: history */
+  for (int t = 0; t < HRTIM_NTIM; t++) /* the last reference transition of the period that ends: history */
     for (int out = 0; out < 2; out++) {
       hrtim_edge tr[8 + HRTIM_EEV_HIST + 1];
       int n = ref_transitions(h, &h->tim[t], out, tr);
@@ -270,11 +273,11 @@ static void period_start(board *b, double t0) {
   h->t_period = t0;
   h->periods++;
   /* repetition event with REP = 0 each period: update (transfer) unless held by TxUDIS */
-  if ((h->mcr & (1u << 27)) && (h->mcr & (1u << 29)) && !(h->cr1 & 1u)) transfer(h, -1);
-  h->misr |= (1u << 4) | (1u << 5); /* MREP, MUPD */
-  for (int t = 0; t < 6; t++) {
+  if ((h->mcr & HRTIM_MCR_PREEN) && (h->mcr & HRTIM_MCR_MREPU) && !(h->cr1 & HRTIM_CR1_MUDIS)) transfer(h, -1);
+  h->misr |= HRTIM_MISR_MREP | HRTIM_MISR_MUPD;
+  for (int t = 0; t < HRTIM_NTIM; t++) {
     hrtim_timer *x = &h->tim[t];
-    if ((x->cr & (1u << 27)) && (x->cr & (1u << 17)) && !(h->cr1 & (1u << (t + 1)))) transfer(h, t);
+    if ((x->cr & HRTIM_TIMxCR_PREEN) && (x->cr & HRTIM_TIMxCR_TxREPU) && !(h->cr1 & (HRTIM_CR1_TAUDIS << t))) transfer(h, t);
     if (x->per != h->mper)
       board_fault(b, "HRTIM timer %c period %u differs from the master's %u: the model runs all timers on the "
                   "master's period (the port's scheme)", k_tname[t], x->per, h->mper);
@@ -282,9 +285,9 @@ static void period_start(board *b, double t0) {
   }
   h->eev6_on_at_t0 = h->eev6_on; /* the new period's event-6 history starts here */
   h->n_eev6_hist = 0;
-  for (int t = 0; t < 6; t++)
+  for (int t = 0; t < HRTIM_NTIM; t++)
     for (int out = 0; out < 2; out++) emit_from(b, t, out, t0);
-  if (h->mper < 3u) board_fault(b, "HRTIM_MPER %u: below the minimum period of 3 (RM0440 §27.5)", h->mper);
+  if (h->mper < HRTIM_PER_MIN) board_fault(b, "HRTIM_MPER %u: below the minimum period of 3 (RM0440 §27.5)", h->mper);
   h->next_period_t = t0 + (double)h->mper * h->t_count;
   for (int k = 0; k < 4; k++) {
     h->mcmp_done[k] = h->mcmp[k] == 0 || h->mcmp[k] > h->mper;
@@ -293,17 +296,17 @@ static void period_start(board *b, double t0) {
 }
 
 static void pend_master(board *b) {
-  if (b->hrtim.misr & b->hrtim.mdier & 0x7Fu) scs_set_pending(b, 16 + IRQ_HRTIM_MASTER);
+  if (b->hrtim.misr & b->hrtim.mdier & HRTIM_MISR_ALL) scs_set_pending(b, 16 + IRQ_HRTIM_MASTER);
 }
 
 static void master_compare(board *b, int k, double when) {
   hrtim_state *h = &b->hrtim;
   h->mcmp_done[k] = true;
-  h->misr |= 1u << k;
+  h->misr |= HRTIM_MISR_MCMP1 << k;
   pend_master(b);
-  /* ADC triggers 1-4: master compare k -> ADCxR bit k (AD1MC1.. / AD2MC1..), §27.3.19 */
+  /* ADC triggers 1-4: master compare k -> ADCxR.ADxMCk, §27.3.19 */
   for (int a = 0; a < 4; a++)
-    if (h->adcr[a] & (1u << k)) adc_hrtim_trigger(b, a + 1, when);
+    if (h->adcr[a] & (HRTIM_ADCxR_MC1 << k)) adc_hrtim_trigger(b, a + 1, when);
 }
 
 double hrtim_next_event(board *b) {
@@ -340,8 +343,8 @@ void hrtim_event(board *b) {
 /* ---- fault input FLT3 (§27.3.16) ---- */
 
 static bool flt3_active(const hrtim_state *h) {
-  if (!(h->fltinr1 & (1u << 16))) return false;            /* FLT3E */
-  bool pol_high = (h->fltinr1 >> 17) & 1u;                   /* FLT3P: 0 active low */
+  if (!(h->fltinr1 & HRTIM_FLTINR1_FLT3E)) return false;
+  bool pol_high = (h->fltinr1 & HRTIM_FLTINR1_FLT3P) != 0; /* 0: active low */
   return pol_high ? !h->flt3_line_low : h->flt3_line_low;
 }
 
@@ -349,14 +352,14 @@ static void apply_fault(board *b) {
   hrtim_state *h = &b->hrtim;
   if (!flt3_active(h)) return;
   twin_sync(b, board_now(b));
-  h->isr |= 1u << 2; /* FLT3 */
-  if (h->ier & (1u << 2)) scs_set_pending(b, 16 + IRQ_HRTIM_FLT);
-  for (int t = 0; t < 6; t++) {
-    if (!(h->tim[t].fltr & (1u << 2))) continue; /* FLT3EN */
+  h->isr |= HRTIM_ISR_FLT3;
+  if (h->ier & HRTIM_IER_FLT3IE) scs_set_pending(b, 16 + IRQ_HRTIM_FLT);
+  for (int t = 0; t < HRTIM_NTIM; t++) {
+    if (!(h->tim[t].fltr & HRTIM_FLTxR_FLT3EN)) continue;
     for (int k = 0; k < 2; k++) {
       int o = 2 * t + k;
-      uint32_t fault = (h->tim[t].outr >> (4u + 16u * (unsigned)k)) & 3u;
-      if (fault == 0u) continue; /* "no action": the output keeps its waveform */
+      uint32_t outr = k ? h->tim[t].outr >> HRTIM_OUTxR_OUT2_SHIFT : h->tim[t].outr;
+      if ((outr & HRTIM_OUTxR_FAULT1) == HRTIM_OUTxR_FAULT1_NONE) continue; /* the output keeps its waveform */
       h->fault_state |= 1u << o;
       h->oen &= ~(1u << o);
     }
@@ -406,7 +409,7 @@ static void eev_filter(board *b, uint32_t f, uint32_t eevsd, double *ts, int *n)
 }
 
 static bool eev6_active_level(const hrtim_state *h) {
-  bool pol_low = (h->eecr[1] >> 2) & 1u; /* EE6POL: 1 active low */
+  bool pol_low = (h->eecr[1] & HRTIM_EECR2_EE6POL) != 0; /* 1: active low */
   return pol_low ? h->eev6_pin_low : !h->eev6_pin_low;
 }
 
@@ -423,8 +426,8 @@ static void apply_eev6(board *b) {
   h->eev6_hist[h->n_eev6_hist].t = now;
   h->eev6_hist[h->n_eev6_hist].level = h->eev6_on;
   h->n_eev6_hist++;
-  for (int t = 0; t < 6; t++)
-    if (h->tim[t].rst[0] & RST_EEV6) emit_from(b, t, 0, now);
+  for (int t = 0; t < HRTIM_NTIM; t++)
+    if (h->tim[t].rst[0] & HRTIM_RST_EXTEVNT6) emit_from(b, t, 0, now);
 }
 
 /* The EEV6 pin (PB5, AF13) changed or its mux did: through the polarity and the digital filter. */
@@ -437,7 +440,7 @@ void hrtim_eev_input_update(board *b, bool pin_low) {
   if (raw == h->eev6_on) { h->eev6_apply_t = -1; return; } /* back before the filter let it through */
   double ts;
   int n;
-  eev_filter(b, h->eecr[2] & 0xFu, (h->eecr[2] >> 30) & 3u, &ts, &n);
+  eev_filter(b, reg_field(h->eecr[2], HRTIM_EECR3_EE6F), reg_field(h->eecr[2], HRTIM_EECR3_EEVSD), &ts, &n);
   double now = board_now(b), fh = f_hrtim(b) > 0 ? f_hrtim(b) : 16e6;
   double t_out = now;
   if (n > 0) { /* the N-th consecutive sample of the new level, on the sampling clock's grid */
@@ -456,9 +459,15 @@ static uint32_t counter(board *b, uint32_t per) {
   return c < 0 ? 0 : (uint32_t)c % (per + 1u);
 }
 
+/* Compare register k (0..3) at offset r: CMP1 first, then CMP2-4 one word apart after a gap
+ * (CMP1CxR / the master's reserved word). */
+static int cmp_index(uint32_t r, uint32_t cmp1, uint32_t cmp2) {
+  return r == cmp1 ? 0 : (int)(r - cmp2) / 4 + 1;
+}
+
 static bool check_cmp(board *b, const char *name, uint32_t v) {
-  if (v & ~0xFFFFu) { board_fault(b, "%s 0x%08X: bits 31:16 are reserved", name, v); return false; }
-  if (v != 0 && v < 3u) {
+  if (v & ~HRTIM_CMP_VALUE) { board_fault(b, "%s 0x%08X: bits 31:16 are reserved", name, v); return false; }
+  if (v != 0 && v < HRTIM_PER_MIN) {
     board_fault(b, "%s = %u: compare values below 3 are not allowed in low resolution (RM0440 §27.5, "
                 "HRTIM_CMPxR minimum value)", name, v);
     return false;
@@ -469,62 +478,66 @@ static bool check_cmp(board *b, const char *name, uint32_t v) {
 uint32_t hrtim_read(board *b, uint32_t off) {
   hrtim_state *h = &b->hrtim;
   hrtim_event(b);
-  if (off < 0x80u) {
+  if (off < OFS_TIMA) {
+    bool pre = (h->mcr & HRTIM_MCR_PREEN) != 0;
     switch (off) {
-    case 0x00: return h->mcr;
-    case 0x04: return h->misr;
-    case 0x08: return 0;
-    case 0x0C: return h->mdier;
-    case 0x10: return counter(b, h->mper);
-    case 0x14: return (h->mcr & (1u << 27)) ? h->p_mper : h->mper;
-    case 0x18: return (h->mcr & (1u << 27)) ? h->p_mrep : h->mrep;
-    case 0x1C: case 0x24: case 0x28: case 0x2C: {
-      int k = off == 0x1C ? 0 : (int)(off - 0x24u) / 4 + 1;
-      return (h->mcr & (1u << 27)) ? h->p_mcmp[k] : h->mcmp[k];
+    case HRTIM_MCR_OFS: return h->mcr;
+    case HRTIM_MISR_OFS: return h->misr;
+    case HRTIM_MICR_OFS: return 0;
+    case HRTIM_MDIER_OFS: return h->mdier;
+    case HRTIM_MCNTR_OFS: return counter(b, h->mper);
+    case HRTIM_MPER_OFS: return pre ? h->p_mper : h->mper;
+    case HRTIM_MREP_OFS: return pre ? h->p_mrep : h->mrep;
+    case HRTIM_MCMP1R_OFS: case HRTIM_MCMP2R_OFS: case HRTIM_MCMP3R_OFS: case HRTIM_MCMP4R_OFS: {
+      int k = cmp_index(off, HRTIM_MCMP1R_OFS, HRTIM_MCMP2R_OFS);
+      return pre ? h->p_mcmp[k] : h->mcmp[k];
     }
     }
   } else if (off < OFS_COMMON) {
-    int t = (int)(off - 0x80u) / 0x80;
+    int t = (int)((off - OFS_TIMA) / HRTIM_TIM_STRIDE);
     hrtim_timer *x = &h->tim[t];
-    uint32_t r = (off - 0x80u) % 0x80u;
-    bool pre = (x->cr & (1u << 27)) != 0;
+    uint32_t r = (off - OFS_TIMA) % HRTIM_TIM_STRIDE;
+    bool pre = (x->cr & HRTIM_TIMxCR_PREEN) != 0;
     switch (r) {
-    case 0x00: return x->cr;
-    case 0x04: { /* TIMxISR: O1STAT/O2STAT copies of the output levels (bits 18/19) */
+    case HRTIM_TIMxCR_OFS: return x->cr;
+    case HRTIM_TIMxISR_OFS: { /* O1STAT/O2STAT: copies of the output levels */
       uint32_t lv = hrtim_levels(b, board_now(b));
-      return x->isr | (((lv >> (2 * t)) & 1u) << 18) | (((lv >> (2 * t + 1)) & 1u) << 19);
+      return x->isr | (((lv >> (2 * t)) & 1u) ? HRTIM_TIMxISR_O1STAT : 0u) |
+             (((lv >> (2 * t + 1)) & 1u) ? HRTIM_TIMxISR_O2STAT : 0u);
     }
-    case 0x08: return 0;
-    case 0x0C: return x->dier;
-    case 0x10: return counter(b, x->per);
-    case 0x14: return pre ? x->p_per : x->per;
-    case 0x18: return pre ? x->p_rep : x->rep;
-    case 0x1C: return pre ? x->p_cmp[0] : x->cmp[0];
-    case 0x24: return pre ? x->p_cmp[1] : x->cmp[1];
-    case 0x28: return pre ? x->p_cmp[2] : x->cmp[2];
-    case 0x2C: return pre ? x->p_cmp[3] : x->cmp[3];
-    case 0x38: return x->dtr;
-    case 0x3C: return pre ? x->p_set[0] : x->set[0];
-    case 0x40: return pre ? x->p_rst[0] : x->rst[0];
-    case 0x44: return pre ? x->p_set[1] : x->set[1];
-    case 0x48: return pre ? x->p_rst[1] : x->rst[1];
-    case 0x64: return x->outr;
-    case 0x68: return x->fltr;
+    case HRTIM_TIMxICR_OFS: return 0;
+    case HRTIM_TIMxDIER_OFS: return x->dier;
+    case HRTIM_CNTxR_OFS: return counter(b, x->per);
+    case HRTIM_PERxR_OFS: return pre ? x->p_per : x->per;
+    case HRTIM_REPxR_OFS: return pre ? x->p_rep : x->rep;
+    case HRTIM_CMP1xR_OFS: case HRTIM_CMP2xR_OFS: case HRTIM_CMP3xR_OFS: case HRTIM_CMP4xR_OFS: {
+      int k = cmp_index(r, HRTIM_CMP1xR_OFS, HRTIM_CMP2xR_OFS);
+      return pre ? x->p_cmp[k] : x->cmp[k];
+    }
+    case HRTIM_DTxR_OFS: return x->dtr;
+    case HRTIM_SETx1R_OFS: return pre ? x->p_set[0] : x->set[0];
+    case HRTIM_RSTx1R_OFS: return pre ? x->p_rst[0] : x->rst[0];
+    case HRTIM_SETx2R_OFS: return pre ? x->p_set[1] : x->set[1];
+    case HRTIM_RSTx2R_OFS: return pre ? x->p_rst[1] : x->rst[1];
+    case HRTIM_OUTxR_OFS: return x->outr;
+    case HRTIM_FLTxR_OFS: return x->fltr;
     }
   } else {
-    switch (off - OFS_COMMON) {
-    case 0x00: return h->cr1;
-    case 0x04: return 0; /* CR2: software update bits read as 0 once done */
-    case 0x08: return h->isr;
-    case 0x0C: return 0;
-    case 0x10: return h->ier;
-    case 0x14: return h->oen;             /* OENR reads the enable status (§27.5, HRTIM_OENR) */
-    case 0x18: return 0;
-    case 0x1C: return h->fault_state & ~h->oen; /* ODSR: 1 = disabled in the fault state */
-    case 0x3C: case 0x40: case 0x44: case 0x48: return h->adcr[(off - OFS_COMMON - 0x3Cu) / 4u];
-    case 0x30: case 0x34: case 0x38: return h->eecr[(off - OFS_COMMON - 0x30u) / 4u];
-    case 0x50: return h->fltinr1;
-    case 0x54: return h->fltinr2;
+    uint32_t r = off - OFS_COMMON;
+    switch (r) {
+    case HRTIM_CR1_OFS: return h->cr1;
+    case HRTIM_CR2_OFS: return 0; /* software update bits read as 0 once done */
+    case HRTIM_ISR_OFS: return h->isr;
+    case HRTIM_ICR_OFS: return 0;
+    case HRTIM_IER_OFS: return h->ier;
+    case HRTIM_OENR_OFS: return h->oen;             /* OENR reads the enable status (§27.5, HRTIM_OENR) */
+    case HRTIM_ODISR_OFS: return 0;
+    case HRTIM_ODSR_OFS: return h->fault_state & ~h->oen; /* 1 = disabled in the fault state */
+    case HRTIM_ADC1R_OFS: case HRTIM_ADC1R_OFS + 4u: case HRTIM_ADC1R_OFS + 8u: case HRTIM_ADC4R_OFS:
+      return h->adcr[(r - HRTIM_ADC1R_OFS) / 4u];
+    case HRTIM_EECR1_OFS: case HRTIM_EECR2_OFS: case HRTIM_EECR3_OFS: return h->eecr[(r - HRTIM_EECR1_OFS) / 4u];
+    case HRTIM_FLTINR1_OFS: return h->fltinr1;
+    case HRTIM_FLTINR2_OFS: return h->fltinr2;
     }
   }
   board_fault(b, "read of HRTIM register at offset 0x%03X: not modelled", off);
@@ -533,29 +546,29 @@ uint32_t hrtim_read(board *b, uint32_t off) {
 
 static void start_stop(board *b, uint32_t old, uint32_t v) {
   hrtim_state *h = &b->hrtim;
-  uint32_t en_old = old & (0x7Fu << 16), en_new = v & (0x7Fu << 16);
+  uint32_t en_old = old & HRTIM_MCR_CEN_ALL, en_new = v & HRTIM_MCR_CEN_ALL;
   if (en_old == en_new) return;
-  if (en_old == 0 && en_new == (0x7Fu << 16)) {
+  if (en_old == 0 && en_new == HRTIM_MCR_CEN_ALL) {
     /* all counters start together: the port's synchronous scheme */
     unsigned psc = ckpsc(h->mcr);
-    if (psc < 5u) { board_fault(b, "HRTIM_MCR CKPSC %u: high resolution needs the DLL, not modelled", psc); return; }
-    for (int t = 0; t < 6; t++) {
+    if (psc < HRTIM_CKPSC_LOW_RES) { board_fault(b, "HRTIM_MCR CKPSC %u: high resolution needs the DLL, not modelled", psc); return; }
+    for (int t = 0; t < HRTIM_NTIM; t++) {
       if (ckpsc(h->tim[t].cr) != psc) {
         board_fault(b, "HRTIM timer %c prescaler %u differs from the master's %u (not modelled)", k_tname[t],
                     ckpsc(h->tim[t].cr), psc);
         return;
       }
-      if (!(h->tim[t].cr & 8u)) { board_fault(b, "HRTIM timer %c not in continuous mode (not modelled)", k_tname[t]); return; }
+      if (!(h->tim[t].cr & HRTIM_TIMxCR_CONT)) { board_fault(b, "HRTIM timer %c not in continuous mode (not modelled)", k_tname[t]); return; }
     }
-    if (!(h->mcr & 8u)) { board_fault(b, "HRTIM master not in continuous mode (not modelled)"); return; }
+    if (!(h->mcr & HRTIM_MCR_CONT)) { board_fault(b, "HRTIM master not in continuous mode (not modelled)"); return; }
     if (!(f_hrtim(b) > 0)) { board_fault(b, "HRTIM started without a clock"); return; }
     h->t_count = (double)(1u << psc) / (32.0 * f_hrtim(b));
     h->running = true;
     double t0 = board_now(b);
     /* the outputs take the crossbar's present level when the counters start: with dead time,
      * output 2 is the complement of output 1 (after its dead time, §27.3.10) */
-    for (int t = 0; t < 6; t++) {
-      if (h->tim[t].outr & (1u << 8)) {
+    for (int t = 0; t < HRTIM_NTIM; t++) {
+      if (h->tim[t].outr & HRTIM_OUTxR_DTEN) {
         h->tim[t].ref[0] ^= 1u;
         ref_edge(b, t, 0, t0, h->tim[t].ref[0]);
         h->tim[t].ref[0] ^= 1u;
@@ -581,12 +594,12 @@ static void start_stop(board *b, uint32_t old, uint32_t v) {
 static void write_timer(board *b, int t, uint32_t r, uint32_t v) {
   hrtim_state *h = &b->hrtim;
   hrtim_timer *x = &h->tim[t];
-  bool pre = (x->cr & (1u << 27)) != 0;
+  bool pre = (x->cr & HRTIM_TIMxCR_PREEN) != 0;
   char name[24];
   bool running_now = h->running;
   switch (r) {
-  case 0x00: {
-    const uint32_t ok = 7u | (1u << 3) | (1u << 17) | (1u << 27);
+  case HRTIM_TIMxCR_OFS: {
+    const uint32_t ok = HRTIM_TIMxCR_CK_PSCx | HRTIM_TIMxCR_CONT | HRTIM_TIMxCR_TxREPU | HRTIM_TIMxCR_PREEN;
     if (v & ~ok) {
       board_fault(b, "HRTIM_TIM%cCR 0x%08X: bits 0x%08X not modelled (the port uses CKPSC, CONT, TxREPU, PREEN)",
                   k_tname[t], v, v & ~ok);
@@ -596,41 +609,43 @@ static void write_timer(board *b, int t, uint32_t r, uint32_t v) {
     x->cr = v;
     return;
   }
-  case 0x08: x->isr &= ~v; return;
-  case 0x0C:
+  case HRTIM_TIMxICR_OFS: x->isr &= ~v; return;
+  case HRTIM_TIMxDIER_OFS:
     if (v) { board_fault(b, "HRTIM_TIM%cDIER 0x%08X: timer interrupts/DMA not modelled", k_tname[t], v); return; }
     x->dier = v;
     return;
-  case 0x14:
-    if (v & ~0xFFFFu || v > 0xFFDFu || v < 3u) {
+  case HRTIM_PERxR_OFS:
+    if (v & ~HRTIM_PER_VALUE || v > HRTIM_PER_MAX || v < HRTIM_PER_MIN) {
       board_fault(b, "HRTIM_PER%cR %u: outside 3..0xFFDF (RM0440 §27.5)", k_tname[t], v); return;
     }
     if (pre) x->p_per = v; else { x->per = x->p_per = v; }
     return;
-  case 0x18:
-    if (v & ~0xFFu) { board_fault(b, "HRTIM_REP%cR 0x%08X: bits 31:8 reserved", k_tname[t], v); return; }
+  case HRTIM_REPxR_OFS:
+    if (v & ~HRTIM_REP_VALUE) { board_fault(b, "HRTIM_REP%cR 0x%08X: bits 31:8 reserved", k_tname[t], v); return; }
     if (v) { board_fault(b, "HRTIM_REP%cR %u: repetition counts other than 0 not modelled", k_tname[t], v); return; }
     if (pre) x->p_rep = v; else x->rep = x->p_rep = v;
     return;
-  case 0x1C: case 0x24: case 0x28: case 0x2C: {
-    int k = r == 0x1C ? 0 : (int)(r - 0x24u) / 4 + 1;
+  case HRTIM_CMP1xR_OFS: case HRTIM_CMP2xR_OFS: case HRTIM_CMP3xR_OFS: case HRTIM_CMP4xR_OFS: {
+    int k = cmp_index(r, HRTIM_CMP1xR_OFS, HRTIM_CMP2xR_OFS);
     snprintf(name, sizeof name, "HRTIM_CMP%d%cR", k + 1, k_tname[t]);
     if (!check_cmp(b, name, v)) return;
     if (pre) x->p_cmp[k] = v; else x->cmp[k] = x->p_cmp[k] = v;
     return;
   }
-  case 0x38:
-    if (((x->dtr & (1u << 15)) && ((v ^ x->dtr) & 0x7FFFu)) || ((x->dtr & (1u << 31)) && ((v ^ x->dtr) & 0x7FFF0000u))) {
+  case HRTIM_DTxR_OFS:
+    if (((x->dtr & HRTIM_DTxR_DTRLKx) && ((v ^ x->dtr) & HRTIM_DTxR_RISING_FIELDS)) ||
+        ((x->dtr & HRTIM_DTxR_DTFLKx) && ((v ^ x->dtr) & HRTIM_DTxR_FALLING_FIELDS))) {
       board_fault(b, "HRTIM_DT%cR written while locked (DTRLK/DTFLK, RM0440 §27.5)", k_tname[t]);
       return;
     }
-    if (v & ((1u << 9) | (1u << 25) | (1u << 14) | (1u << 30))) {
+    if (v & (HRTIM_DTxR_SDTRx | HRTIM_DTxR_SDTFx | HRTIM_DTxR_DTRSLKx | HRTIM_DTxR_DTFSLKx)) {
       board_fault(b, "HRTIM_DT%cR 0x%08X: negative dead time (SDTR/SDTF) or sign locks not modelled", k_tname[t], v);
       return;
     }
-    if (((v >> 10) & 7u) < 3u) {
+    if (reg_field(v, HRTIM_DTxR_DTPRSC) < HRTIM_DTPRSC_MIN_LOW_RES) {
       board_fault(b, "HRTIM_DT%cR DTPRSC %u: a dead-time step finer than tHRTIM needs the high-resolution "
-                  "delay line (DLL), not available in the low-resolution mode the model supports", k_tname[t], (v >> 10) & 7u);
+                  "delay line (DLL), not available in the low-resolution mode the model supports", k_tname[t],
+                  reg_field(v, HRTIM_DTxR_DTPRSC));
       return;
     }
     if (running_now && (h->oen & (3u << (2 * t)))) {
@@ -639,31 +654,34 @@ static void write_timer(board *b, int t, uint32_t r, uint32_t v) {
     }
     x->dtr = v;
     return;
-  case 0x3C: case 0x40: case 0x44: case 0x48: {
-    int out = r >= 0x44u;
-    bool is_set = r == 0x3Cu || r == 0x44u;
+  case HRTIM_SETx1R_OFS: case HRTIM_RSTx1R_OFS: case HRTIM_SETx2R_OFS: case HRTIM_RSTx2R_OFS: {
+    int out = r >= HRTIM_SETx2R_OFS;
+    bool is_set = r == HRTIM_SETx1R_OFS || r == HRTIM_SETx2R_OFS;
     /* PER, CMP1-4; external event 6 as a reset of output 1 (the fault line's second input); the
-     * software set of output 1 (SST, bit 0) */
-    const uint32_t ok = 0x7Cu | (!is_set && out == 0 ? RST_EEV6 : 0u) | (is_set && out == 0 ? 1u : 0u);
+     * software set of output 1 (SST) */
+    const uint32_t ok = HRTIM_EVENTS_PER_CMP | (!is_set && out == 0 ? HRTIM_RST_EXTEVNT6 : 0u) |
+                        (is_set && out == 0 ? HRTIM_SET_SST : 0u);
     if (v & ~ok) {
       board_fault(b, "HRTIM_%s%c%dR 0x%08X: event sources 0x%08X not modelled (PER, CMP1-4%s only)",
                   is_set ? "SET" : "RST", k_tname[t], out + 1, v, v & ~ok,
                   !is_set && out == 0 ? ", EXTEVNT6 (external event 6, PB5)" : "");
       return;
     }
-    if (is_set && (v & 1u)) { /* SST: set output 1 now, whatever the preload (a reset request still wins) */
+    if (is_set && (v & HRTIM_SET_SST)) { /* set output 1 now, whatever the preload (a reset request still wins) */
       software_set(b, t);
-      v &= ~1u;
+      v &= ~HRTIM_SET_SST;
     }
     uint32_t *reg = is_set ? (pre ? &x->p_set[out] : &x->set[out]) : (pre ? &x->p_rst[out] : &x->rst[out]);
     *reg = v;
     if (!pre) { if (is_set) x->p_set[out] = v; else x->p_rst[out] = v; }
     return;
   }
-  case 0x64: {
-    const uint32_t ok = 0x003B003Bu | (1u << 8); /* POLx, IDLESx, FAULTx (bits 1,3,4,5 and +16), DTEN */
+  case HRTIM_OUTxR_OFS: {
+    const uint32_t ok = HRTIM_OUTxR_POL1 | HRTIM_OUTxR_IDLES1 | HRTIM_OUTxR_FAULT1 | HRTIM_OUTxR_DTEN |
+                        HRTIM_OUTxR_POL2 | HRTIM_OUTxR_IDLES2 | HRTIM_OUTxR_FAULT2;
     if (v & ~ok) { board_fault(b, "HRTIM_OUT%cR 0x%08X: bits 0x%08X not modelled", k_tname[t], v, v & ~ok); return; }
-    if (((v >> 4) & 3u) == 3u || ((v >> 20) & 3u) == 3u) {
+    if ((v & HRTIM_OUTxR_FAULT1) == HRTIM_OUTxR_FAULT1_HIGH_Z ||
+        ((v >> HRTIM_OUTxR_OUT2_SHIFT) & HRTIM_OUTxR_FAULT1) == HRTIM_OUTxR_FAULT1_HIGH_Z) {
       board_fault(b, "HRTIM_OUT%cR: FAULTx = high impedance not modelled", k_tname[t]); return;
     }
     if (h->oen & (3u << (2 * t))) {
@@ -674,146 +692,163 @@ static void write_timer(board *b, int t, uint32_t r, uint32_t v) {
     x->outr = v;
     return;
   }
-  case 0x68:
-    if (x->fltr & (1u << 31)) { board_fault(b, "HRTIM_FLT%cR written while FLTLCK is set (RM0440 §27.5)", k_tname[t]); return; }
-    if (v & ~((1u << 31) | 0x3Fu)) { board_fault(b, "HRTIM_FLT%cR 0x%08X: reserved bits", k_tname[t], v); return; }
+  case HRTIM_FLTxR_OFS:
+    if (x->fltr & HRTIM_FLTxR_FLTLCK) { board_fault(b, "HRTIM_FLT%cR written while FLTLCK is set (RM0440 §27.5)", k_tname[t]); return; }
+    if (v & ~(HRTIM_FLTxR_FLTLCK | HRTIM_FLTxR_FLTEN_ALL)) { board_fault(b, "HRTIM_FLT%cR 0x%08X: reserved bits", k_tname[t], v); return; }
     x->fltr = v;
     return;
   }
   board_fault(b, "write 0x%08X to HRTIM timer %c register offset 0x%02X: not modelled", v, k_tname[t], r);
 }
 
+/* One fault input's byte of FLTINR1 (inputs 1-4): its fields at input 1's positions. */
+static uint32_t flt_input(uint32_t fltinr1, int k) {
+  return (fltinr1 >> (HRTIM_FLTINR1_INPUT_BITS * (unsigned)k)) & 0xFFu;
+}
+
+/* One external event's six bits of EECR2 (events 6-10): its fields at event 6's positions. */
+static uint32_t eev_fields(uint32_t eecr2, int e) {
+  return (eecr2 >> (HRTIM_EECR2_EVENT_BITS * (unsigned)e)) & 0x3Fu;
+}
+
+static void write_common(board *b, uint32_t r, uint32_t v) {
+  hrtim_state *h = &b->hrtim;
+  switch (r) {
+  case HRTIM_CR1_OFS:
+    if (v & ~HRTIM_CR1_UDIS_ALL) { board_fault(b, "HRTIM_CR1 0x%08X: ADC update sources not modelled", v); return; }
+    h->cr1 = v;
+    return;
+  case HRTIM_CR2_OFS:
+    if (v & ~HRTIM_CR2_SWU_ALL) { board_fault(b, "HRTIM_CR2 0x%08X: counter software resets / swaps not modelled", v); return; }
+    if (v & HRTIM_CR2_MSWU) transfer(h, -1);
+    for (int t = 0; t < HRTIM_NTIM; t++) if (v & (HRTIM_CR2_TASWU << t)) transfer(h, t);
+    return;
+  case HRTIM_ICR_OFS: h->isr &= ~(v & HRTIM_ISR_FAULTS); return; /* FLTxC, SYSFLTC */
+  case HRTIM_IER_OFS:
+    if (v & ~HRTIM_ISR_FAULTS) { board_fault(b, "HRTIM_IER 0x%08X: burst/DLL interrupts not modelled", v); return; }
+    h->ier = v;
+    if (h->isr & h->ier & HRTIM_ISR_FAULTS) scs_set_pending(b, 16 + IRQ_HRTIM_FLT);
+    return;
+  case HRTIM_OENR_OFS: { /* enable; an output whose fault is still active stays in its fault state */
+    if (v & ~HRTIM_OUT_ALL) { board_fault(b, "HRTIM_OENR 0x%08X: bits 31:12 reserved", v); return; }
+    twin_sync(b, board_now(b));
+    uint32_t blocked = 0;
+    if (flt3_active(h))
+      for (int o = 0; o < HRTIM_NOUT; o++) {
+        const hrtim_timer *x = &h->tim[o / 2];
+        uint32_t outr = (o & 1) ? x->outr >> HRTIM_OUTxR_OUT2_SHIFT : x->outr;
+        if ((x->fltr & HRTIM_FLTxR_FLT3EN) && (outr & HRTIM_OUTxR_FAULT1) != HRTIM_OUTxR_FAULT1_NONE) blocked |= 1u << o;
+      }
+    h->oen |= v & ~blocked;
+    h->fault_state &= ~(v & ~blocked);
+    return;
+  }
+  case HRTIM_ODISR_OFS:
+    if (v & ~HRTIM_OUT_ALL) { board_fault(b, "HRTIM_ODISR 0x%08X: bits 31:12 reserved", v); return; }
+    twin_sync(b, board_now(b));
+    h->oen &= ~v;
+    return;
+  case HRTIM_ADC1R_OFS: case HRTIM_ADC1R_OFS + 4u: case HRTIM_ADC1R_OFS + 8u: case HRTIM_ADC4R_OFS: {
+    unsigned a = (r - HRTIM_ADC1R_OFS) / 4u;
+    if (v & ~HRTIM_ADCxR_MASTER) { board_fault(b, "HRTIM_ADC%uR 0x%08X: trigger sources other than the master not modelled", a + 1u, v); return; }
+    if (v & HRTIM_ADCxR_MPER) { board_fault(b, "HRTIM_ADCxR: master period trigger not modelled"); return; }
+    h->adcr[a] = v;
+    return;
+  }
+  case HRTIM_EECR1_OFS: case HRTIM_EECR2_OFS: case HRTIM_EECR3_OFS: { /* §27.5 (HRTIM_EECRx) */
+    int k = (int)(r - HRTIM_EECR1_OFS) / 4;
+    if (h->running) {
+      board_fault(b, "HRTIM_EECR%d written while the counters run: the external event configuration must not "
+                  "change once a timer using it is enabled (RM0440 §27.5, HRTIM_EECRx)", k + 1);
+      return;
+    }
+    if (r == HRTIM_EECR1_OFS && v) { board_fault(b, "HRTIM_EECR1 0x%08X: external events 1-5 are not wired on this board model", v); return; }
+    if (r == HRTIM_EECR2_OFS) {
+      for (int e = 0; e < 5; e++) { /* events 6-10 */
+        uint32_t f = eev_fields(v, e);
+        if (e > 0 && f) { board_fault(b, "HRTIM_EECR2: external event %d is not wired on this board model", e + 6); return; }
+        if (f & HRTIM_EECR2_EVENT_RESERVED) { board_fault(b, "HRTIM_EECR2 0x%08X: reserved bit", v); return; }
+        if (f & HRTIM_EECR2_EE6SRC) { board_fault(b, "HRTIM_EECR2 EE6SRC %u: only source 1 (the HRTIM_EEV6 pin) is modelled", reg_field(f, HRTIM_EECR2_EE6SRC)); return; }
+        if (f & HRTIM_EECR2_EE6SNS) { board_fault(b, "HRTIM_EECR2 EE6SNS %u: edge sensitivity not modelled (level only)", reg_field(f, HRTIM_EECR2_EE6SNS)); return; }
+      }
+      if (v & HRTIM_EECR2_RESERVED) { board_fault(b, "HRTIM_EECR2 0x%08X: reserved bits", v); return; }
+    }
+    if (r == HRTIM_EECR3_OFS) {
+      if (v & ~(HRTIM_EECR3_EE6F | HRTIM_EECR3_EEVSD)) { board_fault(b, "HRTIM_EECR3 0x%08X: filters of external events 7-10 (not wired on this board model) or reserved bits", v); return; }
+    }
+    h->eecr[k] = v;
+    hrtim_eev_input_update(b, h->eev6_pin_low); /* a polarity change is an input change */
+    return;
+  }
+  case HRTIM_FLTINR1_OFS: {
+    uint32_t old = h->fltinr1;
+    for (int k = 0; k < 4; k++) {
+      uint32_t ob = flt_input(old, k), nb = flt_input(v, k);
+      if ((ob & HRTIM_FLTINR1_FLT1LCK) && ob != nb) { board_fault(b, "HRTIM_FLTINR1 FLT%d written while FLT%dLCK is set", k + 1, k + 1); return; }
+      const uint32_t configuration = HRTIM_FLTINR1_FLT1P | HRTIM_FLTINR1_FLT1SRC | HRTIM_FLTINR1_FLT1F;
+      if ((ob & HRTIM_FLTINR1_FLT1E) && (nb & HRTIM_FLTINR1_FLT1E) && ((ob ^ nb) & configuration)) {
+        board_fault(b, "HRTIM_FLTINR1 FLT%d: polarity, source or filter changed while FLT%dE = 1 (RM0440 §27.5, "
+                    "HRTIM_FLTINR1)", k + 1, k + 1);
+        return;
+      }
+      if ((nb & HRTIM_FLTINR1_FLT1E) && k != 2) { board_fault(b, "HRTIM_FLTINR1: fault input FLT%d not wired on this board model", k + 1); return; }
+      if (nb & HRTIM_FLTINR1_FLT1SRC) { board_fault(b, "HRTIM_FLTINR1 FLT%dSRC: internal comparator source not modelled", k + 1); return; }
+      if (nb & HRTIM_FLTINR1_FLT1F) { board_fault(b, "HRTIM_FLTINR1 FLT%dF: digital filter not modelled", k + 1); return; }
+    }
+    h->fltinr1 = v;
+    if (!(old & HRTIM_FLTINR1_FLT3E) && (v & HRTIM_FLTINR1_FLT3E) && flt3_active(h)) h->flt3_apply_t = board_now(b) + FLT_SYNC_TICKS / f_hrtim(b);
+    return;
+  }
+  case HRTIM_FLTINR2_OFS:
+    if (v & (HRTIM_FLTINR2_FLT5E | HRTIM_FLTINR2_FLT6E)) { board_fault(b, "HRTIM_FLTINR2: FLT5/FLT6 not wired on this board model"); return; }
+    if (v & ~(HRTIM_FLTINR2_MODELLED | HRTIM_FLTINR2_FLTSD)) { board_fault(b, "HRTIM_FLTINR2 0x%08X: not modelled", v); return; }
+    h->fltinr2 = v;
+    return;
+  }
+  board_fault(b, "write 0x%08X to HRTIM register at offset 0x%03X: not modelled", v, OFS_COMMON + r);
+}
+
 void hrtim_write(board *b, uint32_t off, uint32_t v) {
   hrtim_state *h = &b->hrtim;
   hrtim_event(b);
-  if (off < 0x80u) {
-    bool pre = (h->mcr & (1u << 27)) != 0;
-    switch (off) {
-    case 0x00: {
-      const uint32_t ok = 7u | (1u << 3) | (0x7Fu << 16) | (1u << 27) | (1u << 29);
-      if (v & ~ok) { board_fault(b, "HRTIM_MCR 0x%08X: bits 0x%08X not modelled", v, v & ~ok); return; }
-      uint32_t old = h->mcr;
-      if (h->running && ckpsc(v) != ckpsc(old)) { board_fault(b, "HRTIM_MCR: CKPSC changed while counting"); return; }
-      h->mcr = v;
-      start_stop(b, old, v);
-      return;
-    }
-    case 0x08: h->misr &= ~v; return;
-    case 0x0C:
-      if (v & ~0x7Fu) { board_fault(b, "HRTIM_MDIER 0x%08X: DMA requests not modelled", v); return; }
-      h->mdier = v;
-      pend_master(b);
-      return;
-    case 0x14:
-      if (v > 0xFFDFu || v < 3u) { board_fault(b, "HRTIM_MPER %u: outside 3..0xFFDF (RM0440 §27.5)", v); return; }
-      if (pre) h->p_mper = v; else h->mper = h->p_mper = v;
-      return;
-    case 0x18:
-      if (v) { board_fault(b, "HRTIM_MREP %u: repetition counts other than 0 not modelled", v); return; }
-      h->mrep = h->p_mrep = 0;
-      return;
-    case 0x1C: case 0x24: case 0x28: case 0x2C: {
-      int k = off == 0x1C ? 0 : (int)(off - 0x24u) / 4 + 1;
-      char name[16];
-      snprintf(name, sizeof name, "HRTIM_MCMP%dR", k + 1);
-      if (!check_cmp(b, name, v)) return;
-      if (pre) h->p_mcmp[k] = v; else h->mcmp[k] = h->p_mcmp[k] = v;
-      return;
-    }
-    }
-  } else if (off < OFS_COMMON) {
-    write_timer(b, (int)(off - 0x80u) / 0x80, (off - 0x80u) % 0x80u, v);
+  if (off >= OFS_COMMON) { write_common(b, off - OFS_COMMON, v); return; }
+  if (off >= OFS_TIMA) {
+    write_timer(b, (int)((off - OFS_TIMA) / HRTIM_TIM_STRIDE), (off - OFS_TIMA) % HRTIM_TIM_STRIDE, v);
     return;
-  } else {
-    switch (off - OFS_COMMON) {
-    case 0x00:
-      if (v & ~0x7Fu) { board_fault(b, "HRTIM_CR1 0x%08X: ADC update sources not modelled", v); return; }
-      h->cr1 = v;
-      return;
-    case 0x04:
-      if (v & ~0x7Fu) { board_fault(b, "HRTIM_CR2 0x%08X: counter software resets / swaps not modelled", v); return; }
-      if (v & 1u) transfer(h, -1);
-      for (int t = 0; t < 6; t++) if (v & (1u << (t + 1))) transfer(h, t);
-      return;
-    case 0x0C: h->isr &= ~(v & 0x3Fu); return; /* FLTxC, SYSFLTC */
-    case 0x10:
-      if (v & ~0x3Fu) { board_fault(b, "HRTIM_IER 0x%08X: burst/DLL interrupts not modelled", v); return; }
-      h->ier = v;
-      if (h->isr & h->ier & 0x3Fu) scs_set_pending(b, 16 + IRQ_HRTIM_FLT);
-      return;
-    case 0x14: { /* OENR: enable; an output whose fault is still active stays in its fault state */
-      if (v & ~0xFFFu) { board_fault(b, "HRTIM_OENR 0x%08X: bits 31:12 reserved", v); return; }
-      twin_sync(b, board_now(b));
-      uint32_t blocked = 0;
-      if (flt3_active(h))
-        for (int o = 0; o < HRTIM_NOUT; o++)
-          if ((h->tim[o / 2].fltr & 4u) && ((h->tim[o / 2].outr >> (4u + 16u * (unsigned)(o & 1))) & 3u)) blocked |= 1u << o;
-      h->oen |= v & ~blocked;
-      h->fault_state &= ~(v & ~blocked);
-      return;
-    }
-    case 0x18:
-      if (v & ~0xFFFu) { board_fault(b, "HRTIM_ODISR 0x%08X: bits 31:12 reserved", v); return; }
-      twin_sync(b, board_now(b));
-      h->oen &= ~v;
-      return;
-    case 0x3C: case 0x40: case 0x44: case 0x48: {
-      const uint32_t ok = 0x1Fu; /* master CMP1-4, master period */
-      if (v & ~ok) { board_fault(b, "HRTIM_ADC%uR 0x%08X: trigger sources other than the master not modelled", (off - OFS_COMMON - 0x3Cu) / 4u + 1u, v); return; }
-      if (v & 0x10u) { board_fault(b, "HRTIM_ADCxR: master period trigger not modelled"); return; }
-      h->adcr[(off - OFS_COMMON - 0x3Cu) / 4u] = v;
-      return;
-    }
-    case 0x30: case 0x34: case 0x38: { /* EECR1-3, §27.5 (HRTIM_EECRx) */
-      int k = (int)(off - OFS_COMMON - 0x30u) / 4;
-      if (h->running) {
-        board_fault(b, "HRTIM_EECR%d written while the counters run: the external event configuration must not "
-                    "change once a timer using it is enabled (RM0440 §27.5, HRTIM_EECRx)", k + 1);
-        return;
-      }
-      if (k == 0 && v) { board_fault(b, "HRTIM_EECR1 0x%08X: external events 1-5 are not wired on this board model", v); return; }
-      if (k == 1) {
-        for (int e = 0; e < 5; e++) { /* 6 bits per event: SRC 0-1, POL 2, SNS 3-4, bit 5 reserved */
-          uint32_t f = (v >> (6 * e)) & 0x3Fu;
-          if (e > 0 && f) { board_fault(b, "HRTIM_EECR2: external event %d is not wired on this board model", e + 6); return; }
-          if (f & 0x20u) { board_fault(b, "HRTIM_EECR2 0x%08X: reserved bit", v); return; }
-          if (f & 3u) { board_fault(b, "HRTIM_EECR2 EE6SRC %u: only source 1 (the HRTIM_EEV6 pin) is modelled", f & 3u); return; }
-          if (f & 0x18u) { board_fault(b, "HRTIM_EECR2 EE6SNS %u: edge sensitivity not modelled (level only)", (f >> 3) & 3u); return; }
-        }
-        if (v & 0xC0000000u) { board_fault(b, "HRTIM_EECR2 0x%08X: reserved bits", v); return; }
-      }
-      if (k == 2) {
-        if (v & ~(0xFu | (3u << 30))) { board_fault(b, "HRTIM_EECR3 0x%08X: filters of external events 7-10 (not wired on this board model) or reserved bits", v); return; }
-      }
-      h->eecr[k] = v;
-      hrtim_eev_input_update(b, h->eev6_pin_low); /* a polarity change is an input change */
-      return;
-    }
-    case 0x50: {
-      uint32_t old = h->fltinr1;
-      /* per input byte: FLTxE bit 0, FLTxP 1, FLTxSRC 2, FLTxF 3-6, FLTxLCK 7 */
-      for (int k = 0; k < 4; k++) {
-        uint32_t ob = (old >> (8 * k)) & 0xFFu, nb = (v >> (8 * k)) & 0xFFu;
-        if ((ob & 0x80u) && ob != nb) { board_fault(b, "HRTIM_FLTINR1 FLT%d written while FLT%dLCK is set", k + 1, k + 1); return; }
-        if ((ob & 1u) && (nb & 1u) && ((ob ^ nb) & 0x7Eu)) {
-          board_fault(b, "HRTIM_FLTINR1 FLT%d: polarity, source or filter changed while FLT%dE = 1 (RM0440 §27.5, "
-                      "HRTIM_FLTINR1)", k + 1, k + 1);
-          return;
-        }
-        if ((nb & 1u) && k != 2) { board_fault(b, "HRTIM_FLTINR1: fault input FLT%d not wired on this board model", k + 1); return; }
-        if ((nb & 4u)) { board_fault(b, "HRTIM_FLTINR1 FLT%dSRC: internal comparator source not modelled", k + 1); return; }
-        if ((nb & 0x78u)) { board_fault(b, "HRTIM_FLTINR1 FLT%dF: digital filter not modelled", k + 1); return; }
-      }
-      h->fltinr1 = v;
-      if (!(old & (1u << 16)) && (v & (1u << 16)) && flt3_active(h)) h->flt3_apply_t = board_now(b) + FLT_SYNC_TICKS / f_hrtim(b);
-      return;
-    }
-    case 0x54:
-      if (v & 0x0101u) { board_fault(b, "HRTIM_FLTINR2: FLT5/FLT6 not wired on this board model"); return; }
-      if (v & ~(0x0101FFFFu | (3u << 24))) { board_fault(b, "HRTIM_FLTINR2 0x%08X: not modelled", v); return; }
-      h->fltinr2 = v;
-      return;
-    }
+  }
+  bool pre = (h->mcr & HRTIM_MCR_PREEN) != 0;
+  switch (off) {
+  case HRTIM_MCR_OFS: {
+    const uint32_t ok = HRTIM_MCR_CK_PSC | HRTIM_MCR_CONT | HRTIM_MCR_CEN_ALL | HRTIM_MCR_PREEN | HRTIM_MCR_MREPU;
+    if (v & ~ok) { board_fault(b, "HRTIM_MCR 0x%08X: bits 0x%08X not modelled", v, v & ~ok); return; }
+    uint32_t old = h->mcr;
+    if (h->running && ckpsc(v) != ckpsc(old)) { board_fault(b, "HRTIM_MCR: CKPSC changed while counting"); return; }
+    h->mcr = v;
+    start_stop(b, old, v);
+    return;
+  }
+  case HRTIM_MICR_OFS: h->misr &= ~v; return;
+  case HRTIM_MDIER_OFS:
+    if (v & ~HRTIM_MDIER_IE_ALL) { board_fault(b, "HRTIM_MDIER 0x%08X: DMA requests not modelled", v); return; }
+    h->mdier = v;
+    pend_master(b);
+    return;
+  case HRTIM_MPER_OFS:
+    if (v > HRTIM_PER_MAX || v < HRTIM_PER_MIN) { board_fault(b, "HRTIM_MPER %u: outside 3..0xFFDF (RM0440 §27.5)", v); return; }
+    if (pre) h->p_mper = v; else h->mper = h->p_mper = v;
+    return;
+  case HRTIM_MREP_OFS:
+    if (v) { board_fault(b, "HRTIM_MREP %u: repetition counts other than 0 not modelled", v); return; }
+    h->mrep = h->p_mrep = 0;
+    return;
+  case HRTIM_MCMP1R_OFS: case HRTIM_MCMP2R_OFS: case HRTIM_MCMP3R_OFS: case HRTIM_MCMP4R_OFS: {
+    int k = cmp_index(off, HRTIM_MCMP1R_OFS, HRTIM_MCMP2R_OFS);
+    char name[16];
+    snprintf(name, sizeof name, "HRTIM_MCMP%dR", k + 1);
+    if (!check_cmp(b, name, v)) return;
+    if (pre) h->p_mcmp[k] = v; else h->mcmp[k] = h->p_mcmp[k] = v;
+    return;
+  }
   }
   board_fault(b, "write 0x%08X to HRTIM register at offset 0x%03X: not modelled", v, off);
 }

@@ -12,8 +12,8 @@
 void iwdg_reset(board *b) {
   iwdg_state *w = &b->iwdg;
   memset(w, 0, sizeof *w);
-  w->rlr = w->rlr_eff = 0xFFFu;
-  w->winr = 0xFFFu;
+  w->rlr = w->rlr_eff = IWDG_RLR_RL; /* reset values: all ones */
+  w->winr = IWDG_WINR_WIN;
   w->pvu_until = w->rvu_until = w->wvu_until = -1;
 }
 
@@ -43,11 +43,13 @@ uint32_t iwdg_read(board *b, uint32_t off) {
   iwdg_state *w = &b->iwdg;
   sync(b);
   switch (off) {
-  case 0x00: return 0;
-  case 0x04: return w->pr;
-  case 0x08: return w->rlr;
-  case 0x0C: return (w->pvu_until >= 0 ? 1u : 0u) | (w->rvu_until >= 0 ? 2u : 0u) | (w->wvu_until >= 0 ? 4u : 0u);
-  case 0x10: return w->winr;
+  case IWDG_KR_OFS: return 0;
+  case IWDG_PR_OFS: return w->pr;
+  case IWDG_RLR_OFS: return w->rlr;
+  case IWDG_SR_OFS:
+    return (w->pvu_until >= 0 ? IWDG_SR_PVU : 0u) | (w->rvu_until >= 0 ? IWDG_SR_RVU : 0u) |
+           (w->wvu_until >= 0 ? IWDG_SR_WVU : 0u);
+  case IWDG_WINR_OFS: return w->winr;
   }
   board_fault(b, "read of reserved IWDG offset 0x%02X", off);
   return 0;
@@ -70,17 +72,17 @@ void iwdg_write(board *b, uint32_t off, uint32_t v) {
   sync(b);
   double now = board_now(b);
   switch (off) {
-  case 0x00:
-    if (v & 0xFFFF0000u) { board_fault(b, "IWDG_KR 0x%08X: bits 31:16 are reserved", v); return; }
-    if (v == 0xCCCCu) {
+  case IWDG_KR_OFS:
+    if (v & ~IWDG_KR_KEY) { board_fault(b, "IWDG_KR 0x%08X: bits 31:16 are reserved", v); return; }
+    if (v == IWDG_KEY_START) {
       if (!w->started) { w->started = true; reload(b); }
-      b->rcc.csr |= 3u; /* starting the IWDG forces LSI on */
+      b->rcc.csr |= RCC_CSR_LSION | RCC_CSR_LSIRDY; /* starting the IWDG forces LSI on */
       w->write_access = false;
-    } else if (v == 0x5555u) {
+    } else if (v == IWDG_KEY_UNLOCK) {
       w->write_access = true;
-    } else if (v == 0xAAAAu) {
-      if (w->started && w->winr < 0xFFFu && counter(b) > w->winr) {
-        board_request_reset(b, (1u << 29) | (1u << 26)); /* refresh outside the window */
+    } else if (v == IWDG_KEY_REFRESH) {
+      if (w->started && w->winr < IWDG_WINR_WIN && counter(b) > w->winr) {
+        board_request_reset(b, RCC_CSR_IWDGRSTF | RCC_CSR_PINRSTF); /* refresh outside the window */
         return;
       }
       reload(b);
@@ -89,20 +91,20 @@ void iwdg_write(board *b, uint32_t off, uint32_t v) {
       w->write_access = false;
     }
     return;
-  case 0x04:
-    if (v & ~7u) { board_fault(b, "IWDG_PR 0x%08X: bits 31:3 are reserved", v); return; }
+  case IWDG_PR_OFS:
+    if (v & ~IWDG_PR_PR) { board_fault(b, "IWDG_PR 0x%08X: bits 31:3 are reserved", v); return; }
     if (!protected_write(b, "PR", w->pvu_until)) return;
     w->pr = v;
     w->pvu_until = now + SYNC_S;
     return;
-  case 0x08:
-    if (v & ~0xFFFu) { board_fault(b, "IWDG_RLR 0x%08X: bits 31:12 are reserved", v); return; }
+  case IWDG_RLR_OFS:
+    if (v & ~IWDG_RLR_RL) { board_fault(b, "IWDG_RLR 0x%08X: bits 31:12 are reserved", v); return; }
     if (!protected_write(b, "RLR", w->rvu_until)) return;
     w->rlr = v;
     w->rvu_until = now + SYNC_S;
     return;
-  case 0x10:
-    if (v & ~0xFFFu) { board_fault(b, "IWDG_WINR 0x%08X: bits 31:12 are reserved", v); return; }
+  case IWDG_WINR_OFS:
+    if (v & ~IWDG_WINR_WIN) { board_fault(b, "IWDG_WINR 0x%08X: bits 31:12 are reserved", v); return; }
     if (!protected_write(b, "WINR", w->wvu_until)) return;
     w->winr = v;
     w->wvu_until = now + SYNC_S;
@@ -133,5 +135,5 @@ void iwdg_event(board *b) {
   /* a prescaler change takes effect mid-count: keep the remaining count */
   if (w->started && (double)w->pr_eff != pr_before) w->reload_t = board_now(b) - elapsed_ticks * tick_s(w);
   if (w->started && board_now(b) >= w->reload_t + (double)w->rlr_eff * tick_s(w) - 1e-12)
-    board_request_reset(b, (1u << 29) | (1u << 26)); /* IWDGRSTF, and NRST pulsed: PINRSTF */
+    board_request_reset(b, RCC_CSR_IWDGRSTF | RCC_CSR_PINRSTF); /* NRST is pulsed too */
 }

@@ -12,55 +12,62 @@
 #define PLL_LOCK_S 40e-6
 #define LSI_STARTUP_S 130e-6
 
-#define CR_HSION (1u << 8)
-#define CR_HSIRDY (1u << 10)
-#define CR_HSEON (1u << 16)
-#define CR_HSERDY (1u << 17)
-#define CR_HSEBYP (1u << 18)
-#define CR_PLLON (1u << 24)
-#define CR_PLLRDY (1u << 25)
+/* The bus registers (reset, enable, sleep enable): seven words each, index k of bus register k. */
+#define BUS_REG(first, ofs) (((ofs) - (first)) / RCC_BUS_REG_STRIDE)
+#define N_BUS_REGS 7
+_Static_assert(BUS_REG(RCC_AHB1ENR_OFS, RCC_APB2ENR_OFS) == N_BUS_REGS - 1, "seven enable registers");
+_Static_assert(BUS_REG(RCC_AHB1RSTR_OFS, RCC_APB2RSTR_OFS) == N_BUS_REGS - 1, "seven reset registers");
+_Static_assert(BUS_REG(RCC_AHB1SMENR_OFS, RCC_APB2SMENR_OFS) == N_BUS_REGS - 1, "seven sleep enables");
+
+static bool in_bus_regs(uint32_t off, uint32_t first) { return off >= first && BUS_REG(first, off) < N_BUS_REGS; }
 
 void rcc_reset(board *b, bool power_on) {
   rcc_state *r = &b->rcc;
-  uint32_t flags = power_on ? 0x0C000000u : (r->csr & 0xFE000000u); /* PINRSTF|BORRSTF at power-on */
+  uint32_t flags = power_on ? RCC_CSR_PINRSTF | RCC_CSR_BORRSTF : (r->csr & RCC_CSR_RESET_FLAGS);
   memset(r, 0, sizeof *r);
-  r->cr = CR_HSION | CR_HSIRDY; /* RM0440 §7.4.1: 0x00000500 (the SVD says 0x63, bits that are reserved) */
-  r->icscr = 0x40000000u;
-  r->cfgr = 0x00000005u;   /* SW=SWS=HSI16 */
-  r->pllcfgr = 0x00001000u;
-  r->enr[0] = 0x00000100u; /* FLASHEN */
-  r->enr[4] = 0x00000400u; /* RTCAPBEN */
+  r->cr = RCC_CR_HSION | RCC_CR_HSIRDY; /* RM0440 §7.4.1: 0x00000500 (the SVD says 0x63, bits that are reserved) */
+  r->icscr = 0x40000000u;   /* reset value */
+  r->cfgr = reg_value(RCC_CFGR_SW, RCC_SW_HSI16) | reg_value(RCC_CFGR_SWS, RCC_SW_HSI16);
+  r->pllcfgr = 0x00001000u; /* reset value: PLLN = 16 */
+  r->enr[BUS_REG(RCC_AHB1ENR_OFS, RCC_AHB1ENR_OFS)] = RCC_AHB1ENR_FLASHEN;
+  r->enr[BUS_REG(RCC_AHB1ENR_OFS, RCC_APB1ENR1_OFS)] = RCC_APB1ENR1_RTCAPBEN;
+  /* sleep-mode enables: their reset values, AHB1 .. APB2 */
   r->smenr[0] = 0x0000130Fu; r->smenr[1] = 0x050F667Fu; r->smenr[2] = 0x00000101u;
   r->smenr[4] = 0xD2FECD3Fu; r->smenr[5] = 0x00000103u; r->smenr[6] = 0x0437F801u;
   r->csr = flags;
   r->hse_ready_t = r->hsi_ready_t = r->pll_ready_t = r->lsi_ready_t = -1;
 }
 
-static uint32_t sws(const board *b) { return (b->rcc.cfgr >> 2) & 3u; }
+static uint32_t sws(const board *b) { return reg_field(b->rcc.cfgr, RCC_CFGR_SWS); }
+
+static uint32_t pllsrc(const board *b) { return reg_field(b->rcc.pllcfgr, RCC_PLLCFGR_PLLSRC); }
 
 static double pll_in_hz(board *b) {
-  uint32_t src = b->rcc.pllcfgr & 3u;
-  return src == 2 ? HSI_HZ : src == 3 ? b->cfg.hse_hz : 0.0;
+  uint32_t src = pllsrc(b);
+  return src == RCC_PLLSRC_HSI16 ? HSI_HZ : src == RCC_PLLSRC_HSE ? b->cfg.hse_hz : 0.0;
 }
+
+static double pll_m(uint32_t p) { return (double)(reg_field(p, RCC_PLLCFGR_PLLM) + 1u); }
+
+static double pll_n(uint32_t p) { return (double)reg_field(p, RCC_PLLCFGR_PLLN); }
 
 static double pllr_hz(board *b) {
   uint32_t p = b->rcc.pllcfgr;
-  double m = (double)(((p >> 4) & 0xFu) + 1u), n = (double)((p >> 8) & 0x7Fu);
-  double r = 2.0 * (double)(((p >> 25) & 3u) + 1u); /* 00:/2 01:/4 10:/6 11:/8 */
-  return pll_in_hz(b) / m * n / r;
+  double r = 2.0 * (double)(reg_field(p, RCC_PLLCFGR_PLLR) + 1u); /* 00:/2 01:/4 10:/6 11:/8 */
+  return pll_in_hz(b) / pll_m(p) * pll_n(p) / r;
 }
 
 double rcc_sysclk_hz(board *b) {
   switch (sws(b)) {
-  case 1: return HSI_HZ;
-  case 2: return b->cfg.hse_hz;
-  case 3: return pllr_hz(b);
+  case RCC_SW_HSI16: return HSI_HZ;
+  case RCC_SW_HSE: return b->cfg.hse_hz;
+  case RCC_SW_PLL: return pllr_hz(b);
   default: return HSI_HZ;
   }
 }
 
 double rcc_hclk_hz(board *b) {
-  uint32_t hpre = (b->rcc.cfgr >> 4) & 0xFu;
+  uint32_t hpre = reg_field(b->rcc.cfgr, RCC_CFGR_HPRE);
   static const double div[8] = {2, 4, 8, 16, 64, 128, 256, 512};
   return rcc_sysclk_hz(b) / (hpre < 8 ? 1.0 : div[hpre - 8]);
 }
@@ -69,10 +76,10 @@ double rcc_hclk_hz(board *b) {
  * VCO output 96-344 MHz, PLLR output at most 170 MHz. */
 static bool pll_check(board *b) {
   uint32_t p = b->rcc.pllcfgr;
-  double in = pll_in_hz(b), m = (double)(((p >> 4) & 0xFu) + 1u), n = (double)((p >> 8) & 0x7Fu);
+  double in = pll_in_hz(b), m = pll_m(p), n = pll_n(p);
   if (in == 0.0) { board_fault(b, "PLLON with PLLCFGR.PLLSRC=00 (no clock)"); return false; }
-  if ((p & 3u) == 3u && !(b->rcc.cr & CR_HSERDY)) { board_fault(b, "PLLON with HSE as source before HSERDY"); return false; }
-  if ((p & 3u) == 2u && !(b->rcc.cr & CR_HSIRDY)) { board_fault(b, "PLLON with HSI16 as source before HSIRDY"); return false; }
+  if (pllsrc(b) == RCC_PLLSRC_HSE && !(b->rcc.cr & RCC_CR_HSERDY)) { board_fault(b, "PLLON with HSE as source before HSERDY"); return false; }
+  if (pllsrc(b) == RCC_PLLSRC_HSI16 && !(b->rcc.cr & RCC_CR_HSIRDY)) { board_fault(b, "PLLON with HSI16 as source before HSIRDY"); return false; }
   if (in / m < 2.66e6 || in / m > 16e6) {
     board_fault(b, "PLL input %.3f MHz (source / PLLM) is outside 2.66..16 MHz (RM0440 §7.4.4)", in / m / 1e6);
     return false;
@@ -83,7 +90,7 @@ static bool pll_check(board *b) {
     board_fault(b, "PLL VCO %.3f MHz is outside 96..344 MHz (RM0440 §7.4.4)", vco / 1e6);
     return false;
   }
-  if ((p & (1u << 24)) && pllr_hz(b) > 170e6) {
+  if ((p & RCC_PLLCFGR_PLLREN) && pllr_hz(b) > 170e6) {
     board_fault(b, "PLLR output %.3f MHz exceeds 170 MHz (RM0440 §7.4.4)", pllr_hz(b) / 1e6);
     return false;
   }
@@ -101,34 +108,36 @@ void rcc_check_clocking(board *b, double hclk, const char *why) {
                 range == 2 ? "range 2" : boost ? "range 1 boost" : "range 1 normal mode (PWR_CR5.R1MODE=1)");
     return;
   }
-  uint32_t lat = b->fl.acr & 0xFu;
+  uint32_t lat = reg_field(b->fl.acr, FLASH_ACR_LATENCY);
   if (hclk > flash_max_hclk(b, lat) + 1.0) {
     board_fault(b, "%s: HCLK %.3f MHz needs more than FLASH_ACR.LATENCY=%u wait states (RM0440 §5.3.3)", why,
                 hclk / 1e6, lat);
   }
 }
 
-bool rcc_clock_enabled(board *b, int enr_index, int bit) { return (b->rcc.enr[enr_index] >> bit) & 1u; }
+bool rcc_clock_enabled(board *b, uint32_t enr_ofs, uint32_t bit) {
+  return (b->rcc.enr[BUS_REG(RCC_AHB1ENR_OFS, enr_ofs)] & bit) != 0;
+}
 
 uint32_t rcc_read(board *b, uint32_t off) {
   rcc_state *r = &b->rcc;
   switch (off) {
-  case 0x00: return r->cr;
-  case 0x04: return r->icscr;
-  case 0x08: return r->cfgr;
-  case 0x0C: return r->pllcfgr;
-  case 0x18: return r->cier;
-  case 0x1C: return r->cifr;
-  case 0x20: return 0;
-  case 0x88: return r->ccipr;
-  case 0x90: return r->bdcr;
-  case 0x94: return r->csr;
-  case 0x98: return r->crrcr;
-  case 0x9C: return r->ccipr2;
+  case RCC_CR_OFS: return r->cr;
+  case RCC_ICSCR_OFS: return r->icscr;
+  case RCC_CFGR_OFS: return r->cfgr;
+  case RCC_PLLCFGR_OFS: return r->pllcfgr;
+  case RCC_CIER_OFS: return r->cier;
+  case RCC_CIFR_OFS: return r->cifr;
+  case RCC_CICR_OFS: return 0;
+  case RCC_CCIPR_OFS: return r->ccipr;
+  case RCC_BDCR_OFS: return r->bdcr;
+  case RCC_CSR_OFS: return r->csr;
+  case RCC_CRRCR_OFS: return r->crrcr;
+  case RCC_CCIPR2_OFS: return r->ccipr2;
   }
-  if (off >= 0x28 && off <= 0x40) return r->rstr[(off - 0x28) / 4];
-  if (off >= 0x48 && off <= 0x60) return r->enr[(off - 0x48) / 4];
-  if (off >= 0x68 && off <= 0x80) return r->smenr[(off - 0x68) / 4];
+  if (in_bus_regs(off, RCC_AHB1RSTR_OFS)) return r->rstr[BUS_REG(RCC_AHB1RSTR_OFS, off)];
+  if (in_bus_regs(off, RCC_AHB1ENR_OFS)) return r->enr[BUS_REG(RCC_AHB1ENR_OFS, off)];
+  if (in_bus_regs(off, RCC_AHB1SMENR_OFS)) return r->smenr[BUS_REG(RCC_AHB1SMENR_OFS, off)];
   board_fault(b, "read of reserved RCC offset 0x%02X", off);
   return 0;
 }
@@ -136,41 +145,42 @@ uint32_t rcc_read(board *b, uint32_t off) {
 static void write_cr(board *b, uint32_t v) {
   rcc_state *r = &b->rcc;
   double now = board_now(b);
-  uint32_t old = r->cr, src = sws(b), pllsrc = r->pllcfgr & 3u;
-  if (v & ~0x030F0700u) { board_fault(b, "RCC_CR 0x%08X writes reserved bits", v); return; }
+  uint32_t old = r->cr, src = sws(b), psrc = pllsrc(b);
+  if (v & ~RCC_CR_WRITABLE) { board_fault(b, "RCC_CR 0x%08X writes reserved bits", v); return; }
   /* an oscillator feeding SYSCLK (directly or through the PLL) cannot be stopped (§7.4.1) */
-  if (src == 1 || (src == 3 && pllsrc == 2)) v |= CR_HSION;
-  if (src == 2 || (src == 3 && pllsrc == 3)) v |= CR_HSEON;
-  if (src == 3) v |= CR_PLLON;
-  if ((old & CR_HSERDY) && (v & CR_HSEBYP) != (old & CR_HSEBYP)) {
+  if (src == RCC_SW_HSI16 || (src == RCC_SW_PLL && psrc == RCC_PLLSRC_HSI16)) v |= RCC_CR_HSION;
+  if (src == RCC_SW_HSE || (src == RCC_SW_PLL && psrc == RCC_PLLSRC_HSE)) v |= RCC_CR_HSEON;
+  if (src == RCC_SW_PLL) v |= RCC_CR_PLLON;
+  if ((old & RCC_CR_HSERDY) && (v & RCC_CR_HSEBYP) != (old & RCC_CR_HSEBYP)) {
     board_fault(b, "RCC_CR.HSEBYP changed while HSE is on (§7.4.1: only when HSEON=0)");
     return;
   }
-  r->cr = (old & (CR_HSIRDY | CR_HSERDY | CR_PLLRDY)) | (v & ~(CR_HSIRDY | CR_HSERDY | CR_PLLRDY));
-  if ((v & CR_HSION) && !(old & CR_HSION)) r->hsi_ready_t = now + HSI_STARTUP_S;
-  if (!(v & CR_HSION)) { r->cr &= ~CR_HSIRDY; r->hsi_ready_t = -1; }
-  if ((v & CR_HSEON) && !(old & CR_HSEON)) r->hse_ready_t = now + ((v & CR_HSEBYP) ? 1e-6 : HSE_STARTUP_S);
-  if (!(v & CR_HSEON)) { r->cr &= ~CR_HSERDY; r->hse_ready_t = -1; }
-  if ((v & CR_PLLON) && !(old & CR_PLLON)) {
+  const uint32_t ready = RCC_CR_HSIRDY | RCC_CR_HSERDY | RCC_CR_PLLRDY; /* read-only */
+  r->cr = (old & ready) | (v & ~ready);
+  if ((v & RCC_CR_HSION) && !(old & RCC_CR_HSION)) r->hsi_ready_t = now + HSI_STARTUP_S;
+  if (!(v & RCC_CR_HSION)) { r->cr &= ~RCC_CR_HSIRDY; r->hsi_ready_t = -1; }
+  if ((v & RCC_CR_HSEON) && !(old & RCC_CR_HSEON)) r->hse_ready_t = now + ((v & RCC_CR_HSEBYP) ? 1e-6 : HSE_STARTUP_S);
+  if (!(v & RCC_CR_HSEON)) { r->cr &= ~RCC_CR_HSERDY; r->hse_ready_t = -1; }
+  if ((v & RCC_CR_PLLON) && !(old & RCC_CR_PLLON)) {
     if (!pll_check(b)) return;
     r->pll_ready_t = now + PLL_LOCK_S;
   }
-  if (!(v & CR_PLLON)) { r->cr &= ~CR_PLLRDY; r->pll_ready_t = -1; }
+  if (!(v & RCC_CR_PLLON)) { r->cr &= ~RCC_CR_PLLRDY; r->pll_ready_t = -1; }
 }
 
 static void write_cfgr(board *b, uint32_t v) {
   rcc_state *r = &b->rcc;
-  if (v & 0x80FFC000u) { board_fault(b, "RCC_CFGR 0x%08X writes reserved bits", v); return; }
-  uint32_t sw = v & 3u;
+  if (v & RCC_CFGR_RESERVED) { board_fault(b, "RCC_CFGR 0x%08X writes reserved bits", v); return; }
+  uint32_t sw = reg_field(v, RCC_CFGR_SW);
   static const char *names[] = {"reserved", "HSI16", "HSE", "PLL"};
   if (sw == 0) { board_fault(b, "RCC_CFGR.SW=00 is reserved"); return; }
-  uint32_t rdy = sw == 1 ? CR_HSIRDY : sw == 2 ? CR_HSERDY : CR_PLLRDY;
+  uint32_t rdy = sw == RCC_SW_HSI16 ? RCC_CR_HSIRDY : sw == RCC_SW_HSE ? RCC_CR_HSERDY : RCC_CR_PLLRDY;
   if (!(r->cr & rdy)) { board_fault(b, "RCC_CFGR.SW=%s before the source is ready", names[sw]); return; }
-  if (sw == 3 && !(r->pllcfgr & (1u << 24))) { board_fault(b, "RCC_CFGR.SW=PLL with PLLCFGR.PLLREN=0"); return; }
+  if (sw == RCC_SW_PLL && !(r->pllcfgr & RCC_PLLCFGR_PLLREN)) { board_fault(b, "RCC_CFGR.SW=PLL with PLLCFGR.PLLREN=0"); return; }
   /* evaluate the new HCLK before it takes effect */
   uint32_t old = r->cfgr;
   double hclk_old = rcc_hclk_hz(b);
-  r->cfgr = (v & ~0xCu) | (sw << 2);
+  r->cfgr = (v & ~RCC_CFGR_SWS) | reg_value(RCC_CFGR_SWS, sw);
   double hclk = rcc_hclk_hz(b);
   r->cfgr = old;
   rcc_check_clocking(b, hclk, "RCC_CFGR clock switch");
@@ -179,7 +189,7 @@ static void write_cfgr(board *b, uint32_t v) {
    * AHB prescaler at /2 held for at least 1 us, so the regulator absorbs the load step. */
   double now = board_now(b);
   if (hclk > 80e6 + 1.0 && hclk > hclk_old) {
-    if (hclk_old <= 80e6 + 1.0 && ((v >> 4) & 0xFu) < 8u) {
+    if (hclk_old <= 80e6 + 1.0 && reg_field(v, RCC_CFGR_HPRE) < 8u) { /* HPRE 0xxx: /1 */
       board_fault(b, "RCC_CFGR: HCLK from %.3f to %.3f MHz at once; above 80 MHz switch with HPRE=/2 first",
                   hclk_old / 1e6, hclk / 1e6);
       return;
@@ -191,37 +201,38 @@ static void write_cfgr(board *b, uint32_t v) {
     }
   }
   if (hclk != hclk_old) r->hclk_changed_t = now;
-  r->cfgr = (v & ~0xCu) | (sw << 2); /* SWS follows at once */
+  r->cfgr = (v & ~RCC_CFGR_SWS) | reg_value(RCC_CFGR_SWS, sw); /* SWS follows at once */
   board_clock_changed(b);
 }
 
 void rcc_write(board *b, uint32_t off, uint32_t v) {
   rcc_state *r = &b->rcc;
   switch (off) {
-  case 0x00: write_cr(b, v); return;
-  case 0x04: r->icscr = (r->icscr & 0xFFu) | (v & 0x7F000000u); return;
-  case 0x08: write_cfgr(b, v); return;
-  case 0x0C:
-    if (r->cr & CR_PLLON) { board_fault(b, "RCC_PLLCFGR written while PLLON=1 (§7.4.4: only when the PLL is off)"); return; }
-    if (v & 0x00888000u || (v & 0xCu)) { board_fault(b, "RCC_PLLCFGR 0x%08X writes reserved bits", v); return; }
+  case RCC_CR_OFS: write_cr(b, v); return;
+  case RCC_ICSCR_OFS: r->icscr = (r->icscr & RCC_ICSCR_HSICAL) | (v & RCC_ICSCR_HSITRIM); return; /* HSICAL: read-only */
+  case RCC_CFGR_OFS: write_cfgr(b, v); return;
+  case RCC_PLLCFGR_OFS:
+    if (r->cr & RCC_CR_PLLON) { board_fault(b, "RCC_PLLCFGR written while PLLON=1 (§7.4.4: only when the PLL is off)"); return; }
+    if (v & RCC_PLLCFGR_RESERVED) { board_fault(b, "RCC_PLLCFGR 0x%08X writes reserved bits", v); return; }
     r->pllcfgr = v;
     return;
-  case 0x18: r->cier = v; return;
-  case 0x20: r->cifr &= ~v; return;
-  case 0x88: r->ccipr = v; return;
-  case 0x90: r->bdcr = v; return;
-  case 0x94:
-    if (v & (1u << 23)) r->csr &= ~0xFE000000u; /* RMVF */
-    if ((v & 1u) && !(r->csr & 1u)) r->lsi_ready_t = board_now(b) + LSI_STARTUP_S;
-    if (!(v & 1u) && !b->iwdg.started) { r->csr &= ~3u; r->lsi_ready_t = -1; }
-    r->csr = (r->csr & ~1u) | (v & 1u) | (b->iwdg.started ? 1u : 0u);
+  case RCC_CIER_OFS: r->cier = v; return;
+  case RCC_CICR_OFS: r->cifr &= ~v; return;
+  case RCC_CCIPR_OFS: r->ccipr = v; return;
+  case RCC_BDCR_OFS: r->bdcr = v; return;
+  case RCC_CSR_OFS:
+    if (v & RCC_CSR_RMVF) r->csr &= ~RCC_CSR_RESET_FLAGS;
+    if ((v & RCC_CSR_LSION) && !(r->csr & RCC_CSR_LSION)) r->lsi_ready_t = board_now(b) + LSI_STARTUP_S;
+    if (!(v & RCC_CSR_LSION) && !b->iwdg.started) { r->csr &= ~(RCC_CSR_LSION | RCC_CSR_LSIRDY); r->lsi_ready_t = -1; }
+    r->csr = (r->csr & ~RCC_CSR_LSION) | (v & RCC_CSR_LSION) | (b->iwdg.started ? RCC_CSR_LSION : 0u);
     return;
-  case 0x98: r->crrcr = v & 1u; return;
-  case 0x9C: r->ccipr2 = v; return;
+  case RCC_CRRCR_OFS: r->crrcr = v & RCC_CRRCR_HSI48ON; return;
+  case RCC_CCIPR2_OFS: r->ccipr2 = v; return;
   }
-  if (off >= 0x28 && off <= 0x40) { r->rstr[(off - 0x28) / 4] = v; return; }
-  if (off >= 0x48 && off <= 0x60 && off != 0x54) { r->enr[(off - 0x48) / 4] = v; return; }
-  if (off >= 0x68 && off <= 0x80 && off != 0x74) { r->smenr[(off - 0x68) / 4] = v; return; }
+  /* RCC_APB1RSTR2 .. and the AHB3 words are there; the reserved word between AHB3 and APB1 is not */
+  if (in_bus_regs(off, RCC_AHB1RSTR_OFS)) { r->rstr[BUS_REG(RCC_AHB1RSTR_OFS, off)] = v; return; }
+  if (in_bus_regs(off, RCC_AHB1ENR_OFS) && off != RCC_AHB3ENR_OFS + 4u) { r->enr[BUS_REG(RCC_AHB1ENR_OFS, off)] = v; return; }
+  if (in_bus_regs(off, RCC_AHB1SMENR_OFS) && off != RCC_AHB3SMENR_OFS + 4u) { r->smenr[BUS_REG(RCC_AHB1SMENR_OFS, off)] = v; return; }
   board_fault(b, "write 0x%08X to reserved RCC offset 0x%02X", v, off);
 }
 
@@ -238,8 +249,8 @@ double rcc_next_event(board *b) {
 void rcc_event(board *b) {
   rcc_state *r = &b->rcc;
   double now = board_now(b);
-  if (r->hsi_ready_t >= 0 && now >= r->hsi_ready_t) { r->cr |= CR_HSIRDY; r->hsi_ready_t = -1; }
-  if (r->hse_ready_t >= 0 && now >= r->hse_ready_t) { r->cr |= CR_HSERDY; r->hse_ready_t = -1; }
-  if (r->pll_ready_t >= 0 && now >= r->pll_ready_t) { r->cr |= CR_PLLRDY; r->pll_ready_t = -1; }
-  if (r->lsi_ready_t >= 0 && now >= r->lsi_ready_t) { r->csr |= 2u; r->lsi_ready_t = -1; }
+  if (r->hsi_ready_t >= 0 && now >= r->hsi_ready_t) { r->cr |= RCC_CR_HSIRDY; r->hsi_ready_t = -1; }
+  if (r->hse_ready_t >= 0 && now >= r->hse_ready_t) { r->cr |= RCC_CR_HSERDY; r->hse_ready_t = -1; }
+  if (r->pll_ready_t >= 0 && now >= r->pll_ready_t) { r->cr |= RCC_CR_PLLRDY; r->pll_ready_t = -1; }
+  if (r->lsi_ready_t >= 0 && now >= r->lsi_ready_t) { r->csr |= RCC_CSR_LSIRDY; r->lsi_ready_t = -1; }
 }
