@@ -9,12 +9,14 @@
 #include "sim/sim.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "dtc/drive.h"
 #include "metrics.h"
@@ -246,12 +248,15 @@ static int check_writable(const char *path, sim_result *res)
         return set_error(res, SIM_ERUNTIME, "out of memory");
     memcpy(p, path, n);
     memcpy(p + n, ".partial", 9u);
-    FILE *f = fopen(p, "w");
+    /* O_EXCL: a file that is there already is never truncated or removed. */
+    int fd = open(p, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     int rc = SIM_OK;
-    if (f == NULL)
+    if (fd < 0 && errno == EEXIST)
+        rc = set_error(res, SIM_EINPUT, "%s: exists already (a file this run did not create is never replaced)", p);
+    else if (fd < 0)
         rc = set_error(res, SIM_EINPUT, "%s: cannot create: %s", p, strerror(errno));
     else {
-        fclose(f);
+        close(fd);
         remove(p);
     }
     free(p);
