@@ -204,3 +204,26 @@ TEST(SpeedRef, TheGeneratorRefusesASpeedObjectWiderThanTheDeclaredRange)
         EXPECT_FALSE(std::ifstream(out).good()) << "an output was written";
     }
 }
+
+// The vl limits can also change by an NMT reset node (the stored set) and by
+// restoring the defaults: a bus reference follows them as it follows a write.
+TEST(SpeedRef, AReferenceFollowsLimitsReloadedByAResetOrARestore)
+{
+    Bench b;
+    ASSERT_FALSE(b.download_u32(0x6046, 2, 1000u).aborted());
+    ASSERT_FALSE(b.download_u32(0x1010, 1, 0x65766173u).aborted()); // "save": vl maximum 1000 stored
+    ASSERT_FALSE(b.download_u32(0x6046, 2, 3000u).aborted());
+    ASSERT_FALSE(b.download(0x6042, 0, i16(2650)).aborted());
+    EXPECT_NEAR(ref_rpm(b), 2650.0, 0.01);
+    b.inject(frame(0x000, {0x81, kNode})); // reset node: the stored parameters again
+    for (int i = 0; i < 5; i++)
+        b.pass();
+    EXPECT_EQ(b.read_u32(0x6046, 2), 1000u);
+    EXPECT_NEAR(ref_rpm(b), 1000.0, 0.01);
+    ASSERT_FALSE(b.download_u32(0x6046, 2, 3000u).aborted());
+    EXPECT_NEAR(ref_rpm(b), 2650.0, 0.01);
+    ASSERT_FALSE(b.download_u32(0x1011, 1, 0x64616F6Cu).aborted()); // "load": the defaults, 2610 rpm
+    EXPECT_EQ(b.read_u32(0x6046, 2), 2610u);
+    EXPECT_NEAR(ref_rpm(b), 2610.0, 0.01);
+    EXPECT_TRUE(references_in_declared_ranges(b));
+}

@@ -231,10 +231,19 @@ static void apply_target(drive *d)
     drive_set_speed_ref(d, vl_limited(d, d->app.vl_min_rpm, d->app.vl_max_rpm));
 }
 
+/* Whether the reference in force is the bus's target under the present vl
+ * limits: one set by the board itself (e.g. a SIL scenario) is not a vl
+ * target, and a change of the limits leaves it as it is. */
+static bool ref_is_bus_target(const drive *d)
+{
+    float from_bus = speed_ref_limit(drive_cfg(d), d->speed_ref_rad_s,
+                                     vl_limited(d, d->app.vl_min_rpm, d->app.vl_max_rpm));
+    return same_bits(from_bus, d->speed_ref_rad_s);
+}
+
 /* A write of 0x6046:1 (vl_velocity_min) or :2 (vl_velocity_max): refused when
  * it would put the minimum above the maximum; else applied, and a reference
- * that came from the bus is worked out again under the new limits (one set by
- * the board itself, e.g. a SIL scenario, is not a vl target and stays). */
+ * that came from the bus is worked out again under the new limits. */
 static uint32_t vl_limits_write(drive *d, const co_param *p, const co_num *v)
 {
     uint32_t min_rpm = d->app.vl_min_rpm, max_rpm = d->app.vl_max_rpm;
@@ -244,9 +253,7 @@ static uint32_t vl_limits_write(drive *d, const co_param *p, const co_num *v)
         max_rpm = v->u;
     if (min_rpm > max_rpm)
         return CO_ABORT_MAX_BELOW_MIN;
-    float from_bus = speed_ref_limit(drive_cfg(d), d->speed_ref_rad_s,
-                                     vl_limited(d, d->app.vl_min_rpm, d->app.vl_max_rpm));
-    bool bus_ref = same_bits(from_bus, d->speed_ref_rad_s);
+    bool bus_ref = ref_is_bus_target(d);
     co_field_set(&d->app, p, v);
     if (bus_ref)
         apply_target(d);
@@ -310,7 +317,10 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
         /* Store the empty set first: if the NVM fails nothing has changed. */
         if (persist_save_defaults(d) != HAL_OK)
             return CO_ABORT_STORE;
+        bool bus_ref = ref_is_bus_target(d);
         (void)persist_load(d);
+        if (bus_ref)
+            apply_target(d); /* under the default vl limits */
         co_emcy_clear_extra(&d->co.emcy);
         return CO_ABORT_NONE;
     case CO_FN_CONTROLWORD: {
@@ -451,7 +461,10 @@ static void app_reset_node(void *ctx)
     drive *d = ctx;
     d->quick_stop_req = false;
     drive_set_run(d, false);
+    bool bus_ref = ref_is_bus_target(d);
     (void)persist_load(d);
+    if (bus_ref)
+        apply_target(d); /* under the stored vl limits */
     scope_stop(&d->scope);
 }
 
