@@ -119,16 +119,27 @@ TEST(SpeedRef, NoObjectAsksForMoreThanTheEnvelope)
     EXPECT_NEAR(ref_rpm(b), -100.0 / 1.1 * kRpmPerRadS, 0.01) << "the reference in force is read";
     ASSERT_FALSE(b.download(0x6042, 0, i16(2000)).aborted());
     EXPECT_NEAR(ref_rpm(b), 100.0 / 1.1 * kRpmPerRadS, 0.01);
-    // A board's own command (the SIL's scenario) goes through the same limits.
+    // A board's own command (the SIL's scenario) goes through the same limits:
+    // the declared range when it is set, the top speed where it is used.
     drive_set_speed_ref(b.d.get(), float(5000.0 / kRpmPerRadS));
-    EXPECT_NEAR(b.d->speed_ref_rad_s, 100.0 / 1.1, 1e-4);
+    EXPECT_NEAR(b.d->speed_ref_rad_s * kRpmPerRadS, declared_max_rpm(), 0.01);
+    EXPECT_NEAR(ref_rpm(b), 100.0 / 1.1 * kRpmPerRadS, 0.01);
     drive_set_speed_ref(b.d.get(), float(-300.0 / kRpmPerRadS));
     EXPECT_NEAR(b.d->speed_ref_rad_s, -300.0 / kRpmPerRadS, 1e-4) << "inside the limits: as asked";
+    EXPECT_NEAR(ref_rpm(b), -300.0, 0.01);
     drive_set_speed_ref(b.d.get(), std::nanf(""));
     EXPECT_NEAR(b.d->speed_ref_rad_s, -300.0 / kRpmPerRadS, 1e-4) << "not a number: unchanged";
     ASSERT_FALSE(b.download_f32(0x2400, 5, 500.0f).aborted()); // top 454.5 rad/s = 4340 rpm
     drive_set_speed_ref(b.d.get(), float(5000.0 / kRpmPerRadS));
-    EXPECT_NEAR(b.d->speed_ref_rad_s * kRpmPerRadS, declared_max_rpm(), 0.01) << "then the declared range limits";
+    EXPECT_NEAR(ref_rpm(b), declared_max_rpm(), 0.01) << "then the declared range limits";
+    // The top speed lowered under a bus reference, then a vl maximum below it:
+    // the reference follows the maximum (the stored value is the bus's).
+    ASSERT_FALSE(b.download_f32(0x2400, 5, 310.0f).aborted());
+    ASSERT_FALSE(b.download(0x60FF, 0, bytes_u32(2500u)).aborted());
+    ASSERT_FALSE(b.download_f32(0x2400, 5, 100.0f).aborted());
+    EXPECT_NEAR(ref_rpm(b), 100.0 / 1.1 * kRpmPerRadS, 0.01);
+    ASSERT_FALSE(b.download_u32(0x6046, 2, 500u).aborted());
+    EXPECT_NEAR(ref_rpm(b), 500.0, 0.01);
 }
 
 TEST(SpeedRef, AMinimumAboveTheMaximumIsRefusedAndChangesNothing)

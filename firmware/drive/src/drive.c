@@ -62,7 +62,7 @@ void drive_cfg_commit(drive *d)
 
 void drive_set_speed_ref(drive *d, float speed_ref_rad_s)
 {
-    d->speed_ref_rad_s = speed_ref_limit(drive_cfg(d), d->speed_ref_rad_s, speed_ref_rad_s);
+    d->speed_ref_rad_s = speed_ref_declared(d->speed_ref_rad_s, speed_ref_rad_s);
 }
 
 void drive_set_run(drive *d, bool run)

@@ -125,8 +125,7 @@ static uint32_t fn_read(drive *d, const co_param *p, co_num *v)
     v->u = 0u;
     switch ((co_fn_id)p->offset) {
     case CO_FN_SPEED_REF:
-        /* the reference in force: the envelope may have shrunk since it was set */
-        v->f = speed_ref_limit(drive_cfg(d), d->speed_ref_rad_s, d->speed_ref_rad_s);
+        v->f = speed_ref_in_force(drive_cfg(d), d->speed_ref_rad_s);
         break;
     case CO_FN_VL_TARGET:
         v->f = d->target_rad_s;
@@ -225,7 +224,7 @@ static float vl_limited(const drive *d, uint32_t min_rpm, uint32_t max_rpm)
 }
 
 /* The bus's target into the speed reference: the vl limits, then the
- * declared range and the envelope (drive_set_speed_ref). */
+ * declared range (drive_set_speed_ref). */
 static void apply_target(drive *d)
 {
     drive_set_speed_ref(d, vl_limited(d, d->app.vl_min_rpm, d->app.vl_max_rpm));
@@ -236,8 +235,7 @@ static void apply_target(drive *d)
  * target, and a change of the limits leaves it as it is. */
 static bool ref_is_bus_target(const drive *d)
 {
-    float from_bus = speed_ref_limit(drive_cfg(d), d->speed_ref_rad_s,
-                                     vl_limited(d, d->app.vl_min_rpm, d->app.vl_max_rpm));
+    float from_bus = speed_ref_declared(d->speed_ref_rad_s, vl_limited(d, d->app.vl_min_rpm, d->app.vl_max_rpm));
     return same_bits(from_bus, d->speed_ref_rad_s);
 }
 

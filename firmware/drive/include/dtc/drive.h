@@ -164,9 +164,10 @@ ctl_cfg *drive_cfg_edit(drive *d);
 void drive_cfg_commit(drive *d);
 
 /**
- * Set the mechanical speed reference, rad/s, limited to the declared range
- * and the envelope's top speed (speed_ref_limit, dtc/speed_ref.h: the rule
- * every source of the reference goes through). Context: BG.
+ * Set the mechanical speed reference, rad/s, limited to the declared range of
+ * speed_ref_rpm (the rule every source of the reference goes through,
+ * dtc/speed_ref.h; the control law limits it to the envelope's top speed).
+ * Context: BG.
  */
 void drive_set_speed_ref(drive *d, float speed_ref_rad_s);
 
