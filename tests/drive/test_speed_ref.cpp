@@ -238,3 +238,20 @@ TEST(SpeedRef, AReferenceFollowsLimitsReloadedByAResetOrARestore)
     EXPECT_NEAR(ref_rpm(b), 2610.0, 0.01);
     EXPECT_TRUE(references_in_declared_ranges(b));
 }
+
+// 0x6048:1 shows ramp_rad_s2 (0x2000:4) in whole rpm/s: at the top of the
+// ramp's range each reads inside its own declared range (a finding of
+// tests/fuzz: 10000 rad/s^2 read as 95493 rpm/s above a maximum of 95492).
+TEST(SpeedRef, TheRampsTopReadsInsideBothDeclaredRanges)
+{
+    Bench b;
+    const co_param *accel = b.param("vl_acceleration_delta_speed");
+    const co_param *ramp = b.param("ramp_rad_s2");
+    ASSERT_FALSE(b.download_f32(0x2000, 4, ramp->max.f).aborted());
+    EXPECT_EQ(b.read_u32(0x6048, 1), uint32_t(std::lround(double(ramp->max.f) * kRpmPerRadS)));
+    EXPECT_LE(b.read_u32(0x6048, 1), accel->max.u);
+    ASSERT_FALSE(b.download_u32(0x6048, 1, accel->max.u).aborted());
+    EXPECT_LE(b.read_f32(0x2000, 4), ramp->max.f);
+    EXPECT_NEAR(b.read_f32(0x2000, 4), ramp->max.f, 0.01);
+    EXPECT_EQ(b.read_u32(0x6048, 1), accel->max.u);
+}

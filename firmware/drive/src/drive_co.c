@@ -293,8 +293,14 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
         return CO_ABORT_NONE;
     case CO_FN_VL_ACCEL: {
         bool was_ok = ctl_cfg_check(drive_cfg(d)) == CTL_CFG_OK;
+        /* rpm/s -> rad/s^2, held to ramp_rad_s2's range: the top of this entry's
+         * (its maximum rounded to whole rpm/s) lies a little above it */
+        const co_param *ramp = &co_params[CO_P_RAMP_RAD_S2];
+        float rad_s2 = (float)v->u * 0.104719755f;
+        if (rad_s2 > ramp->max.f)
+            rad_s2 = ramp->max.f;
         ctl_cfg *e = drive_cfg_edit(d);
-        e->speed.ramp_rad_s2 = (float)v->u * 0.104719755f; /* rpm/s -> rad/s^2 */
+        e->speed.ramp_rad_s2 = rad_s2;
         if (was_ok && ctl_cfg_check(e) != CTL_CFG_OK)
             return CO_ABORT_PARAM_INCOMPAT;
         drive_cfg_commit(d);
