@@ -16,6 +16,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "sim/decimal.h"
 #include "sim/file_safety.h"
 #include "sim/sim.h"
 
@@ -60,9 +61,17 @@ static const char usage[] =
     "                        image; created on the first write; survives restarts)\n"
     "  --quiet               no summary on stdout\n"
     "\n"
-    "Outputs are written as OUT.partial and renamed when the run succeeds; a failed\n"
-    "run leaves no output behind. Ctrl-C ends a --realtime run cleanly; it abandons a\n"
-    "batch run (exit 1, no outputs).\n"
+    "Numbers are decimal (500, -0.25, .5, 2e-3): no hexadecimal, no inf or nan\n"
+    "(except --duration inf). A value that does not fit (a --duration of more than\n"
+    "48 characters, a --set key of more than 127, a value of more than 255) is\n"
+    "refused, never cut short.\n"
+    "\n"
+    "Outputs are written as OUT.partial (the NVM image as FILE.tmp) and renamed when\n"
+    "the run succeeds; a failed run leaves no output behind. dtc-sim never removes or\n"
+    "truncates a file it did not create: an output that is the scenario, another\n"
+    "output or another's temporary, or whose temporary exists already, is refused\n"
+    "(exit 2) before anything is written. Ctrl-C ends a --realtime run cleanly; it\n"
+    "abandons a batch run (exit 1, no outputs).\n"
     "\n"
     "bench: FILE defaults to host_sim/scenarios/case2.ini in the source tree when it\n"
     "exists, else a built-in 5 s inverter-fed run at the 200 us tick with a rotating\n"
@@ -176,9 +185,7 @@ static int cmd_run(int argc, char **argv)
             } else if (strcmp(a, "--record-samples") == 0) {
                 o.record_path = v;
             } else if (strcmp(a, "--start-delay") == 0) {
-                char *end;
-                o.start_delay_s = strtod(v, &end);
-                if (end == v || *end != '\0' || !(o.start_delay_s >= 0.0 && o.start_delay_s <= 600.0))
+                if (!sim_parse_decimal(v, &o.start_delay_s) || !(o.start_delay_s >= 0.0 && o.start_delay_s <= 600.0))
                     return bad_usage("--start-delay: '%s' is not a time in 0..600 s", v);
             } else if (strcmp(a, "--duration") == 0) {
                 duration = v;
@@ -199,19 +206,18 @@ static int cmd_run(int argc, char **argv)
         return bad_usage("run needs a scenario FILE%s", "");
     if (o.can_iface != NULL && !o.realtime)
         return bad_usage("--can %s requires --realtime", o.can_iface);
-    if (o.csv_path != NULL && o.metrics_path != NULL && strcmp(o.csv_path, o.metrics_path) == 0)
-        return bad_usage("--csv and --metrics name the same file '%s'", o.csv_path);
-    /* Outputs: new paths or regular files, never the scenario, never each other. */
-    char why[1200];
-    if ((o.csv_path != NULL && !sim_output_allowed("--csv", o.csv_path, file, o.metrics_path, why, sizeof why)) ||
-        (o.metrics_path != NULL &&
-         !sim_output_allowed("--metrics", o.metrics_path, file, o.csv_path, why, sizeof why)) ||
-        (o.nvm_path != NULL && !sim_output_allowed("--nvm", o.nvm_path, file, o.csv_path, why, sizeof why)) ||
-        (o.nvm_path != NULL && !sim_output_allowed("--nvm", o.nvm_path, file, o.metrics_path, why, sizeof why)) ||
-        (o.record_path != NULL &&
-         !sim_output_allowed("--record-samples", o.record_path, file, o.csv_path, why, sizeof why)) ||
-        (o.record_path != NULL &&
-         !sim_output_allowed("--record-samples", o.record_path, file, o.metrics_path, why, sizeof why)))
+    /* Outputs and their temporaries (the suffixes of trace.c, metrics_json.c,
+     * tick_recorder.c and the host board's NVM mirror): new names or regular
+     * files, never the scenario, never each other, never an existing
+     * temporary, all checked before anything is opened for writing. */
+    const sim_output outputs[] = {
+        { "--csv", o.csv_path, ".partial" },
+        { "--metrics", o.metrics_path, ".partial" },
+        { "--record-samples", o.record_path, ".partial" },
+        { "--nvm", o.nvm_path, ".tmp" },
+    };
+    char why[2400];
+    if (!sim_outputs_allowed(file, outputs, sizeof outputs / sizeof outputs[0], why, sizeof why))
         return bad_usage("%s", why);
 
     char dur_set[64];
@@ -223,7 +229,12 @@ static int cmd_run(int argc, char **argv)
         } else {
             if (n_sets >= MAX_SETS)
                 return bad_usage("too many --set options (at most %s)", "64");
-            snprintf(dur_set, sizeof dur_set, "sim.duration_s=%s", duration);
+            int n = snprintf(dur_set, sizeof dur_set, "sim.duration_s=%s", duration);
+            if (n < 0 || (size_t)n >= sizeof dur_set)
+                return bad_usage("--duration: '%.40s...' is longer than 48 characters", duration);
+            double seconds;
+            if (!sim_parse_decimal(duration, &seconds))
+                return bad_usage("--duration: '%s' is not a decimal number of seconds (or inf)", duration);
             sets[n_sets++] = dur_set;
         }
     }

@@ -89,7 +89,7 @@ int sim_write_metrics_json(const sim_metrics *m, const char *path, char *err, si
     } else {
         memcpy(partial, path, plen);
         memcpy(partial + plen, ".partial", 9u);
-        FILE *f = fopen(partial, "w");
+        FILE *f = fopen(partial, "wx"); /* x: never truncate a file this run did not create */
         if (f == NULL) {
             snprintf(err, errlen, "%s: cannot create: %s", partial, strerror(errno));
         } else {

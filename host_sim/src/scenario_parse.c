@@ -25,6 +25,7 @@
 #include <ini.h>
 
 #include "sim/control_keys.h"
+#include "sim/decimal.h"
 #include "sim/file_safety.h"
 
 /* ------------------------------------------------------------ key table */
@@ -245,33 +246,30 @@ static int fail_line(char *err, size_t errlen, const scenario *sc, int line, con
 
 /* ------------------------------------------------------------ values */
 
-/* Copy @p value without a trailing '#' comment and surrounding blanks. */
-static void clean_value(const char *value, char *out, size_t outlen)
+/* Longest value of a key, characters (after the comment and blanks are cut). */
+#define VALUE_MAX 255
+
+/* Copy @p value without a trailing '#' comment and surrounding blanks into
+ * @p out (VALUE_MAX + 1 bytes). @return false when it does not fit: a value is
+ * refused, never cut short. */
+static bool clean_value(const char *value, char out[VALUE_MAX + 1])
 {
     size_t n = 0;
     while (*value != '\0' && isspace((unsigned char)*value))
         value++;
-    while (value[n] != '\0' && value[n] != '#' && n + 1 < outlen)
+    while (value[n] != '\0' && value[n] != '#')
         n++;
     while (n > 0 && isspace((unsigned char)value[n - 1]))
         n--;
+    if (n > VALUE_MAX)
+        return false;
     memcpy(out, value, n);
     out[n] = '\0';
-}
-
-/* strtod that must consume the whole token and give a finite number. */
-static bool parse_number(const char *tok, double *out)
-{
-    if (tok[0] == '\0')
-        return false;
-    errno = 0;
-    char *end = NULL;
-    double v = strtod(tok, &end);
-    if (end == tok || *end != '\0' || !isfinite(v) || errno == ERANGE)
-        return false;
-    *out = v;
     return true;
 }
+
+/* A number in the one syntax of sim/decimal.h (decimal only, finite). */
+static bool parse_number(const char *tok, double *out) { return sim_parse_decimal(tok, out); }
 
 /* Split @p s (modified) into at most @p max whitespace-separated tokens. */
 static int split_tokens(char *s, char **tok, int max)
@@ -310,8 +308,9 @@ static int set_scalar(parse_ctx *c, size_t ki, const char *value)
     const key_def *k = &keys[ki];
     scenario *sc = c->sc;
     unsigned char *base = (unsigned char *)sc;
-    char v[256];
-    clean_value(value, v, sizeof v);
+    char v[VALUE_MAX + 1];
+    if (!clean_value(value, v))
+        return fail(c, "[%s] %s: value longer than %d characters", k->section, k->key, VALUE_MAX);
     if (v[0] == '\0')
         return fail(c, "[%s] %s: missing value", k->section, k->key);
 
@@ -368,8 +367,9 @@ static int set_control(parse_ctx *c, const char *name, const char *value)
         return fail(c, "[control] unknown key '%s' (see docs/scenarios.md for the list)", name);
     size_t nk;
     const sim_control_key *k = &sim_control_keys(&nk)[ki];
-    char v[256];
-    clean_value(value, v, sizeof v);
+    char v[VALUE_MAX + 1];
+    if (!clean_value(value, v))
+        return fail(c, "[control] %s: value longer than %d characters", name, VALUE_MAX);
     if (v[0] == '\0')
         return fail(c, "[control] %s: missing value", name);
     double x;
@@ -486,8 +486,9 @@ static int add_fault(parse_ctx *c, const list_def *l, char **tok, int ntok)
 static int add_list(parse_ctx *c, const list_def *l, const char *value)
 {
     scenario *sc = c->sc;
-    char v[256];
-    clean_value(value, v, sizeof v);
+    char v[VALUE_MAX + 1];
+    if (!clean_value(value, v))
+        return fail(c, "[%s] %s: value longer than %d characters", l->section, l->key, VALUE_MAX);
     char *tok[8];
     int ntok = split_tokens(v, tok, 7);
     double x[3];
@@ -701,9 +702,17 @@ static int run_parser(parse_ctx *c)
     return c->failed ? SCENARIO_EINPUT : 0;
 }
 
-static void set_source(scenario *sc, const char *name)
+/* The name used in messages; one that does not fit is refused (messages
+ * name the whole file, never a cut-off one). */
+static int set_source(scenario *sc, const char *name, char *err, size_t errlen)
 {
+    if (strlen(name) >= sizeof sc->source) {
+        snprintf(sc->source, sizeof sc->source, "%.60s...", name);
+        return fail_line(err, errlen, sc, 0, NULL, "the file name is longer than %zu characters",
+                         sizeof sc->source - 1u);
+    }
     snprintf(sc->source, sizeof sc->source, "%s", name);
+    return 0;
 }
 
 /* The whole scenario file in memory, refused unless it is a regular file of
@@ -760,7 +769,8 @@ static int read_scenario_file(scenario *sc, const char *path, char **out, char *
 
 int scenario_parse_file(scenario *sc, const char *path, char *err, size_t errlen)
 {
-    set_source(sc, path);
+    if (set_source(sc, path, err, errlen) != 0)
+        return SCENARIO_EINPUT;
     parse_ctx c;
     memset(&c, 0, sizeof c);
     c.sc = sc;
@@ -778,7 +788,8 @@ int scenario_parse_file(scenario *sc, const char *path, char *err, size_t errlen
 
 int scenario_parse_string(scenario *sc, const char *name, const char *text, char *err, size_t errlen)
 {
-    set_source(sc, name);
+    if (set_source(sc, name, err, errlen) != 0)
+        return SCENARIO_EINPUT;
     parse_ctx c;
     memset(&c, 0, sizeof c);
     c.sc = sc;
@@ -801,8 +812,13 @@ int scenario_set(scenario *sc, const char *assignment, char *err, size_t errlen)
     char name[128];
     const char *eq = strchr(assignment, '=');
     size_t nlen = eq != NULL ? (size_t)(eq - assignment) : strlen(assignment);
-    if (nlen >= sizeof name)
-        nlen = sizeof name - 1;
+    if (nlen >= sizeof name) {
+        char shown[48];
+        snprintf(shown, sizeof shown, "%.32s...", assignment);
+        c.set_name = shown;
+        fail(&c, "the key is longer than %zu characters", sizeof name - 1u);
+        return SCENARIO_EINPUT;
+    }
     memcpy(name, assignment, nlen);
     name[nlen] = '\0';
     /* trim the name */

@@ -9,12 +9,14 @@
 #include "sim/sim.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "dtc/drive.h"
 #include "metrics.h"
@@ -246,12 +248,15 @@ static int check_writable(const char *path, sim_result *res)
         return set_error(res, SIM_ERUNTIME, "out of memory");
     memcpy(p, path, n);
     memcpy(p + n, ".partial", 9u);
-    FILE *f = fopen(p, "w");
+    /* O_EXCL: a file that is there already is never truncated or removed. */
+    int fd = open(p, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     int rc = SIM_OK;
-    if (f == NULL)
+    if (fd < 0 && errno == EEXIST)
+        rc = set_error(res, SIM_EINPUT, "%s: exists already (a file this run did not create is never replaced)", p);
+    else if (fd < 0)
         rc = set_error(res, SIM_EINPUT, "%s: cannot create: %s", p, strerror(errno));
     else {
-        fclose(f);
+        close(fd);
         remove(p);
     }
     free(p);
@@ -360,8 +365,9 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
     for (int k = 0; k < SCENARIO_EV_KINDS; k++)
         e->factor[k] = 1.0;
     double last_ref_rpm = NAN;
+    float last_set_rad_s = 0.0f; /* what the drive made of the profile's last value (its limits applied) */
     /* Until the bus takes it the drive's reference is the profile's last value
-     * (the engine writes every change, the first tick's included); found
+     * as the drive limited it (the engine writes every change, the first tick's included); found
      * different at a tick, the drive's bus (SDO, RPDO, a CiA 402 halt) changed
      * it, and from then on the master owns the reference for the rest of the
      * run: the profile no longer overrides a set point a tuner has just written
@@ -404,8 +410,7 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         e->board.t_s = t;
 
         /* 2. events whose time has come */
-        if (firmware && !ref_from_bus && !isnan(last_ref_rpm) &&
-            e->drv.speed_ref_rad_s != (float)(last_ref_rpm * RPM_TO_RAD_S))
+        if (firmware && !ref_from_bus && !isnan(last_ref_rpm) && e->drv.speed_ref_rad_s != last_set_rad_s)
             ref_from_bus = true;
         apply_params(e, sc, t + T_EPS);
         double tl = scenario_load_nm(sc, t + T_EPS);
@@ -415,8 +420,10 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
         if (o->on_plant != NULL)
             o->on_plant(o->user, t, &e->ps);
         double ref_rpm = scenario_ref_rpm(sc, t + T_EPS);
-        if (firmware && !ref_from_bus && ref_rpm != last_ref_rpm)
+        if (firmware && !ref_from_bus && ref_rpm != last_ref_rpm) {
             drive_set_speed_ref(&e->drv, (float)(ref_rpm * RPM_TO_RAD_S));
+            last_set_rad_s = e->drv.speed_ref_rad_s;
+        }
         last_ref_rpm = ref_rpm;
         if (firmware && !started && t + T_EPS >= o->start_delay_s) {
             drive_set_run(&e->drv, true); /* the run command (--start-delay) */

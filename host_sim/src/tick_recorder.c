@@ -29,7 +29,7 @@ int tick_recorder_open(tick_recorder *r, const char *path, const char *scenario_
         snprintf(err, errlen, "out of memory");
         goto fail;
     }
-    r->f = fopen(r->partial, "wb");
+    r->f = fopen(r->partial, "wbx"); /* x: never truncate a file this run did not create */
     if (r->f == NULL) {
         snprintf(err, errlen, "--record-samples %s: cannot create: %s", r->partial, strerror(errno));
         goto fail;

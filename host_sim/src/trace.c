@@ -38,7 +38,7 @@ int trace_open(sim_trace *t, const char *path, char *err, size_t errlen)
         trace_close(t, false, NULL, 0);
         return -1;
     }
-    t->f = fopen(t->partial, "w");
+    t->f = fopen(t->partial, "wx"); /* x: never truncate a file this run did not create */
     if (t->f == NULL) {
         snprintf(err, errlen, "%s: cannot create: %s", t->partial, strerror(errno));
         trace_close(t, false, NULL, 0);

@@ -357,3 +357,136 @@ TEST(DtcSimCli, InconsistentControlValuesAreRefusedLikeACanWrite)
     r = sim("run " + q(sc) + " --set control.vdc_min_V=300 --quiet");
     EXPECT_EQ(r.status, 0) << "the --set value replaces the file's: " << r.output;
 }
+
+// dtc-sim never removes or truncates a file it did not create: a scenario
+// that happens to be named like an output's temporary (run.partial for
+// --csv run) is refused before anything is opened, and stays byte for byte,
+// also when the run would have failed anyway (a --metrics in a missing folder).
+TEST(DtcSimCli, AScenarioNamedLikeATemporaryIsNeverTouched)
+{
+    TempDir d;
+    const std::string sc = d.file("run.partial");
+    const std::string text = "[sim]\nduration_s = 0.01\n# keep me\n";
+    simtest::write_file(sc, text);
+    struct Case {
+        std::string args, what;
+    };
+    const Case cases[] = {
+        { "--csv " + q(d.file("run")), "--csv " + d.file("run") + ": its temporary file " + sc +
+                                           " is the scenario file itself" },
+        { "--csv " + q(d.file("run")) + " --metrics " + q(d.file("missing/m.json")),
+          "--metrics " + d.file("missing/m.json") + ": cannot create" },
+        { "--metrics " + q(d.file("run")), "is the scenario file itself" },
+        { "--record-samples " + q(d.file("run")), "is the scenario file itself" },
+        { "--csv " + q(d.file("./run")), "is the scenario file itself" },
+    };
+    for (const Case &c : cases) {
+        auto r = sim("run " + q(sc) + " --quiet " + c.args);
+        EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+        EXPECT_NE(r.output.find(c.what), std::string::npos) << r.output;
+        EXPECT_EQ(lines(r.output), 1) << r.output;
+        EXPECT_EQ(simtest::read_file(sc), text) << c.args;
+        EXPECT_FALSE(simtest::file_exists(d.file("run"))) << c.args;
+    }
+    // Another name of the same file (a hard link) is caught by its inode.
+    ASSERT_EQ(link(sc.c_str(), d.file("h.partial").c_str()), 0);
+    auto r = sim("run " + q(sc) + " --quiet --nvm " + q(d.file("h.partial")));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("is the scenario file itself"), std::string::npos) << r.output;
+    r = sim("run " + q(sc) + " --quiet --csv " + q(d.file("h")));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("its temporary file " + d.file("h.partial") + " is the scenario file itself"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(simtest::read_file(sc), text);
+}
+
+// Two outputs that name one file, or an output that is another's temporary,
+// are refused (exit 2) before any file is created or changed.
+TEST(DtcSimCli, OutputsThatNameOneFileAreRefusedBeforeAnythingIsTouched)
+{
+    TempDir d;
+    const std::string sc = d.file("s.ini");
+    simtest::write_file(sc, "[sim]\nduration_s = 0.01\n");
+    const std::string a = d.file("A"), x = d.file("X");
+    struct Case {
+        std::string args, what;
+    };
+    const Case cases[] = {
+        { "--csv " + q(a) + " --metrics " + q(d.file("./A")), "--metrics " + d.file("./A") +
+                                                                  ": is the same file as --csv " + a },
+        { "--csv " + q(x) + " --metrics " + q(x + ".partial"), "--metrics " + x + ".partial: is the temporary file "
+                                                                   "of --csv " + x },
+        { "--metrics " + q(x + ".partial") + " --csv " + q(x), "is the temporary file of --csv " + x },
+        { "--csv " + q(a) + " --record-samples " + q(d.file("sub/../A")), "is the same file as --csv " + a },
+        { "--nvm " + q(a) + " --csv " + q(a + ".tmp"), "--csv " + a + ".tmp: is the temporary file of --nvm " + a },
+        { "--nvm " + q(x) + " --metrics " + q(x), "is the same file as --metrics " + x },
+    };
+    ASSERT_EQ(mkdir(d.file("sub").c_str(), 0700), 0);
+    for (const Case &c : cases) {
+        auto r = sim("run " + q(sc) + " --quiet " + c.args);
+        EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+        EXPECT_NE(r.output.find(c.what), std::string::npos) << r.output;
+        EXPECT_EQ(lines(r.output), 1) << r.output;
+        for (const std::string &f : { a, a + ".partial", a + ".tmp", x, x + ".partial", x + ".tmp" })
+            EXPECT_FALSE(simtest::file_exists(f)) << c.args << ": " << f << " was created";
+    }
+    // The same with existing outputs: refused, and both kept as they were.
+    simtest::write_file(a, "old A");
+    simtest::write_file(x, "old X");
+    for (const std::string &args : { "--csv " + q(a) + " --metrics " + q(d.file("./A")),
+                                     "--csv " + q(x) + " --nvm " + q(d.file("sub/../X")) }) {
+        auto r = sim("run " + q(sc) + " --quiet " + args);
+        EXPECT_EQ(r.status, 2) << args << ": " << r.output;
+        EXPECT_NE(r.output.find("is the same file as"), std::string::npos) << r.output;
+    }
+    EXPECT_EQ(simtest::read_file(a), "old A");
+    EXPECT_EQ(simtest::read_file(x), "old X");
+    // A temporary left by an interrupted run is not ours to truncate: refused, kept.
+    simtest::write_file(x + ".partial", "someone's file");
+    auto r = sim("run " + q(sc) + " --quiet --csv " + q(x));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("--csv " + x + ": its temporary file " + x + ".partial exists"), std::string::npos)
+        << r.output;
+    EXPECT_EQ(simtest::read_file(x + ".partial"), "someone's file");
+    EXPECT_EQ(simtest::read_file(x), "old X");
+    // Distinct outputs are fine, and replace the old ones.
+    ASSERT_EQ(std::remove((x + ".partial").c_str()), 0);
+    r = sim("run " + q(sc) + " --quiet --csv " + q(a) + " --metrics " + q(x));
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(simtest::read_file(a), "old A");
+    EXPECT_NE(simtest::read_file(x), "old X");
+}
+
+// Arguments that do not fit are refused with a message, never cut short into
+// something that runs; numbers are decimal only.
+TEST(DtcSimCli, OverLongArgumentsAndNonDecimalNumbersAreRefused)
+{
+    const std::string ok = q(simtest::source_path("host_sim/scenarios/dol_start.ini"));
+    struct Case {
+        std::string args, what;
+    };
+    const Case cases[] = {
+        { "--duration 0.05" + std::string(44, '0') + "junk", "--duration: '0.05" + std::string(36, '0') +
+                                                                 "...' is longer than 48 characters" },
+        { "--duration 0.05" + std::string(50, '0'), "is longer than 48 characters" },
+        { "--duration 0x10", "--duration: '0x10' is not a decimal number of seconds" },
+        { "--duration 0x1p-4", "--duration: '0x1p-4' is not a decimal number" },
+        { "--duration nan", "not a decimal number" },
+        { "--start-delay 0x10", "--start-delay: '0x10' is not a time in 0..600 s" },
+        { "--start-delay inf", "--start-delay: 'inf' is not a time" },
+        { "--set sim.duration_s=0x10", "--set sim.duration_s: [sim] duration_s: malformed number '0x10'" },
+        { "--set 'sim.duration_s" + std::string(120, ' ') + "junk=0.05'", "the key is longer than 127 characters" },
+        { "--set control." + std::string(120, 'k') + "=1", "the key is longer than 127 characters" },
+        { "--set sim.duration_s=0.05" + std::string(252, '0'), "value longer than 255 characters" },
+    };
+    for (const Case &c : cases) {
+        auto r = sim("run " + ok + " --quiet " + c.args);
+        EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+        EXPECT_NE(r.output.find(c.what), std::string::npos) << c.args << ": " << r.output;
+        EXPECT_EQ(lines(r.output), 1) << r.output;
+    }
+    // Within the limits the same spellings run: 48 characters of --duration, a decimal --start-delay.
+    auto r = sim("run " + ok + " --quiet --duration 0.05" + std::string(44, '0') + " --start-delay 1e-2");
+    EXPECT_EQ(r.status, 0) << r.output;
+}

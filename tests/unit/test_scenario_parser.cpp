@@ -633,3 +633,76 @@ TEST(ScenarioParser, GarbageNeverCrashes)
         }
     }
 }
+
+// Numbers are decimal only (sim/decimal.h): what a scenario author writes is
+// what runs. Each refused spelling is named in the one-line message; each
+// accepted one lands with the value written out here.
+TEST(ScenarioParser, NumbersAreDecimalOnly)
+{
+    for (const char *bad : { "0x10", "0X10", "0x1p-4", "0x.8p1", "inf", "-inf", "infinity", "nan", "NAN", "1e",
+                             "1e+", ".", "-", "+", "1.2.3", "1_000", "1e400", "1e-400", "0b101", "1d",
+                             "5f", "--1", "+-1", "e5", "0x" }) {
+        SCOPED_TRACE(bad);
+        EXPECT_TRUE(fails_with(std::string("[sim]\nduration_s = ") + bad + "\n", 2,
+                               std::string("malformed number '") + bad + "'"));
+        // the same in a list key and a [control] key
+        EXPECT_TRUE(fails_with(std::string("[reference]\nstep = 1 ") + bad + "\n", 2,
+                               std::string("malformed number '") + bad + "'"));
+        EXPECT_TRUE(fails_with(std::string("[control]\nip_zeta = ") + bad + "\n", 2,
+                               std::string("malformed number '") + bad + "'"));
+    }
+    // (a list splits "1,5" at the comma; a scalar takes it whole)
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = 1,5\n", 2, "malformed number '1,5'"));
+    struct Good {
+        const char *text;
+        double value;
+    };
+    for (const Good &g : { Good{ "2", 2.0 }, Good{ "0.25", 0.25 }, Good{ ".5", 0.5 }, Good{ "5.", 5.0 },
+                           Good{ "+1.5", 1.5 }, Good{ "2e-1", 0.2 }, Good{ "1.5E+1", 15.0 }, Good{ "007", 7.0 },
+                           Good{ "0.05000000000000000000000000000000000000000000000", 0.05 } }) {
+        SCOPED_TRACE(g.text);
+        auto l = parse_text(std::string("[sim]\nduration_s = ") + g.text + "\n");
+        ASSERT_EQ(l.rc, 0) << l.error;
+        EXPECT_EQ(l.sc->duration_s, g.value);
+    }
+    // In --set, the same syntax.
+    auto l = parse_text("[sim]\nduration_s = 1\n", { "sim.duration_s=0x1p-4" });
+    EXPECT_EQ(l.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(l.error, "--set sim.duration_s: [sim] duration_s: malformed number '0x1p-4'");
+}
+
+// A key or value that does not fit its buffer is refused, never cut short
+// into something that runs.
+TEST(ScenarioSet, OverLongKeysAndValuesAreRefused)
+{
+    // 127 characters of key fit ("sim.duration_s" then blanks, trimmed) ...
+    auto l = parse_text("", { "sim.duration_s" + std::string(113, ' ') + "=0.5" });
+    ASSERT_EQ(l.rc, 0) << l.error;
+    EXPECT_EQ(l.sc->duration_s, 0.5);
+    // ... 128 do not, whatever follows: the junk would have been cut off.
+    l = parse_text("", { "sim.duration_s" + std::string(114, ' ') + "=0.5" });
+    EXPECT_EQ(l.rc, SCENARIO_EINPUT);
+    EXPECT_NE(l.error.find("the key is longer than 127 characters"), std::string::npos) << l.error;
+    l = parse_text("", { "sim.duration_s" + std::string(120, ' ') + "junk=0.5" });
+    EXPECT_EQ(l.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(l.error.rfind("--set sim.duration_s", 0), 0u) << l.error;
+    EXPECT_EQ(l.error.find('\n'), std::string::npos);
+    // A value: 255 characters fit, 256 do not (a number with trailing junk
+    // past the old cut would have run as 0.05).
+    std::string fits = "0.05" + std::string(251, '0');
+    l = parse_text("", { "sim.duration_s=" + fits });
+    ASSERT_EQ(l.rc, 0) << l.error;
+    EXPECT_EQ(l.sc->duration_s, 0.05);
+    l = parse_text("", { "sim.duration_s=" + fits + "x" });
+    EXPECT_EQ(l.rc, SCENARIO_EINPUT);
+    EXPECT_EQ(l.error, "--set sim.duration_s: [sim] duration_s: value longer than 255 characters");
+    for (const char *key : { "reference.step=1 ", "control.ip_zeta=" }) {
+        l = parse_text("", { key + std::string(300, '5') });
+        EXPECT_EQ(l.rc, SCENARIO_EINPUT) << key;
+        EXPECT_NE(l.error.find("value longer than 255 characters"), std::string::npos) << l.error;
+    }
+    // A file name that does not fit the messages' buffer.
+    l = parse_text("[sim]\nduration_s = 1\n", {}, std::string(2000, 'f'));
+    EXPECT_EQ(l.rc, SCENARIO_EINPUT);
+    EXPECT_NE(l.error.find("the file name is longer than 1023 characters"), std::string::npos) << l.error;
+}

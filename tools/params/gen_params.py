@@ -171,7 +171,7 @@ def expand_params(raw: list) -> list[Param]:
             raise TableError(f"{where}: name must be an identifier")
         known = {"name", "index", "sub", "count", "type", "unit", "scale", "resolution", "min", "max",
                  "allowed", "default", "access", "persist", "runtime", "max_step", "pdo", "bind", "ctype",
-                 "description"}
+                 "range_within", "description"}
         for key in e:
             if key not in known:
                 raise TableError(f"{name}: unknown key '{key}'")
@@ -205,7 +205,7 @@ def expand_params(raw: list) -> list[Param]:
                 persist=bool(e.get("persist", False)), runtime=bool(e.get("runtime", False)),
                 max_step=e.get("max_step", 0.0),
                 pdo=bool(e.get("pdo", False)), bind=bind, ctype=e.get("ctype"),
-                description=e["description"], generated=False))
+                range_within=e.get("range_within"), description=e["description"], generated=False))
     return out
 
 
@@ -346,6 +346,7 @@ class Table:
         self.by_name = {p.name: p for p in self.params}
         self._check_unique()
         self._check_scope()
+        self._check_ranges()
 
     def _pdos(self, raw, what, cob_base, comm_base, map_base, access):
         out = []
@@ -482,6 +483,30 @@ class Table:
             if index not in by_index:
                 raise TableError(f"[[object]] 0x{index:04X}: no parameter uses it")
 
+    def _check_ranges(self):
+        """range_within: the bus range of a parameter lies inside another's of the
+        same unit (an unsigned type is a magnitude: both signs), so that no object
+        asks for more than the parameter the drive declares as the limit."""
+        for p in self.params:
+            other = getattr(p, "range_within", None)
+            if other is None:
+                continue
+            q = self.by_name.get(other) if isinstance(other, str) else None
+            if q is None:
+                raise TableError(f"{p.name}: range_within names no parameter ('{other}')")
+            if q is p or q.unit != p.unit or p.kind not in ("uint", "sint", "real") or \
+                    q.kind not in ("sint", "real"):
+                raise TableError(f"{p.name}: range_within needs another signed or REAL32 parameter of the "
+                                 f"same unit ({q.name} is {q.type} in '{q.unit}', {p.name} in '{p.unit}')")
+            if p.min is None or q.min is None:
+                raise TableError(f"{p.name}: range_within needs min and max on {p.name} and {q.name}")
+            ends = [p.min, p.max] + ([-p.max] if p.kind == "uint" else [])
+            if min(ends) < q.min or max(ends) > q.max:
+                what = f"a magnitude up to {fmt_range(p.max)}" if p.kind == "uint" else \
+                    f"{fmt_range(p.min)}..{fmt_range(p.max)}"
+                raise TableError(f"{p.name}: its range ({what} {p.unit}) exceeds {q.name}'s "
+                                 f"{fmt_range(q.min)}..{fmt_range(q.max)} {q.unit} (range_within)")
+
     def _check_scope(self):
         tel = [p for p in self.params if p.index == 0x3000 and p.sub != 0]
         self.tel = tel
@@ -497,6 +522,10 @@ class Table:
 
 
 # ------------------------------------------------------------------ C output
+
+
+def fmt_range(x) -> str:
+    return f"{x:g}" if isinstance(x, float) else str(x)
 
 
 def c_string(s: str) -> str:

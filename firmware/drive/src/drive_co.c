@@ -13,6 +13,7 @@
 #include "dtc/param_table.h"
 #include "dtc/persist.h"
 #include "dtc/scope.h"
+#include "dtc/speed_ref.h"
 #include "hal/hal.h"
 
 #define SIGNATURE_SAVE 0x65766173u /* "save" */
@@ -132,7 +133,7 @@ static uint32_t fn_read(drive *d, const co_param *p, co_num *v)
     v->u = 0u;
     switch ((co_fn_id)p->offset) {
     case CO_FN_SPEED_REF:
-        v->f = d->speed_ref_rad_s;
+        v->f = speed_ref_in_force(drive_cfg(d), d->speed_ref_rad_s);
         break;
     case CO_FN_VL_TARGET:
         v->f = d->target_rad_s;
@@ -204,21 +205,65 @@ static void quick_stop(drive *d)
         co_cia402_quick_stop_done(&d->co.cia402);
 }
 
-/* The bus's target velocity into the speed reference: 0x6046 limits the
- * magnitude (a non-zero target at least vl_min, at most vl_max), the halt bit
- * holds it at 0 (the speed ramp slows the motor, operation stays enabled). */
-static void apply_target(drive *d)
+static bool same_bits(float a, float b)
+{
+    uint32_t x, y;
+    memcpy(&x, &a, sizeof x);
+    memcpy(&y, &b, sizeof y);
+    return x == y;
+}
+
+/* The bus's target velocity under the vl limits 0x6046 (step 1 of the rule
+ * in dtc/speed_ref.h), rad/s: a non-zero magnitude at least @p min_rpm, then
+ * at most @p max_rpm, so the maximum wins even over a pair stored before the
+ * pair was checked; the halt bit holds it at 0 (the speed ramp slows the
+ * motor, operation stays enabled). */
+static float vl_limited(const drive *d, uint32_t min_rpm, uint32_t max_rpm)
 {
     const float rpm_per_rad_s = 9.549296586f;
     float t = d->target_rad_s;
     float mag = (t < 0.0f ? -t : t) * rpm_per_rad_s;
-    float lo = (float)d->app.vl_min_rpm, hi = (float)d->app.vl_max_rpm;
-    if (mag > hi)
-        mag = hi;
-    if (mag > 0.0f && mag < lo)
-        mag = lo;
+    if (mag > 0.0f && mag < (float)min_rpm)
+        mag = (float)min_rpm;
+    if (mag > (float)max_rpm)
+        mag = (float)max_rpm;
     float ref = (t < 0.0f ? -mag : mag) / rpm_per_rad_s;
-    drive_set_speed_ref(d, d->halt ? 0.0f : ref);
+    return d->halt ? 0.0f : ref;
+}
+
+/* The bus's target into the speed reference: the vl limits, then the
+ * declared range (drive_set_speed_ref). */
+static void apply_target(drive *d)
+{
+    drive_set_speed_ref(d, vl_limited(d, d->app.vl_min_rpm, d->app.vl_max_rpm));
+}
+
+/* Whether the reference in force is the bus's target under the present vl
+ * limits: one set by the board itself (e.g. a SIL scenario) is not a vl
+ * target, and a change of the limits leaves it as it is. */
+static bool ref_is_bus_target(const drive *d)
+{
+    float from_bus = speed_ref_declared(d->speed_ref_rad_s, vl_limited(d, d->app.vl_min_rpm, d->app.vl_max_rpm));
+    return same_bits(from_bus, d->speed_ref_rad_s);
+}
+
+/* A write of 0x6046:1 (vl_velocity_min) or :2 (vl_velocity_max): refused when
+ * it would put the minimum above the maximum; else applied, and a reference
+ * that came from the bus is worked out again under the new limits. */
+static uint32_t vl_limits_write(drive *d, const co_param *p, const co_num *v)
+{
+    uint32_t min_rpm = d->app.vl_min_rpm, max_rpm = d->app.vl_max_rpm;
+    if (p == &co_params[CO_P_VL_VELOCITY_MIN])
+        min_rpm = v->u;
+    else
+        max_rpm = v->u;
+    if (min_rpm > max_rpm)
+        return CO_ABORT_MAX_BELOW_MIN;
+    bool bus_ref = ref_is_bus_target(d);
+    co_field_set(&d->app, p, v);
+    if (bus_ref)
+        apply_target(d);
+    return CO_ABORT_NONE;
 }
 
 static void apply_cia402(drive *d, co_cia402_action a)
@@ -256,8 +301,14 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
         return CO_ABORT_NONE;
     case CO_FN_VL_ACCEL: {
         bool was_ok = ctl_cfg_check(drive_cfg(d)) == CTL_CFG_OK;
+        /* rpm/s -> rad/s^2, held to ramp_rad_s2's range: the top of this entry's
+         * (its maximum rounded to whole rpm/s) lies a little above it */
+        const co_param *ramp = &co_params[CO_P_RAMP_RAD_S2];
+        float rad_s2 = (float)v->u * 0.104719755f;
+        if (rad_s2 > ramp->max.f)
+            rad_s2 = ramp->max.f;
         ctl_cfg *e = drive_cfg_edit(d);
-        e->speed.ramp_rad_s2 = (float)v->u * 0.104719755f; /* rpm/s -> rad/s^2 */
+        e->speed.ramp_rad_s2 = rad_s2;
         if (was_ok && ctl_cfg_check(e) != CTL_CFG_OK)
             return CO_ABORT_PARAM_INCOMPAT;
         drive_cfg_commit(d);
@@ -278,7 +329,10 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
         /* Store the empty set first: if the NVM fails nothing has changed. */
         if (save_params(d, PERSIST_SAVE_EMPTY) != HAL_OK)
             return CO_ABORT_STORE;
+        bool bus_ref = ref_is_bus_target(d);
         (void)persist_load(&d->persist);
+        if (bus_ref)
+            apply_target(d); /* under the default vl limits */
         co_emcy_clear_extra(&d->co.emcy);
         return CO_ABORT_NONE;
     case CO_FN_CONTROLWORD: {
@@ -340,6 +394,8 @@ static uint32_t app_write(void *ctx, const co_param *p, const co_num *internal)
         co_field_set(&d->scope.cfg, p, internal);
         return CO_ABORT_NONE;
     case DRIVE_BIND_APP:
+        if (p == &co_params[CO_P_VL_VELOCITY_MIN] || p == &co_params[CO_P_VL_VELOCITY_MAX])
+            return vl_limits_write(d, p, internal);
         co_field_set(&d->app, p, internal);
         derive_quick_stop(d);
         return CO_ABORT_NONE;
@@ -417,7 +473,10 @@ static void app_reset_node(void *ctx)
     drive *d = ctx;
     d->quick_stop_req = false;
     drive_set_run(d, false);
+    bool bus_ref = ref_is_bus_target(d);
     (void)persist_load(&d->persist);
+    if (bus_ref)
+        apply_target(d); /* under the stored vl limits */
     scope_stop(&d->scope);
 }
 

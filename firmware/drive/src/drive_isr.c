@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "dtc/num.h"
+#include "dtc/speed_ref.h"
 #include "hal/hal.h"
 
 /* Compiler barrier: volatile orders only volatile accesses, so the plain
@@ -59,7 +60,10 @@ void drive_cfg_commit(drive *d)
     d->cfg_active = inactive;
 }
 
-void drive_set_speed_ref(drive *d, float speed_ref_rad_s) { d->speed_ref_rad_s = speed_ref_rad_s; }
+void drive_set_speed_ref(drive *d, float speed_ref_rad_s)
+{
+    d->speed_ref_rad_s = speed_ref_declared(d->speed_ref_rad_s, speed_ref_rad_s);
+}
 
 void drive_set_run(drive *d, bool run)
 {

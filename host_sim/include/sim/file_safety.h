@@ -1,8 +1,15 @@
 /**
  * @file file_safety.h
- * @brief What dtc-sim may read and overwrite: the scenario must be a regular
- *        file of bounded size; an output may only be a new path or an
- *        existing regular file that is not one of the run's inputs.
+ * @brief What dtc-sim may read and write: the scenario must be a regular file
+ *        of bounded size; a run never removes or truncates a file it did not
+ *        create itself.
+ *
+ * Every output is written through a temporary file next to it (OUT.partial,
+ * the NVM image through NVM.tmp) and renamed over the output when the run
+ * succeeds, so the output itself may be a new name or an existing regular
+ * file (replaced as a whole). Before anything is opened for writing,
+ * sim_outputs_allowed() checks each output and its temporary against the
+ * input and against each other.
  */
 #ifndef SIM_FILE_SAFETY_H
 #define SIM_FILE_SAFETY_H
@@ -17,15 +24,26 @@ extern "C" {
 /** Largest scenario file read, bytes: scenarios are a few kB. */
 #define SIM_SCENARIO_MAX_BYTES (1024L * 1024L)
 
+/** One output of a run. */
+typedef struct {
+    const char *what;        /**< its option, for messages, e.g. "--csv" */
+    const char *path;        /**< as given; NULL: the option was not given (skipped) */
+    const char *temp_suffix; /**< the temporary it is written through: path + this, e.g. ".partial" */
+} sim_output;
+
 /**
- * Check that @p path may be written as an output named @p what (e.g.
- * "--csv"): it does not exist, or it is a regular file that is neither
- * @p input nor @p other (either may be NULL; compared by device and inode,
- * so another name of the same file is caught too).
- * @return true when allowed; else false with one line in @p err.
+ * Check that the @p n outputs may be written, before any is opened: each
+ * output is a new name in an existing, writable folder or an existing regular
+ * file (not a directory, device, FIFO or dangling link); no output and no
+ * temporary is the input @p input (may be NULL) or the same file as another
+ * output or temporary, compared by device and inode when both exist, else by
+ * the resolved path (the folder's real path and the name); and no temporary
+ * exists already (it would be truncated: a leftover of an interrupted run is
+ * for the user to remove).
+ * @return true when allowed; else false with ONE line in @p err
+ *         ("--csv PATH: problem").
  */
-bool sim_output_allowed(const char *what, const char *path, const char *input, const char *other, char *err,
-                        size_t errlen);
+bool sim_outputs_allowed(const char *input, const sim_output *out, size_t n, char *err, size_t errlen);
 
 #ifdef __cplusplus
 }

@@ -113,7 +113,12 @@ ctl_cfg *drive_cfg_edit(drive *d);
 /** Derive gains in the edited copy and publish it to the ISR. Context: BG. */
 void drive_cfg_commit(drive *d);
 
-/** Set the mechanical speed reference, rad/s. Context: BG. */
+/**
+ * Set the mechanical speed reference, rad/s, limited to the declared range of
+ * speed_ref_rpm (the rule every source of the reference goes through,
+ * dtc/speed_ref.h; the control law limits it to the envelope's top speed).
+ * Context: BG.
+ */
 void drive_set_speed_ref(drive *d, float speed_ref_rad_s);
 
 /** Start (true: magnetise then run) or stop (false: gates off). Context: BG. */

@@ -49,6 +49,7 @@ struct co_dev;
 #define CO_ABORT_INVALID_VALUE 0x06090030u   /**< invalid value (NaN, not in the allowed set) */
 #define CO_ABORT_VALUE_HIGH 0x06090031u      /**< value too high */
 #define CO_ABORT_VALUE_LOW 0x06090032u       /**< value too low */
+#define CO_ABORT_MAX_BELOW_MIN 0x06090036u   /**< maximum value is less than minimum value */
 #define CO_ABORT_GENERAL 0x08000000u         /**< general error */
 #define CO_ABORT_STORE 0x08000020u           /**< cannot be stored (wrong signature, NVM failure) */
 #define CO_ABORT_STATE 0x08000022u           /**< refused in the present device state (running) */
