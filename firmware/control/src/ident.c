@@ -44,10 +44,18 @@ static void ident_derive_standstill(ident_cfg *c)
     s->hf_di_A = num_mul(R(0.3), s->i_hi_A);
     real_t v_s = num_div(c->vdc_nom_V, R(3.0)); /* a small vector: 2/3 of one capacitor */
     s->hf_duty0 = num_sat(num_div(num_mul(s->hf_di_A, e->sigma_ls_H), num_mul(v_s, T)), num_div(s->w_min_s, T), R(0.9));
-    /* the block: the narrowest pulse at i_lo (the drops and a low Rs) at least w_min */
+    /* the block: the narrowest pulse expected at i_lo (the drops and a low Rs) at
+     * least twice w_min, so that errors in the drop, the dead time and the noise
+     * on the current skip no pulse (the dead time's error is per pulse: a bin
+     * whose pulses are all there has the constant error the fit takes out) */
     real_t v_need = num_mac(R(2.0), c->v_drop_V, num_mul(num_mul(IDENT_RS_MIN_PU, e->z_base_ohm), s->i_lo_A));
+    /* ... but a block well inside the stator's transient time constant
+     * sigma Ls / (Rs + R_R) (~ 0.15 / (2 s w_e) at the plate's rated slip s),
+     * where the current between two pulses is still a straight line */
+    real_t t_sig = num_div(R(0.15), num_mul(R(2.0), e->w_slip_rad_s));
+    uint32_t n_max = (uint32_t)num_sat(num_div(num_mul(R(0.25), t_sig), T), R(2.0), R(16.0));
     uint32_t n = 2u;
-    while (n < 16u && num_mac(num_div(num_mul(v_need, (real_t)n * T), v_s), R(1.0), dt) < s->w_min_s)
+    while (n < n_max && num_mac(num_div(num_mul(v_need, (real_t)n * T), v_s), R(1.0), dt) < R(2.0) * s->w_min_s)
         n++;
     s->n_block = n;
     s->kp_V_A = num_div(num_mul(IDENT_LOOP_GAIN, e->sigma_ls_H), (real_t)n * T);
@@ -87,6 +95,7 @@ static void ident_derive_rotating(ident_cfg *c)
     r->w1_rad_s = num_mul(R(0.5), w);
     r->w2_rad_s = num_mul(R(0.8), w);
     r->w_tol_rad_s = num_mul(R(0.02), w);
+    r->w_near_rad_s = num_mul(R(0.08), w);
     r->wc_rad_s = R(10.0);
     r->w_lpf_a = R(1.0) - num_exp(-num_div(T, R(0.01)));
     r->start_ticks = ident_ticks_of(R(0.1), T);
@@ -327,6 +336,30 @@ static void ident_fit_standstill(const ident *s, const ident_cfg *c, ident_resul
     ident_set(&r->rr_ohm, t.rr_ohm, v_t);
 }
 
+/* The mean acceleration over a steady-speed window: its halves' mean speeds
+ * a half window apart, rad/s^2. */
+static real_t ident_rot_accel(const ident_rot_window *w, real_t period_s)
+{
+    uint32_t n2 = w->n / 2u, n1 = w->n - n2; /* the second half: its last n / 2 ticks (ident_rot_hold) */
+    if (n1 == 0u || n2 == 0u)
+        return R(0.0);
+    real_t m2 = num_div(w->w_late_rad_s, (real_t)n2), m1 = num_div(w->w_rad_s - w->w_late_rad_s, (real_t)n1);
+    return num_div(m2 - m1, num_mul(R(0.5) * (real_t)w->n, period_s));
+}
+
+/* Ticks over which the switching ripple of the measured torque stays correlated. */
+#define IDENT_TE_CORR_TICKS R(10.0)
+
+/* The variance of a window's mean torque from its ripple, N^2 m^2. */
+static real_t ident_mean_var(const ident_rot_window *w)
+{
+    if (w->n < 2u)
+        return R(0.0);
+    real_t n = (real_t)w->n, m = num_div(w->te_Nm, n);
+    real_t var = num_div(w->te2_Nm2, n) - num_mul(m, m);
+    return num_div(num_mul(var > R(0.0) ? var : R(0.0), IDENT_TE_CORR_TICKS), n);
+}
+
 static void ident_fit_rotating(const ident *s, const ident_cfg *c, ident_result *r)
 {
     const ident_plate_est *e = &c->est;
@@ -343,14 +376,23 @@ static void ident_fit_rotating(const ident *s, const ident_cfg *c, ident_result 
     bool w_ok = a->n > 0u && b->n > 0u;
     if (w_ok) {
         real_t na = R(1.0) / (real_t)a->n, nb = R(1.0) / (real_t)b->n;
-        real_t bf = ident_friction(num_mul(a->te_Nm, na), num_mul(a->w_rad_s, na), num_mul(b->te_Nm, nb),
-                                   num_mul(b->w_rad_s, nb));
+        /* the torque that still accelerates the shaft in each window is not friction */
+        real_t j_ok2 = r->j_kgm2.verdict == IDENT_VERDICT_OK ? r->j_kgm2.value : R(0.0);
+        real_t te_a = num_mul(a->te_Nm, na) - num_mul(j_ok2, ident_rot_accel(a, c->period_s));
+        real_t te_b = num_mul(b->te_Nm, nb) - num_mul(j_ok2, ident_rot_accel(b, c->period_s));
+        real_t bf = ident_friction(te_a, num_mul(a->w_rad_s, na), te_b, num_mul(b->w_rad_s, nb));
         real_t b_max = num_mul(R(0.1), num_div(e->te_Nm, e->w_m_rad_s));
-        ident_set(&r->b_Nms, bf, bf >= R(0.0) && bf <= b_max ? IDENT_VERDICT_OK : IDENT_VERDICT_DOUBTFUL);
+        /* the switching ripple of the torque leaves its window means uncertain by about
+         * sd / sqrt(n / IDENT_TE_CORR_TICKS): a difference within three of them is doubtful */
+        real_t u2 = num_mac(ident_mean_var(a), R(1.0), ident_mean_var(b));
+        bool resolved = num_mul(R(9.0), u2) < num_mul(num_mul(R(0.09), te_b - te_a), te_b - te_a);
+        ident_set(&r->b_Nms, bf,
+                  bf >= R(0.0) && bf <= b_max && resolved ? IDENT_VERDICT_OK : IDENT_VERDICT_DOUBTFUL);
         /* L_M from the no-load window, checked against the standstill's */
+        real_t i0 = R(0.0);
         real_t lm_ref = ident_lm_from_no_load(num_mul(a->p_VsA, na), num_mul(a->q_VsA, na), num_mul(a->i2_A2, na),
-                                              r->sigma_ls_H.value);
-        ident_set(&r->i0_A, num_sqrt(num_mul(a->i2_A2, na)), IDENT_VERDICT_OK);
+                                              num_mul(a->psi2_Wb2, na), r->sigma_ls_H.value, &i0);
+        ident_set(&r->i0_A, i0, lm_ref > R(0.0) ? IDENT_VERDICT_OK : IDENT_VERDICT_FAILED);
         real_t ss = r->lm_ref_standstill_H;
         ident_verdict v = ident_range(lm_ref, num_mul(R(0.5), ss), num_mul(R(2.0), ss));
         ident_t_params t;

@@ -4,6 +4,7 @@
  */
 #include "dtc/ident_fit.h"
 
+#include <stddef.h>
 #include <string.h>
 
 /* Natural logarithm of @p x > 0 (the fit's grid in log Tr): x = m 2^e with
@@ -262,12 +263,30 @@ int ident_hf_solve(const ident_hf_sums *s, real_t period_s, real_t *lsig_H, real
 
 /* ------------------------------------------------------------------ rotating */
 
-real_t ident_lm_from_no_load(real_t p_VsA, real_t q_VsA, real_t i2_A2, real_t lsig_H)
+real_t ident_lm_from_no_load(real_t p_VsA, real_t q_VsA, real_t i2_A2, real_t psi2_Wb2, real_t lsig_H, real_t *i0_A)
 {
+    if (i0_A != NULL)
+        *i0_A = R(0.0);
     real_t a = p_VsA - num_mul(lsig_H, i2_A2);
-    if (!(a > R(0.0)) || !(i2_A2 > R(0.0)))
+    if (!(a > R(0.0)) || !(i2_A2 > R(0.0)) || !(psi2_Wb2 > R(0.0)))
         return R(0.0);
-    return num_div(num_mac(a, a, num_mul(q_VsA, q_VsA)), num_mul(a, i2_A2));
+    real_t r = num_div(q_VsA, a), l2 = num_mul(lsig_H, lsig_H);
+    real_t c = num_mul(l2, num_mac(r, r, R(1.0)));
+    real_t psi2 = psi2_Wb2, lm = R(0.0), i02 = R(0.0);
+    for (int pass = 0; pass < 3; pass++) {
+        real_t b = num_div(psi2, a) - R(2.0) * lsig_H;
+        real_t disc = num_mac(b, b, -R(4.0) * c);
+        if (!(disc >= R(0.0)) || !(b > R(0.0)))
+            return R(0.0);
+        lm = num_mul(R(0.5), b + num_sqrt_nonneg(disc));
+        i02 = num_mul(num_div(a, lm), num_mac(r, r, R(1.0)));
+        /* the flux ripple's share of |psi|^2 out for the next pass */
+        real_t ripple = i2_A2 - i02;
+        psi2 = psi2_Wb2 - num_mul(l2, ripple > R(0.0) ? ripple : R(0.0));
+    }
+    if (i0_A != NULL)
+        *i0_A = num_sqrt(i02);
+    return lm;
 }
 
 real_t ident_inertia(const ident_speed_window *a, const ident_speed_window *d)

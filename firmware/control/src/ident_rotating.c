@@ -6,7 +6,8 @@
 
 static void ident_rot_window_reset(ident_rot_window *w)
 {
-    w->p_VsA = w->q_VsA = w->i2_A2 = w->te_Nm = w->w_rad_s = R(0.0);
+    w->p_VsA = w->q_VsA = w->i2_A2 = w->psi2_Wb2 = w->te_Nm = w->w_rad_s = R(0.0);
+    w->w_late_rad_s = w->te2_Nm2 = R(0.0);
     w->n = 0u;
 }
 
@@ -49,10 +50,10 @@ static void ident_rot_flux(ident_rot *s, const ident_rot_cfg *c, const real_t i[
 
 /* One window's sums at this tick; false while the stator frequency is too low for the voltage model. */
 static bool ident_rot_measure(const ident_rot *s, const ident_rot_cfg *c, const real_t i[2], real_t *te, real_t *p,
-                              real_t *q)
+                              real_t *q, real_t *psi2)
 {
     real_t w = s->w_e_rad_s;
-    *te = *p = *q = R(0.0);
+    *te = *p = *q = *psi2 = R(0.0);
     if (!(num_abs(w) > R(3.0) * c->wc_rad_s))
         return false;
     real_t k = num_div(c->wc_rad_s, w);
@@ -62,6 +63,7 @@ static bool ident_rot_measure(const ident_rot *s, const ident_rot_cfg *c, const 
     *q = num_mul(pa, i[1]) - num_mul(pb, i[0]);
     *p = num_mac(pa, i[0], num_mul(pb, i[1]));
     *te = num_mul(num_mul(R(1.5), c->pole_pairs), *q);
+    *psi2 = num_mac(pa, pa, num_mul(pb, pb));
     return true;
 }
 
@@ -100,24 +102,50 @@ static void ident_rot_change(ident_rot *s, const ident_rot_cfg *c, real_t w, rea
     }
 }
 
+/* Towards the speed @p w_ref: at the inertia test's torque while farther than
+ * w_near (the speed loop's ramp, set for the drive's use, need not be fast),
+ * then the speed loop. True once within w_near. */
+static bool ident_rot_goto(ident_rot *s, const ident_rot_cfg *c, real_t w, real_t w_ref, ident_out *out)
+{
+    real_t e = w_ref - w;
+    if (num_abs(e) > c->w_near_rad_s) {
+        out->mode = IDENT_OUT_TORQUE;
+        out->te_ref_Nm = e > R(0.0) ? c->te_J_Nm : -c->te_J_Nm;
+        s->held = 0u;
+        return false;
+    }
+    out->mode = IDENT_OUT_SPEED;
+    out->speed_ref_rad_s = w_ref;
+    return true;
+}
+
 /* A steady-speed window: settle within w_tol for settle_ticks, then sum window_ticks; true when complete. */
 static bool ident_rot_hold(ident_rot *s, const ident_rot_cfg *c, real_t w, real_t w_ref, const real_t i[2],
-                           ident_rot_window *win)
+                           ident_rot_window *win, ident_out *out)
 {
+    if (!ident_rot_goto(s, c, w, w_ref, out) && win->n == 0u)
+        return false;
+    out->mode = IDENT_OUT_SPEED; /* once the window is open, the speed loop only */
+    out->te_ref_Nm = R(0.0);
+    out->speed_ref_rad_s = w_ref;
     if (win->n >= c->window_ticks)
         return true;
     if (s->held < c->settle_ticks) {
         s->held = num_abs(w - w_ref) <= c->w_tol_rad_s ? s->held + 1u : 0u;
         return false;
     }
-    real_t te = R(0.0), p = R(0.0), q = R(0.0);
-    if (!ident_rot_measure(s, c, i, &te, &p, &q))
+    real_t te = R(0.0), p = R(0.0), q = R(0.0), psi2 = R(0.0);
+    if (!ident_rot_measure(s, c, i, &te, &p, &q, &psi2))
         return false;
+    win->psi2_Wb2 += psi2;
     win->p_VsA += p;
     win->q_VsA += q;
     win->i2_A2 = num_mac(i[0], i[0], num_mac(i[1], i[1], win->i2_A2));
     win->te_Nm += te;
+    win->te2_Nm2 = num_mac(te, te, win->te2_Nm2);
     win->w_rad_s += w;
+    if (2u * win->n >= c->window_ticks)
+        win->w_late_rad_s += w;
     win->n++;
     return win->n >= c->window_ticks;
 }
@@ -148,8 +176,8 @@ ident_rot_status ident_rot_step(ident_rot *s, const ident_rot_cfg *c, const iden
         return IDENT_ROT_TIMEOUT;
 
     real_t w = in->omega_m_rad_s;
-    real_t te = R(0.0), p = R(0.0), q = R(0.0);
-    bool valid = ident_rot_measure(s, c, i, &te, &p, &q);
+    real_t te = R(0.0), p = R(0.0), q = R(0.0), psi2 = R(0.0);
+    bool valid = ident_rot_measure(s, c, i, &te, &p, &q, &psi2);
     switch (s->stage) {
     case IDENT_ROTATING_START:
         s->held = in->control_running ? s->held + 1u : 0u;
@@ -169,19 +197,16 @@ ident_rot_status ident_rot_step(ident_rot *s, const ident_rot_cfg *c, const iden
             ident_rot_next(s, IDENT_ROTATING_NO_LOAD);
         break;
     case IDENT_ROTATING_NO_LOAD:
-        out->mode = IDENT_OUT_SPEED;
-        out->speed_ref_rad_s = c->w1_rad_s;
-        if (ident_rot_hold(s, c, w, c->w1_rad_s, i, &s->no_load))
+        if (ident_rot_hold(s, c, w, c->w1_rad_s, i, &s->no_load, out))
             ident_rot_next(s, IDENT_ROTATING_FRICTION);
         break;
     case IDENT_ROTATING_FRICTION:
-        out->mode = IDENT_OUT_SPEED;
-        out->speed_ref_rad_s = c->w2_rad_s;
-        if (ident_rot_hold(s, c, w, c->w2_rad_s, i, &s->friction))
+        if (ident_rot_hold(s, c, w, c->w2_rad_s, i, &s->friction, out))
             ident_rot_next(s, IDENT_ROTATING_STOP);
         break;
     case IDENT_ROTATING_STOP:
-        out->mode = IDENT_OUT_SPEED;
+        if (!ident_rot_goto(s, c, w, R(0.0), out))
+            break;
         s->held = num_abs(w) <= c->w_tol_rad_s ? s->held + 1u : 0u;
         if (s->held >= c->settle_ticks / 4u + 1u) {
             ident_rot_next(s, IDENT_ROTATING_END);

@@ -168,9 +168,10 @@ static real_t ident_small_v(uint8_t st, const ident_in *in)
 /* The regulator's pulse centred on period g + 1's start: the PI on the current
  * at the last centre (its proportional gain lowered once the stage has
  * settled), the pulse's state and half duty (none when narrower than w_min:
- * the dead time would swallow it). A pulse that opposes the current, or none,
- * keeps the sampling unbiased (the current is linear between the samples). */
-static void ident_regulate(ident_ss *s, const ident_ss_cfg *c, const ident_in *in, real_t i_ref, bool settled)
+ * the dead time would swallow it). False unless the pulse is there and along
+ * the current: the dead time's error is per pulse and of the pulse's sign, so
+ * only bins of regular pulses have the constant error the fit takes out. */
+static bool ident_regulate(ident_ss *s, const ident_ss_cfg *c, const ident_in *in, real_t i_ref, bool settled)
 {
     real_t nT = num_mul((real_t)c->n_block, c->period_s);
     real_t e = i_ref - s->i_centre_A;
@@ -188,13 +189,14 @@ static void ident_regulate(ident_ss *s, const ident_ss_cfg *c, const ident_in *i
     if (!(w >= c->w_min_s)) {
         s->half_state = IDENT_ST_OOO;
         s->half_duty = R(0.0);
-        return;
+        return false;
     }
     real_t d = num_div(R(0.5) * w, c->period_s);
     if (d > IDENT_HALF_DUTY_MAX)
         d = IDENT_HALF_DUTY_MAX;
     s->half_state = st;
     s->half_duty = d;
+    return u > R(0.0);
 }
 
 /* Burst pulse q (0..3: +, -, -, +; a + at the period's end, a - at its start,
@@ -332,7 +334,12 @@ ident_ss_status ident_ss_step(ident_ss *s, const ident_ss_cfg *c, const ident_in
     if (next == IDENT_K_END) {
         /* settled in a DC stage: the lower gain, so the current's noise moves the pulses less */
         uint32_t from = g + 1u < c->g_sigma ? 0u : (g + 1u >= c->g_rotor ? c->g_rotor : c->g_sigma);
-        ident_regulate(s, c, in, i_ref, g + 1u >= from + c->settle_ticks);
+        if (!ident_regulate(s, c, in, i_ref, g + 1u >= from + c->settle_ticks)) {
+            /* the pulse around t_{g+2} is not regular: its two periods' bins do not count */
+            s->bins[(g + 1u) / c->bin_ticks].use = 0u;
+            if ((g + 2u) / c->bin_ticks < IDENT_BINS)
+                s->bins[(g + 2u) / c->bin_ticks].use = 0u;
+        }
         ident_act_pulse(&act, s->half_state, s->half_duty, true);
     } else if (next == IDENT_K_START) {
         ident_act_pulse(&act, s->half_state, s->half_duty, false);

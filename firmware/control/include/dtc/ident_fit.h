@@ -156,20 +156,26 @@ int ident_hf_solve(const ident_hf_sums *s, real_t period_s, real_t *lsig_H, real
 /* ------------------------------------------------------------------ rotating */
 
 /**
- * The magnetising inductance L_M = Ls - sigma Ls from the no-load steady
- * state: the window means @p p_VsA of psi_s . i_s, @p q_VsA of psi_s x i_s
- * (the stator flux from the voltage model, Wb, times the current, A) and
- * @p i2_A2 of |i_s|^2, with @p lsig_H from the standstill part. In the rotor
- * flux frame psi_s = Ls i_d + j Lsig i_q at steady state, so
- * A = P - Lsig |i|^2 = L_M i_d^2 and Q = L_M i_d i_q, whence
+ * The magnetising inductance L_M = Ls - sigma Ls from a steady state at
+ * speed: the window means @p p_VsA of psi_s . i_s, @p q_VsA of psi_s x i_s
+ * (the stator flux from the voltage model, Wb, times the current, A),
+ * @p i2_A2 of |i_s|^2 and @p psi2_Wb2 of |psi_s|^2, with @p lsig_H from the
+ * standstill part. In the rotor flux frame psi_s = Ls i_d + j Lsig i_q at
+ * steady state, so
  *
- *   L_M = (A^2 + Q^2) / (A |i|^2),
+ *   A = P - Lsig |i|^2 = L_M i_d^2,   Q = L_M i_d i_q,
+ *   |psi|^2 = (L_M + Lsig)^2 i_d^2 + Lsig^2 i_q^2,
  *
- * exact at any slip (the load need not be zero), and the current ripple
- * cancels from A (its flux ripple is Lsig times it). @return L_M, H, or 0
- * when A <= 0 or no current. Context: BG.
+ * whence, with r = Q / A and k = |psi|^2 / A,
+ * L_M^2 + (2 Lsig - k) L_M + Lsig^2 (1 + r^2) = 0 (the larger root): exact at
+ * any slip. The switching ripple of the current (at no load as large as the
+ * magnetising current itself) cancels from A, as its flux ripple is Lsig
+ * times it; in |psi|^2 that flux ripple's square, Lsig^2 (|i|^2 - i0^2), is
+ * taken out by two fixed-point passes. The fundamental's current
+ * i0 = sqrt(i_d^2 + i_q^2) into @p i0_A (may be NULL). @return L_M, H, or 0
+ * when A <= 0 or there is no real root. Context: BG.
  */
-real_t ident_lm_from_no_load(real_t p_VsA, real_t q_VsA, real_t i2_A2, real_t lsig_H);
+real_t ident_lm_from_no_load(real_t p_VsA, real_t q_VsA, real_t i2_A2, real_t psi2_Wb2, real_t lsig_H, real_t *i0_A);
 
 /** One speed change at a constant torque command (ident_inertia). */
 typedef struct {

@@ -14,8 +14,11 @@
  *   START     zero torque until the drive's control runs (it magnetises first)
  *   ACCEL     torque +te_J: the window from w_a to w_b (up), on to w_top
  *   DECEL     torque -te_J: the window from w_b to w_a (down), on to w_bottom
+ * (Each new speed is approached at the torque te_J until within w_near,
+ * then held by the drive's speed loop.)
+ *
  *   NO_LOAD   speed w1 (half the rated speed): settle, then a window of
- *             psi . i, psi x i, |i|^2 and Te (L_M, the no-load current)
+ *             psi . i, psi x i, |i|^2, |psi|^2 and Te (L_M, the no-load current)
  *   FRICTION  speed w2: settle, then a window of Te (B from the two speeds)
  *   STOP      speed 0 until the shaft is nearly at rest
  *
@@ -68,6 +71,7 @@ typedef struct {
     real_t w1_rad_s;        /**< no-load speed, rad/s */
     real_t w2_rad_s;        /**< second speed for the friction, rad/s */
     real_t w_tol_rad_s;     /**< a speed within this of its reference is reached, rad/s */
+    real_t w_near_rad_s;    /**< farther than this from a new speed: there at te_J, then the speed loop, rad/s */
     real_t wc_rad_s;        /**< leak of the voltage model, rad/s */
     real_t w_lpf_a;         /**< low-pass coefficient of the stator frequency per tick, 0..1 */
     uint32_t start_ticks;   /**< ticks the drive's control must have run before ACCEL */
@@ -81,8 +85,12 @@ typedef struct {
     real_t p_VsA;   /**< sum of psi_s . i_s, Wb A */
     real_t q_VsA;   /**< sum of psi_s x i_s, Wb A */
     real_t i2_A2;   /**< sum of |i_s|^2, A^2 */
+    real_t psi2_Wb2; /**< sum of |psi_s|^2, Wb^2 */
     real_t te_Nm;   /**< sum of Te, N m */
+    real_t te2_Nm2; /**< sum of Te^2 (the torque ripple: the uncertainty of the mean), N^2 m^2 */
     real_t w_rad_s; /**< sum of the speed estimate, rad/s */
+    real_t w_late_rad_s;  /**< sum of the speed estimate over the window's second half (its mean less
+                               the first half's: the acceleration left, whose J dw/dt is not friction), rad/s */
     uint32_t n;     /**< ticks summed */
 } ident_rot_window;
 
