@@ -61,8 +61,9 @@ static void ident_derive_standstill(ident_cfg *c)
     s->kp_V_A = num_div(num_mul(IDENT_LOOP_GAIN, e->sigma_ls_H), (real_t)n * T);
     s->kp_hold_V_A = num_mul(R(0.25), s->kp_V_A);
     s->ki_V_A = num_mul(R(0.05), s->kp_V_A);
-    real_t t1 = num_mul(R(0.05), s->i_hi_A), t2 = num_mul(R(0.01), e->i_peak_A);
+    real_t t1 = num_mul(R(0.03), s->i_hi_A), t2 = num_mul(R(0.01), e->i_peak_A);
     s->turn_A = t1 > t2 ? t1 : t2;
+    s->ib_lpf_a = R(1.0) - num_exp(-num_div(T, R(0.01)));
     uint32_t m = (IDENT_BURST_GAP + n - 1u) / n;
     s->cycle = 4u + m * n;
     s->bursts = IDENT_BURSTS;
@@ -308,8 +309,8 @@ static void ident_fit_standstill(const ident *s, const ident_cfg *c, ident_resul
     r->u_off_V = f.u_off_V;
     r->fit_resid_V = f.resid_V;
     bool fit_ok = f.status == 0;
-    ident_verdict v_rs = fit_ok ? ident_range(f.rs_ohm, num_mul(R(0.001), zb), num_mul(R(0.2), zb))
-                                : IDENT_VERDICT_FAILED;
+    ident_verdict v_rs = f.status >= 0 ? ident_range(f.rs_ohm, num_mul(R(0.001), zb), num_mul(R(0.2), zb))
+                                       : IDENT_VERDICT_FAILED;
     ident_set(&r->rs_ohm, f.rs_ohm, v_rs);
     /* the rotor: the step's transient must stand out of the residual, and the
      * record after the step must cover it (at least 1.5 Tr) */

@@ -148,9 +148,32 @@ static real_t ident_rotor_eval(const ident_bin bins[], uint32_t n_bins, real_t b
     return q.rss;
 }
 
+/* V_b = Rs I_b + u_off over the bins used: the DC fit without a rotor (status 1). */
+static void ident_rotor_plain(const ident_bin bins[], uint32_t n_bins, ident_rotor_fit_out *out)
+{
+    ident_lsq q;
+    ident_lsq_init(&q, 2u);
+    for (uint32_t b = 0u; b < n_bins && bins[b].n_i != 0u; b++) {
+        if (bins[b].use == 0u || bins[b].n_v == 0u)
+            continue;
+        real_t row[2] = {num_div(bins[b].i_sum_A, (real_t)bins[b].n_i), R(1.0)};
+        ident_lsq_add(&q, row, num_div(bins[b].v_sum_V, (real_t)bins[b].n_v));
+    }
+    real_t c[2];
+    if (q.rows < IDENT_ROTOR_MIN_BINS || ident_lsq_solve(&q, c) != 0)
+        return;
+    out->rs_ohm = c[0];
+    out->u_off_V = c[1];
+    out->resid_V = num_sqrt(num_div(q.rss, (real_t)q.rows));
+    out->used = q.rows;
+    out->status = 1;
+}
+
 void ident_rotor_fit(const ident_bin bins[], uint32_t n_bins, real_t bin_s, real_t tr_lo_s, real_t tr_hi_s,
                      ident_rotor_fit_out *out)
 {
+    /* a Tr found beyond the record's length: no transient was there */
+    const real_t tr_no_rotor_s = num_mul((real_t)n_bins, bin_s);
     out->rs_ohm = out->rr_ref_ohm = out->tr_s = out->lm_ref_H = out->u_off_V = out->psi0_V = R(0.0);
     out->resid_V = out->v_span_V = R(0.0);
     out->used = 0u;
@@ -199,13 +222,21 @@ void ident_rotor_fit(const ident_bin bins[], uint32_t n_bins, real_t bin_s, real
     real_t rss = ident_rotor_eval(bins, n_bins, bin_s, tr_fit, c, &used, &span);
     if (rss < R(0.0))
         return;
+    real_t resid = num_sqrt(num_div(rss, (real_t)used));
+    if (tr_fit > tr_no_rotor_s || !(c[1] > R(0.0)) || !(span > R(3.0) * resid)) {
+        /* no rotor transient to see (a Tr longer than the record makes R_R (i - i_f)
+         * look like R_R i and share Rs; a transient of no resistance or below the
+         * noise is none): the two-level fit alone */
+        ident_rotor_plain(bins, n_bins, out);
+        return;
+    }
     out->rs_ohm = c[0];
     out->rr_ref_ohm = c[1];
     out->u_off_V = c[2];
     out->psi0_V = c[3];
     out->tr_s = tr_fit;
     out->lm_ref_H = num_mul(c[1], tr_fit);
-    out->resid_V = num_sqrt(num_div(rss, (real_t)used));
+    out->resid_V = resid;
     out->v_span_V = span;
     out->used = used;
     out->status = 0;

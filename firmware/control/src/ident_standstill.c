@@ -63,6 +63,7 @@ void ident_ss_reset(ident_ss *s)
     s->burst_n_type = 0u;
     s->hf_duty = R(0.0);
     s->d_cur = s->d_prev = R(0.0);
+    s->ib2_A2 = R(0.0);
     s->i_peak_A = R(0.0);
     ident_hf_reset(&s->hf);
     for (uint32_t b = 0u; b < IDENT_BINS; b++) {
@@ -258,13 +259,13 @@ static ident_ss_status ident_record_prev(ident_ss *s, const ident_ss_cfg *c, uin
         x->i_sum_A += ta;
         x->ib_sum_A += tb;
         x->n_i++;
-        if (g % c->bin_ticks == 0u && x->n_i != 0u) {
-            /* the bin is complete: a beta current means the rotor turns */
-            real_t mb = num_div(x->ib_sum_A, (real_t)x->n_i);
-            if (num_abs(mb) > c->turn_A)
-                return IDENT_SS_TURNING;
-        }
     }
+    /* A beta current means the rotor turns: the alpha field it carries through
+     * the rotor induces one in the beta winding, which the zero beta voltage
+     * shorts (at a high speed it oscillates: its low-passed square, not its mean). */
+    s->ib2_A2 = num_mac(c->ib_lpf_a, num_mul(i[1], i[1]) - s->ib2_A2, s->ib2_A2);
+    if (s->ib2_A2 > num_mul(c->turn_A, c->turn_A))
+        return IDENT_SS_TURNING;
     if (s->prev_kind >= IDENT_K_BURST) {
         ident_hf_add(&s->hf, num_mul(s->v_prev_V, c->period_s), x1, ta - c->i_hi_A);
         if (s->prev_kind == IDENT_K_BURST && x1 > R(0.0)) {

@@ -88,7 +88,8 @@ typedef struct {
     real_t resid_V;     /**< rms residual over the bins used, V */
     real_t v_span_V;    /**< rms of the fitted excess voltage R_R (i - i_f) over the bins used, V */
     uint32_t used;      /**< bins used */
-    int status;         /**< 0, or -1: too few bins or rank deficient */
+    int status;         /**< 0; 1: no rotor transient (Rs and u_off from the two levels alone, the
+                             rotor's values 0); -1: too few bins or rank deficient */
 } ident_rotor_fit_out;
 
 /**
@@ -103,7 +104,11 @@ typedef struct {
  * (a rotor flux already present at the start decays so), is linear in
  * Rs, R_R, u_off and psi0 for a given Tr: solved by least squares over the
  * bins with use set, Tr by minimising the residual (a log grid of 24 points
- * over @p tr_lo_s .. @p tr_hi_s, then 30 golden-section steps).
+ * over @p tr_lo_s .. @p tr_hi_s, then 30 golden-section steps). A Tr found
+ * beyond the record's length means no transient (a load without a rotor):
+ * then R_R (I - F) would be nearly R_R I and take a share of Rs, so Rs and
+ * u_off come from the two levels alone (status 1); so they do when R_R is
+ * not > 0 or the transient's rms is not above three times the residual's.
  * Work: about 54 x n_bins rows of 4 unknowns. Context: BG.
  */
 void ident_rotor_fit(const ident_bin bins[], uint32_t n_bins, real_t bin_s, real_t tr_lo_s, real_t tr_hi_s,
