@@ -210,7 +210,8 @@ static void ident_burst(ident_ss *s, uint32_t q, hal_actuation *a)
     ident_act_pulse(a, st, s->hf_duty, plus);
 }
 
-/* Probe: gates off (offsets), then the zero vector (a current means a turning, magnetised rotor). */
+/* Probe: gates off (offsets), then the zero vector (a current through the
+ * shorted winding means a turning, magnetised rotor). */
 static ident_ss_status ident_probe(ident_ss *s, const ident_ss_cfg *c, const real_t i_ab[2], ident_out *out)
 {
     if (s->tick < c->probe_ticks) {
@@ -225,9 +226,15 @@ static ident_ss_status ident_probe(ident_ss *s, const ident_ss_cfg *c, const rea
         ident_act_zero(&out->act);
         return IDENT_SS_RUNNING;
     }
+    /* the mean square over the zero vector's ticks (one sample's noise is not a rotor) */
     real_t ia = i_ab[0] - s->i_off_A[0], ib = i_ab[1] - s->i_off_A[1];
-    if (num_mac(ia, ia, num_mul(ib, ib)) > num_mul(c->turn_A, c->turn_A))
-        return IDENT_SS_TURNING;
+    s->ib2_A2 += num_mac(ia, ia, num_mul(ib, ib));
+    if (s->tick + 1u == 2u * c->probe_ticks) {
+        bool turning = num_div(s->ib2_A2, (real_t)c->probe_ticks) > num_mul(c->turn_A, c->turn_A);
+        s->ib2_A2 = R(0.0); /* from here on the beta current's low-passed square */
+        if (turning)
+            return IDENT_SS_TURNING;
+    }
     out->mode = IDENT_OUT_ACTUATE;
     ident_act_zero(&out->act);
     s->last_state = IDENT_ST_OOO;
@@ -236,7 +243,7 @@ static ident_ss_status ident_probe(ident_ss *s, const ident_ss_cfg *c, const rea
 }
 
 /* Record period g - 1's current (its trapezoid is complete now) and the
- * bursts' sums; judge a bin that has just closed. */
+ * bursts' sums; judge the beta current. */
 static ident_ss_status ident_record_prev(ident_ss *s, const ident_ss_cfg *c, uint32_t g, const real_t i[2])
 {
     if (g == 0u)

@@ -78,8 +78,8 @@ typedef struct {
     real_t kp_V_A;           /**< regulator gain: block-mean voltage per ampere of error, V/A */
     real_t kp_hold_V_A;      /**< kp_V_A once a stage has settled (less of the current's noise), V/A */
     real_t ki_V_A;           /**< regulator integral gain per block, V/A */
-    real_t turn_A;           /**< rms beta current (low-passed over ib_lpf_a), or |current| in the zero
-                                  vector, above which the rotor turns, A */
+    real_t turn_A;           /**< rms beta current (low-passed over ib_lpf_a), or rms current over the
+                                  zero vector's ticks, above which the rotor turns, A */
     real_t ib_lpf_a;         /**< low-pass coefficient per tick of the squared beta current (10 ms), 0..1 */
     uint32_t n_block;        /**< periods per regulator block (one pulse each), 2..16 */
     uint32_t cycle;          /**< periods per SIGMA cycle: a burst of 4, then regulation */
@@ -110,7 +110,8 @@ typedef struct {
     real_t d_cur;            /**< the burst duty of the period starting at this tick (0: not a burst) */
     real_t d_prev;           /**< the burst duty of the period that started at the last tick */
     real_t i_peak_A;         /**< the largest |phase current| sampled, A */
-    real_t ib2_A2;           /**< low-passed square of the beta current, A^2 */
+    real_t ib2_A2;           /**< low-passed square of the beta current (in PROBE_SHORT: the sum of the
+                                  current's squares), A^2 */
     ident_hf_sums hf;        /**< the bursts' regression sums */
     ident_bin bins[IDENT_BINS]; /**< the DC record */
 } ident_ss;
