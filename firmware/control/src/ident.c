@@ -8,7 +8,8 @@
 /* ------------------------------------------------------------------ sizing (docs/commissioning.md) */
 
 #define IDENT_MAG_TR R(4.0)         /* MAGNETISE lasts this many plate Tr ... */
-#define IDENT_ROTOR_TR R(5.0)       /* ... ROTOR this many (the plate's Tr is within 0.6..1.2 of the true) */
+#define IDENT_ROTOR_TR R(5.0)       /* ... ROTOR this many: with the plate's Tr within a factor 1.6 of the
+                                       true one, the rotor step still covers three true Tr */
 #define IDENT_MAG_MIN_S R(0.2)
 #define IDENT_ROTOR_MIN_S R(0.25)
 #define IDENT_DC_MAX_S R(11.0)      /* each DC stage at most: the standstill part stays under 25 s */
@@ -167,10 +168,8 @@ static ident_phase ident_ss_phase(ident_ss_stage st)
         return IDENT_MAGNETISE;
     case IDENT_SS_SIGMA:
         return IDENT_SIGMA;
-    case IDENT_SS_ROTOR:
+    default: /* ROTOR, and END until the step that records the last period reports FINISHED */
         return IDENT_ROTOR;
-    default:
-        return IDENT_FIT_STANDSTILL;
     }
 }
 
@@ -378,9 +377,9 @@ static void ident_fit_rotating(const ident *s, const ident_cfg *c, ident_result 
     if (w_ok) {
         real_t na = R(1.0) / (real_t)a->n, nb = R(1.0) / (real_t)b->n;
         /* the torque that still accelerates the shaft in each window is not friction */
-        real_t j_ok2 = r->j_kgm2.verdict == IDENT_VERDICT_OK ? r->j_kgm2.value : R(0.0);
-        real_t te_a = num_mul(a->te_Nm, na) - num_mul(j_ok2, ident_rot_accel(a, c->period_s));
-        real_t te_b = num_mul(b->te_Nm, nb) - num_mul(j_ok2, ident_rot_accel(b, c->period_s));
+        real_t j_used = r->j_kgm2.verdict == IDENT_VERDICT_OK ? r->j_kgm2.value : R(0.0);
+        real_t te_a = num_mul(a->te_Nm, na) - num_mul(j_used, ident_rot_accel(a, c->period_s));
+        real_t te_b = num_mul(b->te_Nm, nb) - num_mul(j_used, ident_rot_accel(b, c->period_s));
         real_t bf = ident_friction(te_a, num_mul(a->w_rad_s, na), te_b, num_mul(b->w_rad_s, nb));
         real_t b_max = num_mul(R(0.1), num_div(e->te_Nm, e->w_m_rad_s));
         /* the switching ripple of the torque leaves its window means uncertain by about

@@ -29,7 +29,7 @@
 #define IDENT_HALF_DUTY_MAX R(0.95) /* a half pulse leaves the zero vector for the rest of its period */
 #define IDENT_HF_DUTY_MAX R(0.9)
 
-uint32_t ident_ss_ticks(const ident_ss_cfg *c) { return 2u * c->probe_ticks + c->g_end; }
+uint32_t ident_ss_ticks(const ident_ss_cfg *c) { return 2u * c->probe_ticks + c->g_end + 1u; }
 
 ident_ss_stage ident_ss_stage_of(const ident_ss_cfg *c, uint32_t tick)
 {

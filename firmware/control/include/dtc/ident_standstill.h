@@ -119,7 +119,8 @@ typedef struct {
 /** The stage of tick @p tick of the part. Context: any. */
 ident_ss_stage ident_ss_stage_of(const ident_ss_cfg *c, uint32_t tick);
 
-/** Ticks the part takes, probe included. Context: any. */
+/** Ticks the part takes: the probe, the record, and the tick that records the
+ *  record's last period (and turns the gates off). Context: any. */
 uint32_t ident_ss_ticks(const ident_ss_cfg *c);
 
 /** Start the part (zero sums, stage PROBE_OFF). Context: BG or ISR. */
