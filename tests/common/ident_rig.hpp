@@ -361,6 +361,7 @@ struct Run {
     double t_rotating_s = 0.0;
     double i_peak_standstill_A = 0.0; // the largest true phase current at the samples
     double i_peak_rotating_A = 0.0;
+    double np_dev_standstill_V = 0.0; // the largest |vc1 - vc2| (true) while the identification actuates
     double t_end_s = 0.0;
     uint32_t ctl_faults = 0u;
     ident_out_mode last_mode = IDENT_OUT_OFF; // the identification's output at the last tick
@@ -420,6 +421,8 @@ inline std::unique_ptr<Run> run_ident(const Motor &m, const Options &o = Options
         plant_get_truth(&ps, &tr);
         double ipk = std::max({std::fabs(tr.ia_A), std::fabs(tr.ib_A), std::fabs(tr.ic_A)});
         bool rot_phase = r.id.phase >= IDENT_ROT_START && r.id.phase <= IDENT_FIT_ROTATING;
+        if (r.id.phase >= IDENT_PROBE && r.id.phase <= IDENT_ROTOR)
+            r.np_dev_standstill_V = std::max(r.np_dev_standstill_V, std::fabs(tr.vc1_V - tr.vc2_V));
         (rot_phase ? r.i_peak_rotating_A : r.i_peak_standstill_A) =
             std::max(rot_phase ? r.i_peak_rotating_A : r.i_peak_standstill_A, ipk);
 

@@ -95,6 +95,8 @@ TEST_P(IdentMotor, StandstillOnlyWithinTheTolerancesAndTime)
     EXPECT_LE(r->t_standstill_s, 30.0);
     EXPECT_EQ(r->t_rotating_s, 0.0);
     EXPECT_LE(r->i_peak_standstill_A, r->ic.ss.i_max_A);
+    // the neutral point stays balanced (the small vectors' pair chosen by its sign; bursts in turn)
+    EXPECT_LT(r->np_dev_standstill_V, 0.01 * m.vdc);
     // J and B stay the drive's own
     ASSERT_GE(r->apply_rc, 0);
     EXPECT_EQ(r->apply_rc, IDENT_APPLIED_RS | IDENT_APPLIED_MAGNETICS);
