@@ -244,14 +244,16 @@ TEST(IdentAbort, AFaultOfTheDriveWritesNothing)
 
 TEST(IdentAbort, AShaftTurnedByTheLoadStopsTheStandstillPart)
 {
-    for (double w : {0.5, 2.0, 20.0, 100.0}) { // 5 to 950 rpm, demagnetised: the beta current gives it away
-        Options o;
-        o.turning_rad_s = w;
-        auto r = run_ident(motors()[1], o);
-        expect_untouched(*r);
-        EXPECT_EQ(r->id.abort_reason, IDENT_ABORT_TURNING) << w;
-        EXPECT_LT(r->t_end_s, 1.0) << w;
-    }
+    for (const Motor &m : motors())
+        for (double w : {0.5, 2.0, 20.0, 100.0}) { // 5 to 950 rpm, demagnetised: the beta current gives it away
+            Options o;
+            o.turning_rad_s = w;
+            auto r = run_ident(m, o);
+            SCOPED_TRACE(m.name + " at " + std::to_string(w) + " rad/s");
+            expect_untouched(*r);
+            EXPECT_EQ(r->id.abort_reason, IDENT_ABORT_TURNING);
+            EXPECT_LT(r->t_end_s, 1.0);
+        }
 }
 
 TEST(IdentAbort, ALoadTheDriveCannotTurnTimesOut)
