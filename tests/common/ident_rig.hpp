@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "dtc/ctl.h"
-#include "dtc/dead_time.h"
-#include "dtc/dtc3l.h"
+#include "dead_time_leg_error.h"
+#include "dtc/npc.h"
 #include "dtc/ident.h"
 #include "dtc/ident_apply.h"
 #include "plant/plant.h"
@@ -320,8 +320,8 @@ inline void reconstruct(uint8_t end, const hal_actuation &act, const float i[3],
                         double v_drop_V, float v_ab[2])
 {
     hal_actuation prev{};
-    dtc3l_legs(end, &prev.vector[0]);
-    dtc3l_legs(end, &prev.vector[1]);
+    npc_legs(end, &prev.vector[0]);
+    npc_legs(end, &prev.vector[1]);
     prev.duty0 = 0.5f;
     float dv[3];
     dead_time_leg_error(&prev, &act, i, vc1, vc2, float(dt_per_T), 0.5f, dv);
@@ -338,14 +338,14 @@ inline void reconstruct(uint8_t end, const hal_actuation &act, const float i[3],
 
 inline uint8_t end_state_of(const hal_actuation &a)
 {
-    return a.duty0 < 1.0f ? dtc3l_state_of(&a.vector[1]) : dtc3l_state_of(&a.vector[0]);
+    return a.duty0 < 1.0f ? npc_state_of(&a.vector[1]) : npc_state_of(&a.vector[0]);
 }
 
 inline hal_actuation zero_act()
 {
     hal_actuation a{};
-    dtc3l_legs(DTC3L_STATE_OOO, &a.vector[0]);
-    dtc3l_legs(DTC3L_STATE_OOO, &a.vector[1]);
+    npc_legs(NPC_STATE_OOO, &a.vector[0]);
+    npc_legs(NPC_STATE_OOO, &a.vector[1]);
     a.duty0 = 1.0f;
     return a;
 }
@@ -407,7 +407,7 @@ inline std::unique_ptr<Run> run_ident(const Motor &m, const Options &o = Options
 
     const double dt_per_T = o.comp_scale * m.dead_time_s / kT, v_drop = o.comp_scale * m.v_on_V;
     hal_actuation prev = zero_act(); // latched at the last tick, applied in the period now starting
-    uint8_t end_before = DTC3L_STATE_OOO; // the state the period before that ended on
+    uint8_t end_before = NPC_STATE_OOO; // the state the period before that ended on
     bool ctl_mode = false, speed_mode = false;
     const uint8_t legs_off[3] = {PLANT_LEG_OFF, PLANT_LEG_OFF, PLANT_LEG_OFF};
     const unsigned n_max = unsigned(o.max_s / kT);
@@ -497,7 +497,7 @@ inline std::unique_ptr<Run> run_ident(const Motor &m, const Options &o = Options
             plant_advance(&ps, prev.vector[0].leg, prev.vector[1].leg, double(prev.duty0), kT);
         else
             plant_advance(&ps, legs_off, legs_off, 1.0, kT);
-        end_before = gates ? end_state_of(prev) : uint8_t(DTC3L_STATE_OOO);
+        end_before = gates ? end_state_of(prev) : uint8_t(NPC_STATE_OOO);
         prev = gates ? act : zero_act();
         r.last_mode = out.mode;
         if (r.id.phase == IDENT_DONE || r.id.phase == IDENT_ABORTED) {

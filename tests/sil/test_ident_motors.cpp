@@ -109,15 +109,15 @@ TEST_P(IdentMotor, EveryActuationIsAStandstillPatternWithoutAPNStep)
     const Motor m = motors()[size_t(GetParam())];
     Options o;
     o.rotating = false;
-    uint8_t last = DTC3L_STATE_OOO;
+    uint8_t last = NPC_STATE_OOO;
     unsigned n = 0, pn = 0, foreign = 0;
     o.on_actuation = [&](const hal_actuation &a, ident_phase) {
         for (int k = 0; k < 2; ++k) {
-            uint8_t st = dtc3l_state_of(&a.vector[k]);
+            uint8_t st = npc_state_of(&a.vector[k]);
             // the zero vector and the small vectors along +alpha (POO, ONN) and -alpha (NOO, OPP)
-            if (st != DTC3L_STATE_OOO && st != 22u && st != 9u && st != 4u && st != 17u)
+            if (st != NPC_STATE_OOO && st != 22u && st != 9u && st != 4u && st != 17u)
                 foreign++;
-            if (dtc3l_pn_step(last, st))
+            if (npc_pn_step(last, st))
                 pn++;
             last = st;
         }

@@ -10,7 +10,7 @@
 #include <set>
 #include <string>
 
-#include "dtc/dtc3l.h"
+#include "dtc/npc.h"
 #include "dtc/ident.h"
 #include "dtc/ident_apply.h"
 #include "ident_rig.hpp"
@@ -37,7 +37,7 @@ struct RlLoad {
         for (int k = 0; k < 2; ++k) {
             double d = k == 0 ? a.duty0 : 1.0 - a.duty0;
             float v[2];
-            dtc3l_state_voltage(dtc3l_state_of(&a.vector[k]), float(vc), float(vc), v);
+            npc_state_voltage(npc_state_of(&a.vector[k]), float(vc), float(vc), v);
             double e = std::exp(-r * d * T / l), i_inf = v[0] / r;
             i = i_inf + (i - i_inf) * e;
         }
@@ -57,8 +57,8 @@ struct RlLoad {
 float alpha_voltage(const hal_actuation &a, double vc)
 {
     float v0[2], v1[2];
-    dtc3l_state_voltage(dtc3l_state_of(&a.vector[0]), float(vc), float(vc), v0);
-    dtc3l_state_voltage(dtc3l_state_of(&a.vector[1]), float(vc), float(vc), v1);
+    npc_state_voltage(npc_state_of(&a.vector[0]), float(vc), float(vc), v0);
+    npc_state_voltage(npc_state_of(&a.vector[1]), float(vc), float(vc), v1);
     return a.duty0 * v0[0] + (1.0f - a.duty0) * v1[0];
 }
 
@@ -76,8 +76,8 @@ struct Driven {
 void drive(Driven &d, const ident_cfg &c, RlLoad &load, unsigned max, unsigned stop_at = ~0u)
 {
     hal_actuation applied{};
-    dtc3l_legs(DTC3L_STATE_OOO, &applied.vector[0]);
-    dtc3l_legs(DTC3L_STATE_OOO, &applied.vector[1]);
+    npc_legs(NPC_STATE_OOO, &applied.vector[0]);
+    npc_legs(NPC_STATE_OOO, &applied.vector[1]);
     applied.duty0 = 1.0f;
     uint32_t last_progress = 0u;
     for (unsigned k = 0; k < max; ++k) {
@@ -95,8 +95,8 @@ void drive(Driven &d, const ident_cfg &c, RlLoad &load, unsigned max, unsigned s
             applied = d.out.act;
         } else {
             load.i = 0.0; // gates off: the current falls through the diodes within a period
-            dtc3l_legs(DTC3L_STATE_OOO, &applied.vector[0]);
-            dtc3l_legs(DTC3L_STATE_OOO, &applied.vector[1]);
+            npc_legs(NPC_STATE_OOO, &applied.vector[0]);
+            npc_legs(NPC_STATE_OOO, &applied.vector[1]);
             applied.duty0 = 1.0f;
         }
         d.ticks = k + 1;

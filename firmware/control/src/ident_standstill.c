@@ -11,7 +11,7 @@
  */
 #include "dtc/ident_standstill.h"
 
-#include "dtc/dtc3l.h"
+#include "dtc/npc.h"
 
 /* Kinds of period (ident_ss.prev_kind). */
 #define IDENT_K_ZERO 0u  /* the zero vector all period */
@@ -24,7 +24,7 @@
 #define IDENT_ST_ONN 9u
 #define IDENT_ST_NOO 4u
 #define IDENT_ST_OPP 17u
-#define IDENT_ST_OOO DTC3L_STATE_OOO
+#define IDENT_ST_OOO NPC_STATE_OOO
 
 #define IDENT_HALF_DUTY_MAX R(0.95) /* a half pulse leaves the zero vector for the rest of its period */
 #define IDENT_HF_DUTY_MAX R(0.9)
@@ -125,8 +125,8 @@ static uint8_t ident_kind(const ident_ss_cfg *c, uint32_t g, bool *stretch_start
 /* The zero vector all period. */
 static void ident_act_zero(hal_actuation *a)
 {
-    dtc3l_legs(IDENT_ST_OOO, &a->vector[0]);
-    dtc3l_legs(IDENT_ST_OOO, &a->vector[1]);
+    npc_legs(IDENT_ST_OOO, &a->vector[0]);
+    npc_legs(IDENT_ST_OOO, &a->vector[1]);
     a->duty0 = R(1.0);
 }
 
@@ -138,23 +138,23 @@ static void ident_act_pulse(hal_actuation *a, uint8_t st, real_t d, bool at_end)
         return;
     }
     if (at_end) {
-        dtc3l_legs(IDENT_ST_OOO, &a->vector[0]);
-        dtc3l_legs(st, &a->vector[1]);
+        npc_legs(IDENT_ST_OOO, &a->vector[0]);
+        npc_legs(st, &a->vector[1]);
         a->duty0 = R(1.0) - d;
     } else {
-        dtc3l_legs(st, &a->vector[0]);
-        dtc3l_legs(IDENT_ST_OOO, &a->vector[1]);
+        npc_legs(st, &a->vector[0]);
+        npc_legs(IDENT_ST_OOO, &a->vector[1]);
         a->duty0 = d;
     }
 }
 
 /* Of the two small vectors @p st_a, @p st_b (the same voltage direction), the
  * one whose neutral-point current moves vc1 - vc2 towards zero
- * (d(vc1 - vc2)/dt = i_np / C, dtc3l_np_current). */
+ * (d(vc1 - vc2)/dt = i_np / C, npc_np_current). */
 static uint8_t ident_np_pick(uint8_t st_a, uint8_t st_b, const ident_in *in)
 {
     real_t dev = in->vc1_V - in->vc2_V;
-    real_t ia = dtc3l_np_current(st_a, in->i_abc_A);
+    real_t ia = npc_np_current(st_a, in->i_abc_A);
     return num_mul(ia, dev) <= R(0.0) ? st_a : st_b;
 }
 
@@ -162,7 +162,7 @@ static uint8_t ident_np_pick(uint8_t st_a, uint8_t st_b, const ident_in *in)
 static real_t ident_small_v(uint8_t st, const ident_in *in)
 {
     real_t v[2];
-    dtc3l_state_voltage(st, in->vc1_V, in->vc2_V, v);
+    npc_state_voltage(st, in->vc1_V, in->vc2_V, v);
     return num_abs(v[0]);
 }
 
@@ -361,10 +361,10 @@ ident_ss_status ident_ss_step(ident_ss *s, const ident_ss_cfg *c, const ident_in
         ident_act_zero(&act);
     }
     /* the last guard against a P<->N step (the patterns above never make one) */
-    uint8_t a0 = dtc3l_pn_safe(s->last_state, dtc3l_state_of(&act.vector[0]));
-    uint8_t a1 = dtc3l_pn_safe(a0, dtc3l_state_of(&act.vector[1]));
-    dtc3l_legs(a0, &act.vector[0]);
-    dtc3l_legs(a1, &act.vector[1]);
+    uint8_t a0 = npc_pn_safe(s->last_state, npc_state_of(&act.vector[0]));
+    uint8_t a1 = npc_pn_safe(a0, npc_state_of(&act.vector[1]));
+    npc_legs(a0, &act.vector[0]);
+    npc_legs(a1, &act.vector[1]);
     s->last_state = act.duty0 < R(1.0) ? a1 : a0;
 
     s->i_prev_A[0] = i[0];
