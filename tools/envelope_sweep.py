@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Capability sweep of the drive over its torque-speed plane (issue 8 part 3).
+"""Capability sweep of the drive over its torque-speed plane.
 
 One scenario file per grid point is written into OUT/<inverter>/points/ (so a
 point can be re-run by hand with `dtc-sim run FILE`), every point is run with

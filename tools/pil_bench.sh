@@ -1,5 +1,5 @@
 #!/bin/sh
-# Processor-in-the-loop benchmark of the WHOLE control interrupt (issue 11).
+# Processor-in-the-loop benchmark of the WHOLE control interrupt.
 #
 # 1. Records closed-loop SIL runs with the host build (dtc-sim run SCENARIO
 #    --record-samples REC): every controller (ip, nominal, rbfn) over scenarios

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where the control interrupt's instructions go, per function (issue 11).
+"""Where the control interrupt's instructions go, per function.
 
 Replays the first TICKS ticks of one PIL recording (dtc-sim run ... --record-samples)
 on dtc-pil.elf under QEMU with one instruction per translation block and the

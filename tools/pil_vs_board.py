@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The PIL bench against the emulated board (issue 11): instructions of the control interrupt.
+"""The PIL bench against the emulated board: instructions of the control interrupt.
 
 For each controller, CASE2 as the twin runs it (tests/board/test_twin.py: no [control] section,
 the plant's device drop v_on_V = 1 V, which the firmware's default v_drop_V compensates):

@@ -421,7 +421,7 @@ TEST(ParamGenerator, RefusesBadTablesWithAClearMessage)
     }
 }
 
-// CiA 306 [FileInfo] dates (issue 12: the EDS lacked them): CreationDate/ModificationDate as
+// CiA 306 [FileInfo] dates: CreationDate/ModificationDate as
 // mm-dd-yyyy, CreationTime/ModificationTime as hh:mm with AM or PM, the modification not
 // before the creation.
 TEST(ParamEds, FileInfoHasCreationAndModificationDates)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """PIL equivalence: the same recorded CASE2 input sequence through the host build and the
-Cortex-M4F build (issue 11).
+Cortex-M4F build.
 
   test_pil_equiv.py CONTROLLER         dtc-sim (host build) runs CASE2 closed loop with
                                        CONTROLLER and records every tick's interrupt inputs and

@@ -1,7 +1,7 @@
 """tools/envelope_sweep.py on a reduced grid (6 points and one impossible load) with the built
 dtc-sim: the printed table has one row per point at the grid's speeds and loads, the points
 inside the rated envelope hold, a load beyond the drive's torque limit is reported as failing,
-and the map, the CSV and one scenario file per point exist (issue 8 part 3)."""
+and the map, the CSV and one scenario file per point exist."""
 import csv
 import importlib.util
 import os

@@ -1,4 +1,4 @@
-"""The whole capability sweep (issue 8 part 3): the 135 grid points inside the rated envelope on
+"""The whole capability sweep: the 135 grid points inside the rated envelope on
 both inverter models, with the firmware defaults, each held 10 s under its load. Every point
 holds: no fault, no runaway, the mean speed over the last second within the 5 rpm of the
 criterion. That includes +-30 rpm with 20.5 N m generating, where the stator frequency at rated
