@@ -94,6 +94,25 @@ TEST(CtlConfig, CheckNamesTheFirstViolatedRule)
     EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_SPEED);
 }
 
+TEST(CtlConfig, BringUpFrequencyStaysWithinTheTopSpeed)
+{
+    ctl_cfg c;
+    ctl_cfg_default(&c);
+    // The V/f frequency whose synchronous speed is the speed reference's limit, by hand:
+    // f = (overspeed / 1.1) * p / (2 pi).
+    const double top_rad_s = static_cast<double>(c.overspeed_rad_s) / 1.1;
+    const double f_top_Hz = top_rad_s * static_cast<double>(c.motor.pole_pairs) / (2.0 * 3.14159265358979);
+    ctl_cfg v = c;
+    v.bringup_hz = static_cast<float>(f_top_Hz * 0.999);
+    EXPECT_EQ(ctl_cfg_check(&v), CTL_CFG_OK);
+    v.bringup_hz = static_cast<float>(-f_top_Hz * 0.999);
+    EXPECT_EQ(ctl_cfg_check(&v), CTL_CFG_OK);
+    v.bringup_hz = static_cast<float>(f_top_Hz * 1.001);
+    EXPECT_EQ(ctl_cfg_check(&v), CTL_CFG_E_PROTECTION);
+    v.bringup_hz = static_cast<float>(-f_top_Hz * 1.001);
+    EXPECT_EQ(ctl_cfg_check(&v), CTL_CFG_E_PROTECTION);
+}
+
 TEST(CtlRunState, StoppedMagnetisingRunningStopped)
 {
     Core c;

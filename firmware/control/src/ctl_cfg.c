@@ -153,6 +153,11 @@ int ctl_cfg_check(const ctl_cfg *cfg)
           cfg->te_pullout_frac > R(0.0) && cfg->te_pullout_frac <= R(1.0) && cfg->fsw_max_hz >= R(0.0) &&
           cfg->band_scale_max >= R(1.0) && cfg->rs_ident_tol >= R(0.0) && cfg->rs_ident_tol <= R(1.0)))
         return CTL_CFG_E_PROTECTION;
+    /* The V/f bring-up is a speed source too: its synchronous speed stays within the speed
+     * reference's limit (overspeed_rad_s / 1.1, what ctl_cfg_derive sets speed_max_rad_s to). */
+    if (!(num_mul(num_abs(cfg->bringup_hz), R(2.0) * NUM_PI) <=
+          num_mul(num_div(cfg->overspeed_rad_s, R(1.1)), m->pole_pairs)))
+        return CTL_CFG_E_PROTECTION;
     if (speed_cfg_check(&cfg->speed, m) != SPEED_CFG_OK)
         return CTL_CFG_E_SPEED;
     return CTL_CFG_OK;
