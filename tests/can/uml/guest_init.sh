@@ -3,7 +3,7 @@
 #
 # The guest's root file system is the host's (hostfs), so the project's
 # binaries and the venv run as they are. The kernel passes the unknown
-# boot parameters dtc_job=DIR and dtc_timeout=SECONDS to us as environment
+# boot parameters dtc_job=DIR, dtc_timeout=SECONDS and dtc_modules=DIR to us as environment
 # variables; DIR holds `cmd.sh` (the command, its working directory and
 # environment, written by the host side) and receives `rc` (the exit code).
 # Nothing else is inherited from the host environment.
@@ -37,7 +37,7 @@ mount -t sysfs sys /sys || fail "cannot mount /sys"
 mkdir -p /dev/shm && mount -t tmpfs -o size=64m tmpfs /dev/shm 2>/dev/null
 ip link set lo up 2>/dev/null
 
-modules=/usr/lib/uml/modules/$(uname -r)/kernel
+modules=${dtc_modules:-/usr/lib/uml/modules}/$(uname -r)/kernel
 for m in net/can/can.ko net/can/can-raw.ko drivers/net/can/dev/can-dev.ko drivers/net/can/vcan.ko; do
     insmod "$modules/$m" || fail "insmod $modules/$m failed (is the user-mode-linux package installed?)"
 done

@@ -64,10 +64,17 @@ if [ "$mode" = direct ]; then
     exit 126
 fi
 
-uml=$(command -v linux.uml || command -v linux || true)
-modules=/usr/lib/uml/modules
+# tools/install-uml.sh puts a newer kernel with its modules in .uml/ where Debian 12's cannot
+# run a process on the host (AMX hosts under recent kernels).
+if [ -x "$repo/.uml/bin/linux.uml" ]; then
+    uml=$repo/.uml/bin/linux.uml
+    modules=$repo/.uml/modules
+else
+    uml=$(command -v linux.uml || command -v linux || true)
+    modules=/usr/lib/uml/modules
+fi
 if [ -z "$uml" ] || [ ! -d "$modules" ]; then
-    echo "run_in_uml: User-Mode Linux is not installed (Debian: apt-get install user-mode-linux kmod can-utils)" >&2
+    echo "run_in_uml: User-Mode Linux is not installed (tools/install-deps.sh installs it)" >&2
     exit 126
 fi
 
@@ -91,7 +98,7 @@ echo "run_in_uml: booting User-Mode Linux ($uml) for: $*"
 # con0 on our stdin/stdout carries the command's output; `quiet` keeps kernel chatter out.
 # Unknown key=value boot parameters become the environment of init (guest_init.sh).
 timeout -k 10 $((limit + 60)) "$uml" mem=512M rootfstype=hostfs rw quiet loglevel=1 \
-    init="$here/guest_init.sh" dtc_job="$job" dtc_timeout="$limit" \
+    init="$here/guest_init.sh" dtc_job="$job" dtc_timeout="$limit" dtc_modules="$modules" \
     con=null con0=fd:0,fd:1 </dev/null | sed -u 's/\r//g'
 uml_status=${PIPESTATUS[0]}
 
