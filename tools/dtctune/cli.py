@@ -97,13 +97,15 @@ def cmd_restore(args, dic, out) -> int:
     return EXIT_OK
 
 
-def _telemetry_setup(args, dic, link):
+def _telemetry_setup(args, dic, link, window_s=None):
     from . import telemetry
     tpdos = telemetry.read_layout(dic, None if args.from_eds else link)
     if not tpdos:
         raise DtctuneError("the drive has no enabled telemetry TPDO")
     cap = telemetry.Capture(link, tpdos, source_factory=lambda ids: telemetry.open_source(
         args.interface, args.channel, args.bitrate, ids))
+    if window_s is not None:
+        cap.open_window(window_s)
     cap.start()
     if args.start:
         link.nmt("OPERATIONAL")
@@ -162,21 +164,22 @@ def cmd_record(args, dic, out) -> int:
     if dest.parent and not dest.parent.exists():
         raise DtctuneError("cannot write %s: directory %s does not exist" % (dest, dest.parent))
     with _open(args, dic) as link:
-        telemetry, tpdos, cap = _telemetry_setup(args, dic, link)
-        t_until = None
+        # The window opens at the first frame of a whole telemetry cycle and lasts args.seconds
+        # of the frames' receive timestamps: the wait for telemetry (and the switch to NMT
+        # operational) is not counted against it.
+        telemetry, tpdos, cap = _telemetry_setup(args, dic, link, window_s=args.seconds)
+        clock = None
         try:
             _await_telemetry(args, telemetry, cap, link, tpdos, 2.0, lambda text: print(text, file=out))
-            clock = _drive_clock(dic, link)
-            # The window, in the clock of the frames' receive timestamps: frames still queued
-            # in the socket when it ends are read afterwards and counted where they belong.
-            t_from = time.time()
-            cap.window_from(t_from)
-            tick0, wall0 = (int(link.read(clock[0])), time.monotonic()) if clock else (None, None)
-            time.sleep(max(0.0, t_from + args.seconds - time.time()))
-            t_until = time.time()
-            tick1, wall1 = (int(link.read(clock[0])), time.monotonic()) if clock else (None, None)
+            if not cap.wait_window_open(2.0):
+                raise telemetry.no_telemetry_error(link, tpdos[:1], 2.0, can_start=not args.no_start)
+            clock = _drive_clock(dic, link, tpdos)
+            # Every frame received before t_until is in the socket once this PC's clock has
+            # passed it (the kernel stamps a frame when it queues it); stop() reads that backlog.
+            while time.time() < cap.t_until:
+                time.sleep(min(0.25, max(0.0, cap.t_until - time.time())))
         finally:
-            cap.stop(until=t_until)
+            cap.stop(until=cap.t_until)
         frames = list(cap.frames)
         tmp = dest.with_name(dest.name + ".partial")
         try:
@@ -196,22 +199,51 @@ def cmd_record(args, dic, out) -> int:
         if cap.kernel_drops:
             print("warning: %d frames were lost in this PC's receive buffer (the PC did not keep up)"
                   % cap.kernel_drops, file=out)
-        if clock:
-            drive_s = ((tick1 - tick0) % (1 << 32)) * clock[1]
-            print("drive clock: %.3f s in %.3f s of wall time (the drive ran at %.3fx real time)"
-                  % (drive_s, wall1 - wall0, drive_s / (wall1 - wall0)), file=out)
+        span = _drive_span(frames, tpdos, clock) if clock else None
+        if span:
+            drive_s, wall_s = span
+            print("drive clock: %.3f s in %.3f s of wall time (the drive ran at %.3fx real time; "
+                  "first to last row, from their pdo_seq at %g Hz)"
+                  % (drive_s, wall_s, drive_s / wall_s, clock[1]), file=out)
     return EXIT_OK
 
 
-def _drive_clock(dic, link):
-    """(tick counter parameter, tick period in s) when the drive publishes them, else None.
-    They tell the rate in the drive's own time (a simulated drive may run behind the wall clock)."""
+def _drive_clock(dic, link, tpdos):
+    """(the cycle counter's signal, the telemetry rate in Hz of the drive's clock) when the drive
+    maps a cycle counter (pdo_seq: +1 per telemetry cycle) and publishes its rate, else None.
+    They give the drive's own time over the recorded rows, measured by the rows themselves (a
+    simulated drive may run behind the wall clock)."""
+    from .telemetry import columns
+    seq = next((s for s in columns(tpdos) if s.name == "pdo_seq"), None)
+    if seq is None:
+        return None
     try:
-        tick, period = dic.lookup("tel_tick"), dic.lookup("period_s")
-        period_s = float(link.read(period))
+        hz = float(link.read(dic.lookup("telemetry_hz")))
     except DtctuneError:
         return None
-    return (tick, period_s) if period_s > 0 else None
+    return (seq, hz) if hz > 0 else None
+
+
+def _drive_span(frames, tpdos, clock):
+    """(drive seconds, receive-timestamp seconds) from the first to the last row that carries
+    the cycle counter, or None with fewer than two such rows."""
+    from .telemetry import rows
+    seq_sig, hz = clock
+    first = last = None
+    cycles = 0
+    for ts, row in rows(frames, tpdos):
+        v = row.get(seq_sig.name)
+        if v is None:
+            continue
+        v = int(v)
+        if first is None:
+            first = last = (ts, v)
+            continue
+        cycles += (v - last[1]) % (1 << seq_sig.bit_length)
+        last = (ts, v)
+    if first is None or last[0] <= first[0]:
+        return None
+    return cycles / hz, last[0] - first[0]
 
 
 def cmd_scope(args, dic, out) -> int:

@@ -207,13 +207,15 @@ class Capture:
     kHz telemetry rates a per-frame wake-up costs more CPU than the frames themselves (and on a
     single-CPU machine takes it from the drive simulation). The socket buffers in between.
 
-    A recording window (`window_from`, and `stop(until=...)`) is judged by the frames' receive
-    timestamps, not by when this process gets to them: on a slow PC the frames wait in the
-    (deep) socket buffer and are still counted in the window they arrived in.
+    A recording window (`open_window` or `window_from`, and `stop(until=...)`) is judged by the
+    frames' receive timestamps, not by when this process gets to them: on a slow PC the frames
+    wait in the (deep) socket buffer and are still counted in the window they arrived in, and
+    stop() reads on until a frame from after the window shows that the window is complete.
     """
 
     BATCH = 256           # frames per drain call
     STOP_DRAIN_S = 10.0   # after stop(until=...), read the backlog for at most this long
+    QUIET_S = 2.0         # ... and stop early when no frame came for this long (the sender stopped)
 
     def __init__(self, link, tpdos: Sequence[Tpdo], source_factory=None, poll_s: float = 0.02):
         self.link = link
@@ -233,8 +235,36 @@ class Capture:
         self._lock = threading.Lock()
         self._seen = threading.Event()
         self._t_from: Optional[float] = None   # window start (receive timestamp), None: all
-        self._t_until: Optional[float] = None  # window end, set by stop(until=...)
+        self._t_until: Optional[float] = None  # window end, set by stop(until=...) or open_window
         self._reached_until = False
+        self._window_s: Optional[float] = None  # open_window: its length, s of receive timestamps
+        self._window_cob: Optional[int] = None  # the TPDO whose first frame opens it
+        self._opened = threading.Event()
+
+    def open_window(self, seconds: float) -> None:
+        """Record `seconds` of receive timestamps from the first frame of a whole telemetry
+        cycle (the first TPDO in cycle order) received from now on: the window is judged by the
+        frames alone, so the wait for the first frame (or for the drive to reach NMT
+        operational) takes nothing from it, and no clock of this PC is compared with the
+        kernel's receive timestamps at its start. Call before start(); t_from and t_until are
+        known once a frame opened it (wait_window_open)."""
+        with self._lock:
+            self._window_s = float(seconds)
+            self._window_cob = self.tpdos[0].cob_id if self.tpdos else None
+            self._t_from = None
+            self._t_until = None
+            self._opened.clear()
+
+    def wait_window_open(self, timeout_s: float) -> bool:
+        return self._opened.wait(timeout_s)
+
+    @property
+    def t_from(self) -> Optional[float]:
+        return self._t_from
+
+    @property
+    def t_until(self) -> Optional[float]:
+        return self._t_until
 
     def window_from(self, t_from: float) -> None:
         """Count only frames received at or after t_from (time.time() clock, as the kernel's
@@ -249,6 +279,12 @@ class Capture:
     def _on_frame(self, can_id: int, data, timestamp: float) -> None:
         d = bytes(data)
         with self._lock:
+            if self._window_s is not None and self._t_from is None:
+                if can_id != self._window_cob:
+                    return  # the rest of a cycle that began before the window
+                self._t_from = timestamp
+                self._t_until = timestamp + self._window_s
+                self._opened.set()
             if self._t_until is not None and timestamp >= self._t_until:
                 self._reached_until = True
                 return
@@ -292,6 +328,7 @@ class Capture:
     def _run(self) -> None:
         batch: list = []
         stop_deadline = None
+        last_frame = time.monotonic()
         while True:
             stopping = self._stop.is_set()
             if stopping and stop_deadline is None:
@@ -303,11 +340,21 @@ class Capture:
             for ts, cid, data in batch:
                 self._on_frame(cid, data, ts)
             batch.clear()
+            now = time.monotonic()
+            if n > 0:
+                last_frame = now
             if stopping:
-                # Read the backlog up to the end of the window (or until it is empty).
-                if n < self.BATCH or self._t_until is None or self._reached_until \
-                        or time.monotonic() > stop_deadline:
+                # Read up to the end of the window: until a frame stamped at or after it (frames
+                # reach the socket in the order they were stamped, so none of the window is still
+                # on its way), or no frame for QUIET_S (the drive stopped sending). An empty socket
+                # is no proof: a frame is stamped when the sender queues it and reaches the
+                # socket later, in a busy User-Mode Linux up to seconds later.
+                if self._t_until is None or self._reached_until or now > stop_deadline:
                     return
+                if n < self.BATCH:
+                    if now - last_frame > self.QUIET_S:
+                        return
+                    time.sleep(self.poll_s)
                 continue
             if n < self.BATCH:
                 self._stop.wait(self.poll_s)

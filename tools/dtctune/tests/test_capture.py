@@ -91,3 +91,86 @@ def test_frames_read_past_the_window_before_stop_are_dropped():
         assert cap.counts[cob] == len(mine) == 1000
         assert cap.first[cob] == mine[0] and cap.last[cob] == mine[-1]
         assert abs(cap.rate_hz(cob) - 1000.0) < 1e-6
+
+
+class ListSource:
+    """Hands out a fixed list of (timestamp, id, data) frames, a few per drain call."""
+
+    def __init__(self, frames):
+        self.frames = list(frames)
+
+    def drain(self, out, max_frames):
+        n = min(max_frames, 7, len(self.frames))
+        out.extend(self.frames[:n])
+        del self.frames[:n]
+        return n
+
+    def close(self):
+        pass
+
+
+def test_window_opens_at_the_first_whole_cycle_and_lasts_the_time_asked():
+    """record's window: `seconds` of receive timestamps from the first frame of the first TPDO
+    (a whole cycle), however late that frame comes; the tail of an earlier cycle is not in it,
+    nor anything stamped at or after the end."""
+    t0 = 500.0
+    # 1 kHz cycles of three TPDOs; the first frames seen are the tail of a cycle (0x281, 0x381)
+    frames = [(t0 - 0.0005, 0x281, bytes(8)), (t0 - 0.0004, 0x381, bytes(8))]
+    for k in range(3000):
+        for j, cob in enumerate(COBS):
+            frames.append((t0 + 1.0 + k / 1000.0 + j * 1e-4, cob, bytes(8)))
+    src = ListSource(frames)
+    cap = telemetry.Capture(link=None, tpdos=[_Tpdo(c) for c in COBS],
+                            source_factory=lambda ids: src, poll_s=0.001)
+    cap.open_window(2.0)
+    cap.start()
+    assert cap.wait_window_open(2.0)
+    assert cap.t_from == t0 + 1.0 and cap.t_until == t0 + 3.0
+    deadline = time.monotonic() + 5.0
+    while src.frames and time.monotonic() < deadline:
+        time.sleep(0.01)
+    cap.stop(until=cap.t_until)
+    ts = [f[0] for f in cap.frames]
+    assert cap.frames[0][1] == 0x181 and min(ts) == t0 + 1.0
+    assert max(ts) < t0 + 3.0
+    assert len(ts) == 3 * 2000  # 2 s of 1 kHz cycles, three frames each
+
+
+class LateSource(ListSource):
+    """Frames that reach the socket late: after `hold` is set, nothing comes (the socket is
+    empty) until `release` is set, as when the kernel stamped frames but has not yet queued
+    them to our socket."""
+
+    def __init__(self, frames, hold_at):
+        super().__init__(frames)
+        self.hold_at = hold_at
+        self.release = threading.Event()
+
+    def drain(self, out, max_frames):
+        if self.frames and self.frames[0][0] >= self.hold_at and not self.release.is_set():
+            return 0
+        return super().drain(out, max_frames)
+
+
+def test_stop_waits_for_frames_of_the_window_still_on_their_way():
+    """An empty socket at stop() is no proof that the window is complete (the CI failure of
+    `dtctune record` in a loaded User-Mode Linux: 3.9 s of rows in a 5 s window): stop reads on
+    until a frame stamped after the window's end comes."""
+    t0 = 100.0
+    frames = [(t0 + k / 1000.0 + j * 1e-4, cob, bytes(8)) for k in range(2000) for j, cob in enumerate(COBS)]
+    src = LateSource(frames, hold_at=t0 + 0.6)
+    cap = telemetry.Capture(link=None, tpdos=[_Tpdo(c) for c in COBS],
+                            source_factory=lambda ids: src, poll_s=0.001)
+    cap.open_window(1.0)
+    cap.start()
+    assert cap.wait_window_open(2.0)
+    deadline = time.monotonic() + 5.0
+    while time.monotonic() < deadline:  # everything before the hold is read
+        with cap._lock:
+            if cap.frames and cap.frames[-1][0] > t0 + 0.599:
+                break
+        time.sleep(0.005)
+    threading.Timer(0.3, src.release.set).start()
+    cap.stop(until=cap.t_until)
+    ts = [f[0] for f in cap.frames]
+    assert len(ts) == 3 * 1000 and min(ts) == t0 and max(ts) < t0 + 1.0
