@@ -1,9 +1,8 @@
 """A scenario as the flashable image runs it on the emulated board (`dtc-board run`).
 
-The twin's runner applies no `[control]` keys: the image keeps its stored parameters, the
-firmware's defaults when flashed. So a scenario meant for the board drops its `[control]`
-section, and its plant gets the 1 V device drop (`v_on_V = 1`) that the firmware's default
-`v_drop_V` compensates. Used by tests/board (the twin against dtc-sim, tuning while running)
+The scenario with the image's parameters as flashed: the firmware's defaults (no `[control]`
+section; `dtc-board run` would write one into the image's parameter store), and a plant with
+the 1 V device drop (`v_on_V = 1`) that the firmware's default `v_drop_V` compensates. Used by tests/board (the twin against dtc-sim, tuning while running)
 and by tools/pil_vs_board.py and tools/twin_tick_table.py.
 """
 

@@ -84,6 +84,27 @@ void board_safe_state(void);
  */
 void Default_Handler(void);
 
+/**
+ * What the background has been woken for so far: a count that moves with
+ * every interrupt that can give it work (the control tick, whose counter is
+ * @p tick_count, the SysTick's milliseconds, an FDCAN frame received or sent).
+ * Take it before a background pass and hand it to board_idle() after it.
+ * Context: BG.
+ */
+uint32_t board_idle_mark(const volatile uint32_t *tick_count);
+
+/**
+ * Sleep (WFI) until the next interrupt, unless one that can give the
+ * background work came since @p mark was taken (then return at once). The
+ * check and the WFI run with interrupts masked (PRIMASK): an interrupt that
+ * arrives in between stays pending, wakes the core all the same (ARMv7-M) and
+ * is taken when this returns, so no wake-up is lost. The longest sleep is one
+ * control tick (200 us) while the tick runs, 1 ms (SysTick) otherwise; with
+ * every interrupt dead the core sleeps for good and the watchdog, no longer
+ * refreshed, resets the chip. Context: BG.
+ */
+void board_idle(const volatile uint32_t *tick_count, uint32_t mark);
+
 /** @return the board_fault bits recorded since reset. Context: ANY. */
 uint32_t board_faults(void);
 

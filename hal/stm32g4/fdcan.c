@@ -1,6 +1,7 @@
 /**
  * @file fdcan.c
- * @brief FDCAN1 in classic CAN mode (RM0440 44), polled from the background.
+ * @brief FDCAN1 in classic CAN mode (RM0440 44), polled from the background;
+ *        its interrupt only wakes the background from its sleep.
  */
 #include "fdcan.h"
 
@@ -13,6 +14,7 @@
 #include "clock.h"
 
 #define CAN_BUSOFF_RETRY_MS 100u
+#define FDCAN_WAKE_PRIO 15u /* least urgent, as the SysTick: never delays the control tick */
 
 typedef struct {
     bool open;
@@ -20,6 +22,7 @@ typedef struct {
     uint32_t busoff_ms;    /* clock_millis() at the bus-off, then at the last recovery start */
     uint32_t busoff_count;
     uint32_t rx_lost;      /* Rx FIFO 0 overruns seen */
+    volatile uint32_t wakeups; /* FDCAN1_IT0 entries: a frame received or the Tx FIFO emptied */
 } fdcan_driver;
 
 static fdcan_driver g_fdcan;
@@ -98,14 +101,30 @@ int fdcan_open(uint32_t bitrate_bps)
     FDCAN1_RXGFC = (4u << FDCAN_RXGFC_LSS_SHIFT) | FDCAN_RXGFC_ANFS_REJECT | FDCAN_RXGFC_ANFE_REJECT |
                    FDCAN_RXGFC_RRFE;
     FDCAN1_TXBC = 0u; /* TFQM = 0: Tx FIFO (3 elements, fixed) */
-    FDCAN1_IE = 0u;   /* polled from the background: never interrupts the tick */
+    /* Polled from the background; the interrupt (least urgent, below the
+     * tick) only wakes the background when a frame came in or the Tx FIFO
+     * emptied (board_idle). */
+    FDCAN1_IE = FDCAN_IE_RF0NE | FDCAN_IE_TFEE; /* both in line 0 (ILS = 0) */
+    FDCAN1_ILE = FDCAN_ILE_EINT0;
     FDCAN1_IR = 0xFFFFFFFFu;
 
+    chip_nvic_enable(IRQN_FDCAN1_IT0, FDCAN_WAKE_PRIO);
     FDCAN1_CCCR &= ~FDCAN_CCCR_INIT; /* joins after 11 recessive bits */
     g_fdcan.open = true;
     g_fdcan.busoff = false;
     return HAL_OK;
 }
+
+/** FDCAN1 interrupt line 0: a frame in Rx FIFO 0 or the Tx FIFO emptied. The
+ * flags are cleared and the wake-up counted; the background does the work.
+ * Context: interrupt, FDCAN_WAKE_PRIO. */
+void FDCAN1_IT0_IRQHandler(void)
+{
+    FDCAN1_IR = FDCAN_IR_RF0N | FDCAN_IR_TFE; /* rc_w1 */
+    g_fdcan.wakeups++;
+}
+
+uint32_t fdcan_wakeups(void) { return g_fdcan.wakeups; }
 
 /* Bus-off: the controller sets INIT by itself; after CAN_BUSOFF_RETRY_MS
  * clearing INIT starts the recovery (128 x 11 recessive bits; RM0440, FDCAN chapter, bus-off recovery).

@@ -2,8 +2,9 @@
  * @file fdcan.h
  * @brief FDCAN1 as a classic CAN node: bit timing from PCLK1, the fixed
  *        message RAM layout with this node's acceptance filters, the Tx FIFO,
- *        Rx FIFO 0, and the bus-off recovery, all polled from the background
- *        (no FDCAN interrupt: the bus never interrupts the control tick).
+ *        Rx FIFO 0, and the bus-off recovery, all polled from the background.
+ *        FDCAN1_IT0 (least urgent, never ahead of the control tick) only wakes
+ *        the sleeping background when a frame came in or the Tx FIFO emptied.
  *        Private to hal/stm32g4.
  */
 #ifndef HAL_STM32G4_FDCAN_H
@@ -46,5 +47,11 @@ int fdcan_recv(hal_can_frame *frame);
  * Context: BG.
  */
 void fdcan_get_state(hal_can_state *out);
+
+/**
+ * @return how many times FDCAN1's interrupt woke the background since reset
+ * (a frame received or the Tx FIFO emptied; wraps). Context: ANY.
+ */
+uint32_t fdcan_wakeups(void);
 
 #endif /* HAL_STM32G4_FDCAN_H */

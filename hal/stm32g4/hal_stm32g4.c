@@ -45,7 +45,7 @@
 /* Interrupt priorities (4 bits, 0 = most urgent), docs/board.md. */
 #define PRIO_HRTIM_FAULT 0u  /* runs once per trip: inner switches off */
 #define PRIO_CONTROL_TICK 1u /* ADC1/2 end of injected sequence: the 200 us tick */
-#define PRIO_SYSTICK 15u     /* 1 ms time base; CAN and flash are polled in the background */
+#define PRIO_SYSTICK 15u     /* 1 ms time base; CAN and flash are polled in the background (FDCAN1_IT0, also 15, only wakes it) */
 
 /* Start of the vector table, from stm32g474.ld. */
 extern const uint32_t __isr_vector_start[];
@@ -188,6 +188,21 @@ uint32_t hal_cycles(void) { return clock_cycles(); }
 uint32_t hal_cycles_hz(void) { return clock_sysclk_hz(); }
 
 uint32_t hal_millis(void) { return clock_millis(); }
+
+/* ------------------------------------------------------------------ idle */
+
+uint32_t board_idle_mark(const volatile uint32_t *tick_count)
+{
+    return *tick_count + clock_millis() + fdcan_wakeups();
+}
+
+void board_idle(const volatile uint32_t *tick_count, uint32_t mark)
+{
+    __asm volatile("cpsid i" ::: "memory");
+    if (board_idle_mark(tick_count) == mark)
+        __asm volatile("dsb\n\twfi" ::: "memory"); /* wakes on a pending interrupt, masked or not */
+    __asm volatile("cpsie i" ::: "memory");          /* the interrupt that woke the core is taken here */
+}
 
 /* ------------------------------------------------------------------- CAN */
 

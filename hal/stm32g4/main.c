@@ -1,10 +1,12 @@
 /**
  * @file main.c
  * @brief Target entry point: start the 200 us control interrupt, then run the
- *        background loop forever.
+ *        background loop forever, asleep (WFI) whenever it has nothing to do.
  */
 #include "dtc/drive.h"
 #include "hal/hal.h"
+
+#include "board.h"
 
 /* Background loop deadline: the watchdog resets the chip if one pass of
  * drive_background() (which kicks it) ever takes longer than this. */
@@ -28,6 +30,12 @@ int main(void)
         }
     }
 
-    for (;;)
+    /* The background runs once per interrupt that can give it work and
+     * sleeps in between (board_idle: WFI, the production way to save power;
+     * the emulated board skips the idle time instead of emulating a loop). */
+    for (;;) {
+        uint32_t mark = board_idle_mark(&g_drive.tick);
         drive_background(&g_drive);
+        board_idle(&g_drive.tick, mark);
+    }
 }

@@ -427,6 +427,7 @@
 #define FDCAN1_PSR REG32(FDCAN1_BASE + 0x044u)     /* @svd FDCAN1.FDCAN_PSR */
 #define FDCAN1_IR REG32(FDCAN1_BASE + 0x050u)      /* @svd FDCAN1.FDCAN_IR */
 #define FDCAN1_IE REG32(FDCAN1_BASE + 0x054u)      /* @svd FDCAN1.FDCAN_IE */
+#define FDCAN1_ILE REG32(FDCAN1_BASE + 0x05Cu)     /* @svd FDCAN1.FDCAN_ILE */
 #define FDCAN1_RXGFC REG32(FDCAN1_BASE + 0x080u)   /* @svd FDCAN1.FDCAN_RXGFC */
 #define FDCAN1_RXF0S REG32(FDCAN1_BASE + 0x090u)   /* @svd FDCAN1.FDCAN_RXF0S */
 #define FDCAN1_RXF0A REG32(FDCAN1_BASE + 0x094u)   /* @svd FDCAN1.FDCAN_RXF0A */
@@ -446,7 +447,12 @@
 #define FDCAN_ECR_TEC_MASK (0xFFu << 0) /* @svd FDCAN1.FDCAN_ECR.TEC */
 #define FDCAN_PSR_BO (1u << 7)         /* @svd FDCAN1.FDCAN_PSR.BO */
 #define FDCAN_PSR_EP (1u << 5)         /* @svd FDCAN1.FDCAN_PSR.EP */
+#define FDCAN_IR_RF0N (1u << 0)        /* @svd FDCAN1.FDCAN_IR.RF0N */
 #define FDCAN_IR_RF0L (1u << 2)        /* @svd FDCAN1.FDCAN_IR.RF0L */
+#define FDCAN_IR_TFE (1u << 9)         /* @svd FDCAN1.FDCAN_IR.TFE */
+#define FDCAN_IE_RF0NE (1u << 0)       /* @svd FDCAN1.FDCAN_IE.RF0NE */
+#define FDCAN_IE_TFEE (1u << 9)        /* @svd FDCAN1.FDCAN_IE.TFEE */
+#define FDCAN_ILE_EINT0 (1u << 0)      /* @svd FDCAN1.FDCAN_ILE.EINT0 */
 #define FDCAN_IR_BO (1u << 19)         /* @svd FDCAN1.FDCAN_IR.BO */
 #define FDCAN_RXGFC_RRFE (1u << 0)     /* @svd FDCAN1.FDCAN_RXGFC.RRFE */
 #define FDCAN_RXGFC_RRFS (1u << 1)     /* @svd FDCAN1.FDCAN_RXGFC.RRFS */

@@ -22,13 +22,30 @@
                                   cleared just before the line falls (dtc-board --fault-irq-off):
                                   the interrupt never runs and the inner switches go off at the
                                   same instant: the sequence is hardware.
+  test_twin.py case2_shipped CONTROLLER
+                                  CASE2 exactly as shipped (host_sim/scenarios/case2.ini, with its
+                                  [control] v_drop_V = 0 and the ideal inverter) on the twin and on
+                                  dtc-sim: recovery within 10 %, no fault; the twin wrote the key
+                                  into the image's parameter store, read from the --nvm file with a
+                                  decoder of dtc/persist.h's documented layout written here (magic,
+                                  CRC-32 as zlib's, record 0x2400:11 = 0.0 f32).
+  test_twin.py shipped            case1, nameplate, field_weakening and low_speed_30rpm as shipped:
+                                  no fault, the mean speed over each scenario's last window within
+                                  its Done-when tolerance of the reference (2, 2 and 5 rpm; field
+                                  weakening 5 rpm on the board's real inverter, see SHIPPED).
+  test_twin.py control_refused    a [control] key the image's store cannot hold (bringup_te_Nm: not
+                                  a stored parameter) is refused with FILE:LINE and exit status 2,
+                                  and nothing reaches the --nvm file.
 Exit 77 (skipped) when the flashable image has not been built (cmake --preset stm32g4).
 """
 import json
 import os
+import re
+import struct
 import subprocess
 import sys
 import tempfile
+import zlib
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 from scenario_as_flashed import as_flashed  # noqa: E402
@@ -36,7 +53,21 @@ from scenario_as_flashed import as_flashed  # noqa: E402
 SRC = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = os.environ.get("DTC_HOST_BIN", os.path.join(SRC, "build", "host", "bin"))
 ELF = os.environ.get("DTC_FW_ELF", os.path.join(SRC, "build", "stm32g4", "dtc-fw.elf"))
-CASE2 = os.path.join(SRC, "host_sim", "scenarios", "case2.ini")
+SCENARIOS = os.path.join(SRC, "host_sim", "scenarios")
+CASE2 = os.path.join(SCENARIOS, "case2.ini")
+NVM_START = 0x0807F000        # hal/stm32g4/stm32g474.ld: NVM, 4 KiB = two 2 KiB slots
+NVM_SLOT = 2048
+PERSIST_MAGIC = 0x50435444    # dtc/persist.h: "DTCP", 20-byte header
+
+
+def persist_format():
+    """The store's format number, as dtc/persist.h declares it (PERSIST_FORMAT)."""
+    with open(os.path.join(SRC, "firmware", "drive", "include", "dtc", "persist.h")) as f:
+        m = re.search(r"#define PERSIST_FORMAT (\d+)u", f.read())
+    return int(m.group(1))
+
+
+V_DROP = (0x2400, 11)         # tools/params/parameters.toml: v_drop_V
 T_HRTIM = 1.0 / 170e6
 DEAD_TIME = 1.0e-6            # BOARD_DEAD_TIME_NS (hal/stm32g4/board.h)
 T_EEV_SAMPLE = 16 * T_HRTIM  # EEV6 filter EE6F = 1100: fSAMPLING = fEEVS / 16, fEEVS = fHRTIM (EEVSD = 0)
@@ -223,6 +254,99 @@ def fault_restart():
               f"the drive restarted: {twin['window_after_speed_rpm']:.1f} rpm over 2.3-2.5 s")
 
 
+def nvm_pages(path):
+    """{global page index: 2048 bytes} of a dtc-board NVM file (docs/board_twin.md: DTCNVM01, then
+    records of a little-endian u32 page index and the page)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[:8] == b"DTCNVM01", "not an NVM file"
+    pages, at = {}, 8
+    while at + 4 + 2048 <= len(data):
+        pages[struct.unpack_from("<I", data, at)[0]] = data[at + 4:at + 4 + 2048]
+        at += 4 + 2048
+    return pages
+
+
+def stored_records(path):
+    """The records of the newest valid slot of the parameter store, decoded from the layout
+    documented in dtc/persist.h (not with the firmware's code): {(index, sub): value bytes}."""
+    pages = nvm_pages(path)
+    first = (NVM_START - 0x08000000) // 2048
+    best = None
+    for slot in (0, 1):
+        raw = pages.get(first + slot)
+        if raw is None:
+            continue
+        magic, fmt, count, seq, length, crc = struct.unpack_from("<IHHIII", raw, 0)
+        if magic != PERSIST_MAGIC or fmt != persist_format() or length > NVM_SLOT - 20:
+            continue
+        if zlib.crc32(raw[20:20 + length], zlib.crc32(raw[:16])) != crc:
+            continue
+        if best is None or ((seq - best[0]) & 0xFFFFFFFF) < 0x80000000:
+            best = (seq, count, raw[20:20 + length])
+    if best is None:
+        return None
+    recs, at = {}, 0
+    for _ in range(best[1]):
+        index, sub, n = struct.unpack_from("<HBB", best[2], at)
+        recs[(index, sub)] = best[2][at + 4:at + 4 + n]
+        at += 4 + n
+    return recs
+
+
+def case2_shipped(controller):
+    with tempfile.TemporaryDirectory() as tmp:
+        nvm = os.path.join(tmp, "drive.nvm")
+        sim = metrics(tmp, "sim", [os.path.join(BIN, "dtc-sim"), "run", CASE2, "--controller", controller, "--quiet"])
+        twin = metrics(tmp, "twin", [os.path.join(BIN, "dtc-board"), "run", CASE2, "--elf", ELF,
+                                     "--controller", controller, "--nvm", nvm])
+        recs = stored_records(nvm) if os.path.exists(nvm) else None
+    rs, rt = sim["recovery_time_s"], twin["recovery_time_s"]
+    check(rs > 0 and abs(rt - rs) <= 0.10 * rs, f"recovery {rt:.4f} s vs dtc-sim {rs:.4f} s (10 %)")
+    check(twin["faults"] == 0 and sim["faults"] == 0, f"no fault (twin {twin['faults']:#x}, dtc-sim {sim['faults']:#x})")
+    check(recs is not None, "the image's parameter store holds a valid set")
+    if recs is not None:
+        v = recs.get(V_DROP)
+        check(v is not None and len(v) == 4 and struct.unpack("<f", v)[0] == 0.0,
+              f"v_drop_V (0x2400:11) stored as {v and struct.unpack('<f', v)[0]} (the scenario's 0)")
+
+
+# scenario, its last metrics window, the speed reference there (rpm) and the tolerance: the
+# scenario's Done-when (dtc-sim, ideal inverter), except field weakening at the voltage limit,
+# where the board's inverter (1 us dead time, its shortest pulse) leaves the twin about 2 rpm
+# lower (2607.8 rpm; dtc-sim 2609.6 ideal, 2609.5 with 1 us dead time): 5 rpm, 0.2 %
+SHIPPED = [("case1", "steady", 500.0, 2.0), ("nameplate", "loaded", 1740.0, 2.0),
+           ("field_weakening", "loaded", 2610.0, 5.0), ("low_speed_30rpm", "point", 30.0, 5.0)]
+
+
+def shipped():
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, window, ref, tol in SHIPPED:
+            ini = os.path.join(SCENARIOS, name + ".ini")
+            twin = metrics(tmp, name, [os.path.join(BIN, "dtc-board"), "run", ini, "--elf", ELF])
+            check(twin["faults"] == 0, f"{name}: no fault ({twin['faults']:#x})")
+            w = twin[f"window_{window}_speed_rpm"]
+            check(abs(w - ref) <= tol, f"{name}: {w:.2f} rpm over the '{window}' window, reference {ref:.0f} (+-{tol:g})")
+
+
+def control_refused():
+    with tempfile.TemporaryDirectory() as tmp:
+        ini = os.path.join(tmp, "not_stored.ini")
+        with open(CASE2) as f:
+            text = f.read()
+        text = text.replace("[control]\nv_drop_V = 0\n", "[control]\nv_drop_V = 0\nbringup_te_Nm = 1\n")
+        with open(ini, "w") as f:
+            f.write(text)
+        line = text.splitlines().index("bringup_te_Nm = 1") + 1
+        nvm = os.path.join(tmp, "drive.nvm")
+        r = subprocess.run([os.path.join(BIN, "dtc-board"), "run", ini, "--elf", ELF, "--nvm", nvm],
+                           capture_output=True, text=True)
+        print(r.stderr.strip())
+        check(r.returncode == 2, f"exit status {r.returncode} (2)")
+        check(f"{ini}:{line}: [control] bringup_te_Nm" in r.stderr, f"the message names {os.path.basename(ini)}:{line}")
+        check(stored_records(nvm) is None if os.path.exists(nvm) else True, "nothing stored in the NVM file")
+
+
 def main():
     if not os.path.exists(ELF):
         print(f"skipped: {ELF} not built (cmake --preset stm32g4 && cmake --build --preset stm32g4)")
@@ -235,8 +359,14 @@ def main():
         fault_eev6_only()
     elif sys.argv[1] == "fault_restart":
         fault_restart()
+    elif sys.argv[1] == "case2_shipped":
+        case2_shipped(sys.argv[2])
+    elif sys.argv[1] == "shipped":
+        shipped()
+    elif sys.argv[1] == "control_refused":
+        control_refused()
     else:
-        sys.exit("usage: test_twin.py case2 rbfn|ip | fault")
+        sys.exit("usage: test_twin.py case2|case2_shipped rbfn|ip | shipped | control_refused | fault...")
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1

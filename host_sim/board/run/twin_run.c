@@ -37,6 +37,7 @@
 #include "sim/sim.h"
 #include "trace.h"
 #include "fw_layout.h"
+#include "twin_params.h"
 
 #define RPM_TO_RAD_S (3.14159265358979323846 / 30.0)
 #define T_EPS 1e-9
@@ -120,6 +121,17 @@ static can_listener g_can;
 static volatile sig_atomic_t g_stop;
 static void on_signal(int sig) { (void)sig; g_stop = 1; }
 
+/* --realtime: hold the emulated clock (0 at wall time w0) to the wall clock. The twin runs faster
+ * than real time, so it waits here; a run that fell behind (a busy machine) catches up at full
+ * speed, so over any longer window the bus's timers keep their true periods. */
+static void pace(board *b, double w0) {
+  double ahead = board_time_s(b) - (wall() - w0);
+  if (ahead > 0) {
+    struct timespec sl = {(time_t)ahead, (long)((ahead - (double)(time_t)ahead) * 1e9)};
+    nanosleep(&sl, NULL);
+  }
+}
+
 static void read_snapshot(fw *f, drive_snapshot *s) {
   /* seq + ctl_telemetry + floats: no enums, the same layout on both sides (checked by size) */
   for (int tries = 0; tries < 4; tries++) {
@@ -140,8 +152,9 @@ static const char usage_text[] =
     "  --can IFACE        the image's FDCAN1 on SocketCAN interface IFACE (only with --realtime): tune\n"
     "                     the running drive with dtctune; without it a listening node on a private bus\n"
     "                     acknowledges the frames and records the EMCYs\n"
-    "  --realtime         never run ahead of the wall clock (the twin is slower than real time, so\n"
-    "                     this only matters on a faster machine); SIGINT/SIGTERM end the run cleanly\n"
+    "  --realtime         hold emulated time to the wall clock (the twin runs faster than real time\n"
+    "                     and waits; the bus's heartbeats and inhibit times are then in true time);\n"
+    "                     SIGINT/SIGTERM end the run cleanly\n"
     "  --fault-line T_S   test hook: the gate drivers' fault line (PB10 = HRTIM FLT3 and PB5 = HRTIM\n"
     "                     EEV6, tied on the interface board) is pulled low at scenario time T_S and\n"
     "                     held; the metrics gain a \"fault\" section\n"
@@ -212,11 +225,6 @@ int twin_run_main(int argc, char **argv) {
     fprintf(stderr, "dtc-board: %s: period_s %g: the image's tick is fixed at 200 us\n", path, sc.period_s);
     return 2;
   }
-  if (sc.n_control > 0) {
-    fprintf(stderr, "dtc-board: %s: [control] keys are not applied by the twin's runner (the image keeps its "
-                    "stored parameters); set them over CAN instead (--can IFACE --realtime, dtctune)\n", path);
-    return 2;
-  }
   (void)fail;
 
   board_config cfg;
@@ -226,6 +234,9 @@ int twin_run_main(int argc, char **argv) {
   board *b = board_open(&cfg, err, sizeof err);
   if (!b) { fprintf(stderr, "dtc-board: %s\n", err); return 2; }
   int rc = 0;
+  /* [control] keys: into the image's parameter store before power-on, as dtctune set + save */
+  int prc = twin_apply_control(b, &sc, err, sizeof err);
+  if (prc != 0) { fprintf(stderr, "dtc-board: %s\n", err); board_close(b); return prc; }
   if (board_attach_plant(b, &sc.plant) != 0) { fprintf(stderr, "dtc-board: %s: invalid plant configuration\n", path); board_close(b); return 2; }
   memset(&g_can, 0, sizeof g_can);
   hal_host_can_loopback_init(&g_can.q, &g_can.be);
@@ -260,6 +271,7 @@ int twin_run_main(int argc, char **argv) {
   double T = sc.period_s;
   for (;;) {
     board_status st = board_run(b, 1e-3);
+    if (realtime) pace(b, w0);
     if (st == BOARD_FAULT) { fprintf(stderr, "dtc-board: %s\n", board_message(b)); board_close(b); return 1; }
     if (st == BOARD_EXITED) { fprintf(stderr, "dtc-board: the image exited (%d) during boot\n", board_exit_code(b)); board_close(b); return 1; }
     uint32_t tick = rd_u32(&f, L->tick);
@@ -385,13 +397,7 @@ int twin_run_main(int argc, char **argv) {
       trace_write(&trace, &row);
     }
     if (k >= n_ticks || g_stop) break;
-    if (realtime) { /* never ahead of the wall clock */
-      double ahead = board_time_s(b) - (wall() - w0);
-      if (ahead > 0) {
-        struct timespec sl = {(time_t)ahead, (long)((ahead - (double)(time_t)ahead) * 1e9)};
-        nanosleep(&sl, NULL);
-      }
-    }
+    if (realtime) pace(b, w0);
   }
   double w = wall() - w0;
 
@@ -418,9 +424,10 @@ int twin_run_main(int argc, char **argv) {
       if (rc) fprintf(stderr, "%s\n", err);
     }
     if (!quiet)
-      printf("%s on the twin: %.3f s simulated in %.1f s wall (%.3f sim s per wall s); final %.1f rpm, recovery %.4f s, "
+      printf("%s on the twin: %.3f s simulated in %.1f s wall (%.2f x real time%s); final %.1f rpm, recovery %.4f s, "
              "steady error %.3f rpm, estimate error %.3f rpm, switching %.0f Hz, tick %.0f instructions mean / %llu worst\n",
-             m.controller, m.sim_seconds, w, m.sim_seconds / (w > 0 ? w : 1e-9), m.speed_final_rpm, m.recovery_time_s,
+             m.controller, m.sim_seconds, w, m.sim_seconds / (w > 0 ? w : 1e-9), realtime ? ", paced by --realtime" : "",
+             m.speed_final_rpm, m.recovery_time_s,
              m.steady_error_rpm, m.speed_est_error_rpm, m.switching_freq_hz,
              tick.count ? (double)tick.total / (double)tick.count : 0.0, (unsigned long long)tick.worst);
   }

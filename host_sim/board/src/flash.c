@@ -277,6 +277,21 @@ void flash_mem_write(board *b, uint32_t addr, unsigned size, uint32_t v) {
   start_op(b, OP_PROG, f->pg_addr, 8, T_PROG_S);
 }
 
+/* A debug probe's flash programming (erase the pages, program the bytes): the array takes the
+ * bytes, the pages are marked for the NVM file and their double words get a good ECC again. */
+int board_flash_program(board *b, uint32_t addr, const void *data, uint32_t len) {
+  if (len == 0 || addr < FLASH_BASE || addr - FLASH_BASE > FLASH_SIZE - len || (addr - FLASH_BASE) % PAGE != 0 ||
+      len % PAGE != 0)
+    return -1;
+  uint32_t off = addr - FLASH_BASE;
+  memcpy(b->flash + off, data, len);
+  for (uint32_t a = off; a < off + len; a += 8) ecc_mark(b, a, false);
+  for (uint32_t p = off / PAGE; p < (off + len) / PAGE; p++) b->fl.dirty[p] = 1;
+  board_flash_update(b, off, len);
+  if (b->cfg.nvm_path && flash_nvm_save(b) != 0) return -1;
+  return 0;
+}
+
 int flash_nvm_load(board *b, char *err, size_t n) {
   FILE *fp = fopen(b->cfg.nvm_path, "rb");
   if (!fp) return 0; /* a new file: the flash is what the ELF says */

@@ -66,6 +66,11 @@ typedef struct {
 } board_pin;
 size_t board_pins(const board *b, board_pin *out, size_t max);
 
+/* Program whole 2 KiB flash pages at addr (0x08000000-based, page-aligned, len a multiple of
+ * 2048) with `data`, as a debug probe would with the core halted: the pages persist in the NVM
+ * file like pages the firmware wrote. 0, or -1 for a range outside the flash or unaligned. */
+int board_flash_program(board *b, uint32_t addr, const void *data, uint32_t len);
+
 /* Power-cut injection into the flash (test hook of the twin, nothing in the firmware):
  * when flash operation number `op` (1-based count of page erases and double-word programs
  * started since board_open, see board_flash_ops) starts, the supply fails. torn = 0: the
