@@ -141,6 +141,8 @@ static void print_summary(const char *file, const scenario *sc, const sim_result
     if (m->firmware)
         printf("  eps_hat %.1f, eps_true %.1f rad/s^2, |W| max %.3g (M_w %.3g), faults 0x%02x, ISR max %.1f us\n",
                m->eps_hat_final, m->eps_true, m->w_norm_max, m->m_w, (unsigned)m->faults, m->isr_max_us);
+    if (m->firmware && m->warnings_seen != 0u)
+        printf("  warnings seen during the run 0x%02x (docs/faults.md)\n", (unsigned)m->warnings_seen);
 }
 
 static int cmd_run(int argc, char **argv)

@@ -27,6 +27,7 @@
 #include "sim/control_keys.h"
 #include "sim/decimal.h"
 #include "sim/file_safety.h"
+#include "dtc/ratings.h"
 
 /* ------------------------------------------------------------ key table */
 
@@ -36,6 +37,8 @@ typedef enum {
     K_SEED,       /**< double holding a whole number 0..2^32-1 */
     K_SUPPLY,     /**< "inverter" | "sine" -> int */
     K_CONTROLLER, /**< "ip" | "nominal" | "rbfn" -> int */
+    K_MODEL,      /**< "exact" | "plate" -> int */
+    K_IDENTIFY,   /**< "none" | "standstill" | "full" -> int (scenario_identify) */
 } key_kind;
 
 typedef struct {
@@ -110,7 +113,29 @@ static const key_def keys[] = {
     { "supply", "phase_deg", K_REAL, OFF(phase_rad), -360.0, 360.0, false, 3.14159265358979323846 / 180.0,
       "deg", "phase_rad", 0 },
 
+    /* the plate and the inverter's label: judged as a whole by ratings_check in scenario_finish */
+#define RATINGK(k, f, unit) { "ratings", k, K_REAL, OFF(ratings.f), -1e300, 1e300, false, 1.0, unit, NULL, OFF(has_ratings) }
+    RATINGK("P_W", P_W, "W"),
+    RATINGK("V_ll_V", V_ll_V, "V"),
+    RATINGK("I_A", I_A, "A"),
+    RATINGK("f_Hz", f_Hz, "Hz"),
+    RATINGK("n_rpm", n_rpm, "rpm"),
+    RATINGK("cos_phi", cos_phi, "1"),
+    RATINGK("vdc_nom_V", vdc_nom_V, "V"),
+    RATINGK("inv_I_rated_A", inv_I_rated_A, "A"),
+    RATINGK("inv_I_peak_A", inv_I_peak_A, "A"),
+#undef RATINGK
+    { "commission", "model", K_MODEL, OFF(model), 0.0, 1.0, false, 1.0, "exact|plate", NULL, 0 },
+    /* the shaft's state when the run starts (a motor coasting before the run command) */
+    { "plant", "initial_speed_rpm", K_REAL, OFF(plant.initial_omega_m_rad_s), -19000.0, 19000.0, false,
+      2.0 * 3.14159265358979323846 / 60.0, "rpm", "initial_omega_m_rad_s", 0 },
+    { "plant", "initial_flux_frac", K_REAL, OFF(plant.initial_flux_frac), 0.0, 1.2, false, 1.0, "1",
+      "initial_flux_frac", 0 },
+
     { "controller", "name", K_CONTROLLER, OFF(controller), 0.0, 2.0, false, 1.0, "ip|nominal|rbfn", NULL, 0 },
+
+    /* [commission]: the identification run before the profile */
+    { "commission", "identify", K_IDENTIFY, OFF(identify), 0.0, 2.0, false, 1.0, "none|standstill|full", NULL, 0 },
 
     { "metrics", "disturbance_t_s", K_REAL, OFF(disturbance_t_s), 0.0, 600.0, false, 1.0, "s", NULL,
       OFF(has_disturbance) },
@@ -163,8 +188,9 @@ static const list_def lists[] = {
 
 #define N_LISTS (sizeof lists / sizeof lists[0])
 
-static const char *const sections[] = { "sim", "motor", "load", "drive", "inverter", "sensors", "supply",
-                                        "controller", "control", "reference", "events", "faults", "metrics" };
+static const char *const sections[] = { "sim", "motor", "load", "drive", "inverter", "sensors", "supply", "plant",
+                                        "controller", "control", "reference", "events", "faults", "metrics",
+                                        "ratings", "commission" };
 
 bool scenario_key_info_at(size_t i, scenario_key_info *out)
 {
@@ -326,11 +352,32 @@ static int set_scalar(parse_ctx *c, size_t ki, const char *value)
         else
             return fail(c, "[supply] mode: unknown mode '%s' (expected inverter or sine)", v);
         memcpy(base + k->offset, &mode, sizeof mode);
+    } else if (k->kind == K_MODEL) {
+        int model;
+        if (strcmp(v, "exact") == 0)
+            model = SCENARIO_MODEL_EXACT;
+        else if (strcmp(v, "plate") == 0)
+            model = SCENARIO_MODEL_PLATE;
+        else
+            return fail(c, "[commission] model: unknown model '%s' (expected exact or plate)", v);
+        memcpy(base + k->offset, &model, sizeof model);
     } else if (k->kind == K_CONTROLLER) {
         int ctl = scenario_controller_parse(v);
         if (ctl < 0)
             return fail(c, "[controller] name: unknown controller '%s' (expected ip, nominal or rbfn)", v);
         memcpy(base + k->offset, &ctl, sizeof ctl);
+    } else if (k->kind == K_IDENTIFY) {
+        int id;
+        if (strcmp(v, "none") == 0)
+            id = SCENARIO_IDENTIFY_NONE;
+        else if (strcmp(v, "standstill") == 0)
+            id = SCENARIO_IDENTIFY_STANDSTILL;
+        else if (strcmp(v, "full") == 0)
+            id = SCENARIO_IDENTIFY_FULL;
+        else
+            return fail(c, "[commission] identify: unknown value '%s' (expected none, standstill or full)", v);
+        memcpy(base + k->offset, &id, sizeof id);
+        sc->identify_line = c->line;
     } else {
         double x;
         if (!parse_number(v, &x))
@@ -632,7 +679,7 @@ static int assign(parse_ctx *c, const char *section, const char *name, const cha
             known = true;
     if (!known)
         return fail(c, "unknown section [%s] (sections: sim, motor, load, drive, inverter, sensors, supply, "
-                       "controller, control, reference, events, faults, metrics)", section);
+                       "controller, control, reference, events, faults, metrics, ratings, commission)", section);
     if (strcmp(section, "control") == 0)
         return set_control(c, name, value);
     for (size_t i = 0; i < N_KEYS; i++)
@@ -857,6 +904,12 @@ static int key_index(const char *section, const char *key)
     return -1;
 }
 
+int scenario_key_line(const scenario *sc, const char *section, const char *key)
+{
+    int ki = key_index(section, key);
+    return ki >= 0 ? sc->key_line[ki] : 0;
+}
+
 /* Report a problem with scalar key (section, key) at the line it was set on. */
 static int fail_key(scenario *sc, char *err, size_t errlen, const char *section, const char *key,
                     const char *msg)
@@ -905,6 +958,67 @@ static int map_plant_error(scenario *sc, const char *what, char *err, size_t err
                      keys[best].key, *rest != '\0' ? rest : "is rejected by the plant");
 }
 
+void scenario_ratings_to_plate(const scenario *sc, ratings *r)
+{
+    const scenario_ratings *s = &sc->ratings;
+    r->P_W = (real_t)s->P_W;
+    r->V_ll_V = (real_t)s->V_ll_V;
+    r->I_A = (real_t)s->I_A;
+    r->f_Hz = (real_t)s->f_Hz;
+    r->n_rpm = (real_t)s->n_rpm;
+    r->cos_phi = (real_t)s->cos_phi;
+    r->vdc_nom_V = (real_t)s->vdc_nom_V;
+    r->inv_I_rated_A = (real_t)s->inv_I_rated_A;
+    r->inv_I_peak_A = (real_t)s->inv_I_peak_A;
+}
+
+/* The plate as the drive judges it (ratings_check: the first offending
+ * field, named at its line), every field but cos_phi given, and
+ * model = plate only with a plate. */
+static int check_ratings(scenario *sc, char *err, size_t errlen)
+{
+    if (!sc->has_ratings) {
+        if (sc->model == SCENARIO_MODEL_PLATE)
+            return fail_key(sc, err, errlen, "commission", "model",
+                            "plate needs a [ratings] section (the motor's plate and the inverter's label)");
+        return 0;
+    }
+    static const char *const required[] = { "P_W", "V_ll_V", "I_A", "f_Hz", "n_rpm", "vdc_nom_V",
+                                            "inv_I_rated_A", "inv_I_peak_A" };
+    for (size_t i = 0; i < sizeof required / sizeof required[0]; i++) {
+        if (sc->key_line[key_index("ratings", required[i])] == 0) {
+            /* named at the section's first key */
+            int line = 0;
+            for (size_t k = 0; k < N_KEYS; k++)
+                if (strcmp(keys[k].section, "ratings") == 0 && sc->key_line[k] > 0 &&
+                    (line == 0 || sc->key_line[k] < line))
+                    line = sc->key_line[k];
+            char set_name[96];
+            snprintf(set_name, sizeof set_name, "ratings.%s", required[i]);
+            return fail_line(err, errlen, sc, line, set_name, "[ratings] %s: missing (a plate needs P_W, V_ll_V, "
+                             "I_A, f_Hz, n_rpm, vdc_nom_V, inv_I_rated_A and inv_I_peak_A; cos_phi if given)",
+                             required[i]);
+        }
+    }
+    ratings r;
+    scenario_ratings_to_plate(sc, &r);
+    ratings_error e = ratings_check(&r);
+    if (e.reason == RATINGS_OK) {
+        /* and what the derivation judges with the control period (RATINGS_E_PERIOD) */
+        ctl_cfg c;
+        ctl_cfg_default(&c);
+        c.period_s = (real_t)sc->period_s;
+        e = ratings_derive_cfg(&c, &r, NULL);
+    }
+    if (e.reason != RATINGS_OK) {
+        char msg[192];
+        snprintf(msg, sizeof msg, "%s (refused as a CAN write: 0x%08X)", ratings_reason_text(e.reason),
+                 (unsigned)ratings_abort_code(e.reason));
+        return fail_key(sc, err, errlen, "ratings", ratings_field_name(e.field), msg);
+    }
+    return 0;
+}
+
 int scenario_finish(scenario *sc, char *err, size_t errlen)
 {
     sc->plant.supply = sc->supply_mode == PLANT_SUPPLY_SINE ? PLANT_SUPPLY_SINE : PLANT_SUPPLY_INVERTER;
@@ -924,6 +1038,10 @@ int scenario_finish(scenario *sc, char *err, size_t errlen)
         if (sc->ref[i].t0_s < sc->ref[i - 1].t1_s)
             return fail_line(err, errlen, sc, sc->ref[i].line, "reference", "[reference] entry at %g s is out of time order",
                              sc->ref[i].t0_s);
+
+    int rc = check_ratings(sc, err, errlen);
+    if (rc != 0)
+        return rc;
 
     const char *what = NULL;
     if (plant_check_config(&sc->plant, &what) != 0)

@@ -19,6 +19,8 @@
 #include <unistd.h>
 
 #include "dtc/drive.h"
+#include "dtc/ratings.h"
+#include "dtc/drive_ident.h"
 #include "metrics.h"
 #include "open_loop.h"
 #include "plant/plant.h"
@@ -46,6 +48,7 @@ typedef struct {
     int n_faults;
     double factor[SCENARIO_EV_KINDS];            /* parameter factors applied so far */
     bool invalid[SCENARIO_N_CHANNELS];           /* channels the firmware reads as NaN */
+    uint32_t warnings_seen;                      /* telemetry warning bits of any tick */
 } engine;
 
 void sim_options_default(sim_options *o)
@@ -99,6 +102,9 @@ static int configure_firmware(engine *e, const scenario *sc, int controller, sim
     drive *d = &e->drv;
     drive_init(d);
     ctl_cfg *cfg = drive_cfg_edit(d);
+    /* Without [ratings] the configuration is absolute, as given: the 10 hp
+     * defaults with the plant's model and link; nothing derived again. */
+    cfg->from_plate = false;
     const plant_motor_params *m = &sc->plant.motor;
     cfg->motor.Rs_ohm = (real_t)m->Rs_ohm;
     cfg->motor.Rr_ohm = (real_t)m->Rr_ohm;
@@ -114,6 +120,31 @@ static int configure_firmware(engine *e, const scenario *sc, int controller, sim
     cfg->period_s = (real_t)sc->period_s;
     cfg->vdc_nom_V = (real_t)sc->plant.dc.vdc_V;
     cfg->speed.mode = (speed_mode)controller;
+    if (sc->has_ratings) {
+        /* The plate and the label, derived like a commissioning over CAN:
+         * with model = exact the plant's model is set (as an identification
+         * would give it), with model = plate it is the plate's estimate. The
+         * link's nominal voltage is the plate's. */
+        cfg->from_plate = true;
+        scenario_ratings_to_plate(sc, &cfg->plate);
+        memset(&cfg->set, 0, sizeof cfg->set);
+        if (sc->model == SCENARIO_MODEL_EXACT)
+            for (int id = RATINGS_ID_MOTOR_RS; id <= RATINGS_ID_MOTOR_B; id++)
+                ratings_mask_set(&cfg->set, (ratings_id)id);
+        ratings plate = cfg->plate;
+        ratings_mask set = cfg->set;
+        ratings_error re = ratings_derive_cfg(cfg, &plate, &set);
+        if (re.reason != RATINGS_OK) {
+            const char *field = ratings_field_name(re.field);
+            return set_error(res, SIM_EINPUT, "%s:%d: [ratings] %s: %s (refused as a CAN write: 0x%08X)", sc->source,
+                             scenario_key_line(sc, "ratings", field), field, ratings_reason_text(re.reason),
+                             (unsigned)ratings_abort_code(re.reason));
+        }
+        if (sc->model == SCENARIO_MODEL_EXACT && cfg->motor.pole_pairs != (real_t)m->pole_pairs)
+            return set_error(res, SIM_EINPUT, "%s:%d: [ratings] n_rpm: gives %g pole pairs, the [motor] has %d",
+                             sc->source, scenario_key_line(sc, "ratings", "n_rpm"), (double)cfg->motor.pole_pairs,
+                             m->pole_pairs);
+    }
     int rc = ctl_cfg_check(cfg);
     if (rc != CTL_CFG_OK)
         return set_error(res, SIM_EINPUT, "%s: the firmware refuses the motor and drive values: %s", sc->source,
@@ -121,6 +152,14 @@ static int configure_firmware(engine *e, const scenario *sc, int controller, sim
     for (int i = 0; i < sc->n_control; i++) {
         const scenario_control *k = &sc->control[i];
         sim_control_key_apply(k->key, cfg, k->value);
+        if (cfg->from_plate) {
+            /* the user's value, kept; what is derived from it follows */
+            size_t n_keys;
+            ratings_id id = ratings_id_at(sim_control_keys(&n_keys)[k->key].offset);
+            if (id != RATINGS_ID_COUNT)
+                ratings_mask_set(&cfg->set, id);
+            (void)ctl_cfg_rederive(cfg);
+        }
         rc = ctl_cfg_check(cfg);
         if (rc != CTL_CFG_OK) {
             size_t n_keys;
@@ -344,6 +383,93 @@ static void pace(struct timespec *next, long step_ns, const hal_host_can_backend
     }
 }
 
+/* ---------------------------------------------- [commission] identify */
+
+/* The identification run's longest drive time the commissioning waits for, s
+ * (the standstill part takes at most 30 s, docs/commissioning.md). */
+#define COMMISSION_MAX_S 60.0
+
+static const char *ident_abort_text(ident_abort a)
+{
+    switch (a) {
+    case IDENT_ABORT_STOPPED: return "the run command dropped";
+    case IDENT_ABORT_FAULT: return "the drive latched a fault";
+    case IDENT_ABORT_OVERCURRENT: return "a phase current above the run's bound";
+    case IDENT_ABORT_TURNING: return "the rotor turns";
+    case IDENT_ABORT_LINK: return "the DC link sagged";
+    case IDENT_ABORT_TIMEOUT: return "a stage timed out";
+    case IDENT_ABORT_NONE:
+    default: return "unknown";
+    }
+}
+
+/*
+ * [commission] identify: the drive's identification run on the plant before
+ * the profile starts (no metrics, no trace, no events; the board's clock
+ * stands at 0 for the CAN services meanwhile), started as over CAN
+ * (0x2800:1) with the plate the drive holds; its ok results are written to
+ * the configuration the profile then runs on. A refused or aborted run ends
+ * the simulation (SIM_ERUNTIME); `full` is refused with the key's line
+ * (SIM_EINPUT: the drive runs the standstill part only).
+ */
+static int commission(engine *e, const scenario *sc, sim_result *res)
+{
+    if (sc->identify == SCENARIO_IDENTIFY_NONE)
+        return SIM_OK;
+    if (sc->identify == SCENARIO_IDENTIFY_FULL) {
+        if (sc->identify_line == SCENARIO_LINE_SET)
+            return set_error(res, SIM_EINPUT, "--set commission.identify = full: the drive carries out the "
+                             "standstill part only (use standstill)");
+        return set_error(res, SIM_EINPUT, "%s:%d: [commission] identify = full: the drive carries out the "
+                         "standstill part only (use standstill)", sc->source, sc->identify_line);
+    }
+    drive *d = &e->drv;
+    const double T = sc->period_s;
+    const uint8_t legs_off[3] = { 3, 3, 3 };
+    hal_actuation prev, act;
+    bool gates_on = false;
+    hal_host_take_actuation(&e->board, &prev, &gates_on);
+    const uint64_t n_max = (uint64_t)llround(COMMISSION_MAX_S / T);
+    bool started = false;
+    for (uint64_t k = 0; k < n_max; k++) {
+        plant_adc adc;
+        plant_sample(&e->ps, &adc);
+        double i_A[3], v_V[2];
+        plant_adc_to_units(&e->ps.cfg, &adc, i_A, v_V);
+        hal_sample s = { (float)i_A[0], (float)i_A[1], (float)i_A[2], (float)v_V[0], (float)v_V[1],
+                         (float)adc.omega_m_rad_s, true, (uint32_t)(k + 1u) };
+        hal_host_set_sample(&e->board, &s);
+        e->board.t_s = -COMMISSION_MAX_S - 1.0 + (double)k * T; /* before the profile's t = 0 */
+        hal_host_run_tick(&e->board);
+        drive_background(d);
+        if (!started && k >= 10u) { /* a few ticks first: the snapshot has the link's voltage */
+            int rc = drive_ident_start(d, NULL, false);
+            if (rc != 0)
+                return set_error(res, SIM_ERUNTIME, "%s: [commission] identify = standstill: the drive refused "
+                                 "the identification run (ident_error %d)", sc->source, rc);
+            started = true;
+        } else if (started && !drive_ident_running(d)) {
+            if (d->ident_outcome != (uint8_t)DRIVE_IDENT_DONE)
+                return set_error(res, SIM_ERUNTIME, "%s: [commission] identify: the identification run ended "
+                                 "without results (outcome %u: %s)", sc->source, (unsigned)d->ident_outcome,
+                                 d->ident_outcome == (uint8_t)DRIVE_IDENT_ABORTED
+                                     ? ident_abort_text(d->ident.abort_reason) : "rejected");
+            break;
+        }
+        hal_host_take_actuation(&e->board, &act, &gates_on);
+        if (!gates_on)
+            plant_advance(&e->ps, legs_off, legs_off, 1.0, T);
+        else
+            plant_advance(&e->ps, prev.vector[0].leg, prev.vector[1].leg, (double)prev.duty0, T);
+        prev = act;
+    }
+    if (drive_ident_running(d))
+        return set_error(res, SIM_ERUNTIME, "%s: [commission] identify: the run did not end in %.0f s", sc->source,
+                         COMMISSION_MAX_S);
+    e->board.t_s = 0.0;
+    return SIM_OK;
+}
+
 /* The tick loop. Returns SIM_OK or an error status (res->error set). */
 static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_result *res, bool firmware)
 {
@@ -448,6 +574,7 @@ static int run_loop(engine *e, const scenario *sc, const sim_options *o, sim_res
                 return set_error(res, SIM_ERUNTIME, "watchdog expired at t = %.4f s", t);
             hal_host_take_actuation(&e->board, &act, &gates_on);
             drive_read_snapshot(&e->drv, &snap);
+            e->warnings_seen |= snap.tel.warnings;
         } else if (o->open_loop_hz > 0.0) {
             open_loop_actuation(t, o->open_loop_hz, k, &act);
             gates_on = true;
@@ -512,6 +639,7 @@ static void fill_static_metrics(const engine *e, const scenario *sc, const sim_o
         drive_snapshot snap;
         drive_read_snapshot(&e->drv, &snap);
         m->faults = snap.tel.faults;
+        m->warnings_seen = e->warnings_seen;
         m->isr_max_us = (double)e->drv.timing.max_cycles / (double)hal_cycles_hz() * 1e6;
         m->isr_overruns = e->drv.timing.overruns;
     }
@@ -583,6 +711,8 @@ int sim_run(const scenario *sc, const sim_options *opt, sim_result *res)
             rc = set_error(res, SIM_EINPUT, "hal_tick_start refused a %u us period", (unsigned)period_us);
             goto out;
         }
+        if ((rc = commission(e, sc, res)) != SIM_OK)
+            goto out;
         if (o.record_path != NULL &&
             tick_recorder_open(&e->rec, o.record_path, sc->source, &e->drv, period_us, res->error,
                                sizeof res->error) != 0) {

@@ -307,6 +307,7 @@ inline ctl_cfg ctl_orig_for(const Motor &m, const ident_cfg &ic, const Options &
     c.v_drop_V = float(o.comp_scale * m.v_on_V);
     c.bringup_level = BRINGUP_TORQUE;
     c.bringup_te_Nm = 0.0f;
+    c.from_plate = false; // set by hand above: a re-derivation from the default plate must not replace it
     ctl_cfg_derive(&c);
     return c;
 }

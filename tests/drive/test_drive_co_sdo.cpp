@@ -53,7 +53,8 @@ TEST(DriveCoSdo, ExpeditedDownloadChangesExactlyThatParameter)
     EXPECT_EQ(r.index(), 0x2100u);
     EXPECT_EQ(r.sub(), 1u);
     auto after = b.dump();
-    EXPECT_EQ(changed(before, after), std::vector<std::string>{"rbfn_k"});
+    // the value, and its bit in the read-back of the set values (it is the user's now)
+    EXPECT_EQ(changed(before, after), (std::vector<std::string>{"rbfn_k", "set_mask_0"}));
     EXPECT_EQ(drive_cfg(b.d.get())->speed.rbfn.k, 33.5f); // the ISR's configuration
     EXPECT_EQ(b.read_f32(0x2100, 1), 33.5f);
 }
@@ -275,6 +276,27 @@ TEST(DriveCoSdo, AbortParameterIncompatibility)
     EXPECT_EQ(b.download_f32(0x2400, 3, 450.0f).abort_code(), kAbortIncompat);
     EXPECT_TRUE(changed(before, b.dump()).empty());
     EXPECT_FALSE(b.download_f32(0x2102, 9, 0.0f).aborted()); // node 9 is not in use
+}
+
+// A write whose derivation would take a derived value out of its declared
+// range is refused: at the lowest flux reference (0.05 Wb) the derived torque
+// limit is the pull-out torque's te_pullout_frac share, 1.13 N m at 0.9, and
+// a share of 0.5 would derive 0.63 N m, below te_max_Nm's 1 N m minimum.
+// Nothing changes; a share that keeps it in range is taken and the derived
+// limit follows (found by tests/fuzz/fuzz_canopen_drive).
+TEST(DriveCoSdo, AbortWhenADerivedValueWouldLeaveItsRange)
+{
+    Bench b;
+    ASSERT_FALSE(b.download_f32(0x2200, 1, 0.05f).aborted()); // psi_ref_Wb
+    const float te_max = b.read_f32(0x2000, 3);
+    EXPECT_GE(te_max, 1.0f);
+    auto before = b.dump();
+    EXPECT_EQ(b.download_f32(0x2200, 13, 0.5f).abort_code(), kAbortIncompat); // te_pullout_frac
+    EXPECT_TRUE(changed(before, b.dump()).empty());
+    EXPECT_FALSE(b.download_f32(0x2200, 13, 0.85f).aborted());
+    const float te_low = b.read_f32(0x2000, 3);
+    EXPECT_LT(te_low, te_max); // derived from the lower share
+    EXPECT_GE(te_low, 1.0f);
 }
 
 TEST(DriveCoSdo, AbortRefusedWhileRunning)

@@ -280,6 +280,7 @@ TEST(Persist, CorruptHeaderOrMagicIsNotLoaded)
 struct SlotWriter {
     std::vector<uint8_t> payload;
     uint16_t count = 0;
+    uint32_t format = PERSIST_FORMAT;
     void rec(uint16_t index, uint8_t sub, std::vector<uint8_t> v)
     {
         payload.push_back(uint8_t(index));
@@ -297,7 +298,7 @@ struct SlotWriter {
                 h[at + i] = uint8_t(v >> (8 * i));
         };
         put(0, PERSIST_MAGIC, 4);
-        put(4, PERSIST_FORMAT, 2);
+        put(4, format, 2);
         put(6, count, 2);
         put(8, seq, 4);
         put(12, uint32_t(payload.size()), 4);
@@ -310,11 +311,17 @@ struct SlotWriter {
     }
 };
 
+// A stored set holds the mask of the values the user set (0x2321): the
+// 10 hp motor's model (ids 0-6) and rbfn_k (id 29, RATINGS_ID_RBFN_K) set;
+// without its bit a stored rbfn_k would be derived again at the load.
+const uint32_t kRbfnKSet = 0x7Fu | (1u << RATINGS_ID_RBFN_K);
+
 TEST(Persist, RecordsTheFirmwareRefusesAreSkipped)
 {
     Bench b;
     SlotWriter w;
     w.rec(0x2100, 1, bytes_f32(44.0f));         // rbfn_k: applied
+    w.rec(0x2321, 1, bytes_u32(kRbfnKSet));     // the set mask: rbfn_k set (kept), the rest derived
     w.rec(0x2100, 4, bytes_f32(1e9f));          // rbfn_m_w: above its maximum
     w.rec(0x2FFF, 0, {1, 2, 3, 4});             // no such object
     w.rec(0x1000, 0, {0, 0, 0, 0});             // not persistent
@@ -337,13 +344,60 @@ TEST(Persist, RecordsTheFirmwareRefusesAreSkipped)
     EXPECT_EQ(b.read_u32(0x2510, 1), uint32_t(PERSIST_PARTIAL));
 }
 
+// A set an older firmware stored (format 1: every derivable value absolute,
+// no set mask) is not guessed at: defaults, persist_status 6, EMCY 0x6300,
+// and a save stores the present format.
+TEST(Persist, AnOlderFormatIsRefusedCleanly)
+{
+    Bench b;
+    SlotWriter w;
+    w.format = 1u;
+    w.rec(0x2100, 1, bytes_f32(44.0f)); // rbfn_k
+    w.rec(0x2400, 1, bytes_f32(50.0f)); // i_trip_A
+    w.write(b.board, 0, 3);
+    b.power_cycle(false);
+    ctl_cfg def;
+    ctl_cfg_default(&def);
+    const ctl_cfg *c = drive_cfg(b.d.get());
+    EXPECT_EQ(c->speed.rbfn.k, def.speed.rbfn.k);
+    EXPECT_EQ(c->i_trip_A, def.i_trip_A);
+    EXPECT_EQ(std::memcmp(&c->set, &def.set, sizeof def.set), 0);
+    EXPECT_EQ(b.d->persist.status, uint8_t(PERSIST_OLD_FORMAT));
+    b.pass(); // boot-up and the emergency
+    int n_emcy = 0;
+    for (const auto &f : b.frames)
+        if (f.id == 0x081 && (f.data[0] | (f.data[1] << 8)) == 0x6300)
+            n_emcy++;
+    EXPECT_EQ(n_emcy, 1);
+    ASSERT_FALSE(b.download_u32(0x1010, 1, kSave).aborted());
+    EXPECT_EQ(b.read_u32(0x2510, 1), uint32_t(PERSIST_LOADED));
+    b.power_cycle();
+    EXPECT_EQ(b.d->persist.status, uint8_t(PERSIST_LOADED));
+}
+
+// A value the user set survives the power cycle as set, the derived ones as derived.
+TEST(Persist, TheSetMaskIsStoredWithTheValues)
+{
+    Bench b;
+    ASSERT_FALSE(b.download_f32(0x2400, 1, 80.0f).aborted()); // i_trip_A: set
+    ASSERT_FALSE(b.download_u32(0x1010, 1, kSave).aborted());
+    b.power_cycle();
+    const ctl_cfg *c = drive_cfg(b.d.get());
+    EXPECT_EQ(c->i_trip_A, 80.0f);
+    EXPECT_TRUE(ratings_mask_has(&c->set, RATINGS_ID_I_TRIP));
+    EXPECT_FALSE(ratings_mask_has(&c->set, RATINGS_ID_TE_MAX));
+    EXPECT_EQ(b.read_u32(0x2321, 1), 0x7Fu | (1u << RATINGS_ID_I_TRIP));
+}
+
 TEST(Persist, NewestSequenceWinsAcrossTheWrap)
 {
     Bench b;
     SlotWriter a, z;
     a.rec(0x2100, 1, bytes_f32(50.0f));
+    a.rec(0x2321, 1, bytes_u32(kRbfnKSet));
     a.write(b.board, 0, 0xFFFFFFFFu);
     z.rec(0x2100, 1, bytes_f32(60.0f));
+    z.rec(0x2321, 1, bytes_u32(kRbfnKSet));
     z.write(b.board, 1, 0u); // one after 0xFFFFFFFF
     b.power_cycle();
     EXPECT_EQ(drive_cfg(b.d.get())->speed.rbfn.k, 60.0f);

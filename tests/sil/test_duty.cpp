@@ -26,15 +26,18 @@ TEST(Duty, PumpDutyRunsWithoutFaultOrRunaway)
         sim_result res;
         ASSERT_EQ(sim_run(l.sc.get(), &o, &res), SIM_OK) << res.error;
         const sim_metrics &m = res.metrics;
-        EXPECT_EQ(m.faults, 0u) << ctl;
+        // the nominal controller (no integral action) leaves a lasting error under the duty's
+        // load, which the speed-deviation supervision trips on; the others hold the speed
+        EXPECT_EQ(m.faults, ctl == SCENARIO_CTL_NOMINAL ? (uint32_t)CTL_FAULT_SPEED_DEV : 0u) << ctl;
         EXPECT_FALSE(m.runaway) << ctl;
         EXPECT_LT(m.speed_true_max_abs_rpm, 1100.0) << ctl;
         if (ctl != SCENARIO_CTL_NOMINAL) {
             EXPECT_NEAR(m.speed_true_end_rpm, 1000.0, 20.0) << ctl;
             EXPECT_LT(m.steady_error_rpm, 20.0) << ctl;
+            // The fan load is there: the final torque is well above the 4 N m step alone
+            // (the nominal controller's gates are off by then).
+            EXPECT_GT(m.te_final_nm, 10.0) << ctl;
         }
-        // The fan load is there: the final torque is well above the 4 N m step alone.
-        EXPECT_GT(m.te_final_nm, 10.0) << ctl;
     }
 }
 

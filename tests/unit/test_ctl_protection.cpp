@@ -113,6 +113,36 @@ TEST(CtlConfig, BringUpFrequencyStaysWithinTheTopSpeed)
     EXPECT_EQ(ctl_cfg_check(&v), CTL_CFG_E_PROTECTION);
 }
 
+// The speed-deviation supervision's two parameters: hostile values refused
+// (the run-supervision rule of ctl_cfg_check), the limits themselves accepted.
+TEST(CtlConfig, SpeedDeviationParametersOutOfRangeRefused)
+{
+    ctl_cfg c;
+    ctl_cfg_default(&c);
+    EXPECT_FLOAT_EQ(c.speed_dev_band_rad_s, 5.86f); /* the rated slip speed, 1800 - 1744 rpm */
+    EXPECT_FLOAT_EQ(c.speed_dev_time_s, 1.0f);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (float v : {-1.0f, -1e-6f, 500.01f, nan, inf, -inf}) {
+        ctl_cfg bad = c;
+        bad.speed_dev_band_rad_s = v;
+        EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_PROTECTION) << v;
+    }
+    for (float v : {-1.0f, 60.01f, nan, inf}) {
+        ctl_cfg bad = c;
+        bad.speed_dev_time_s = v;
+        EXPECT_EQ(ctl_cfg_check(&bad), CTL_CFG_E_PROTECTION) << v;
+    }
+    for (float b : {0.0f, 500.0f})
+        for (float t : {0.0f, 60.0f}) {
+            ctl_cfg ok = c;
+            ok.speed_dev_band_rad_s = b;
+            ok.speed_dev_time_s = t;
+            ctl_cfg_derive(&ok);
+            EXPECT_EQ(ctl_cfg_check(&ok), CTL_CFG_OK) << b << " " << t;
+            EXPECT_FLOAT_EQ(ok.speed_dev_shrink_rad_s_per_s, t > 0.0f ? b / t : 0.0f);
+        }
+}
+
 TEST(CtlRunState, StoppedMagnetisingRunningStopped)
 {
     Core c;

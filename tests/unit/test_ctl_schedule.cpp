@@ -21,8 +21,9 @@ namespace {
 //   slot   0      1        2        3           4      5        6        7
 //          guard  speed    plaus    RBFN learn  guard  speed    plaus    RBFN learn
 //                 command  + stall  + supervise        command  + stall  + FSW + level
+//                                                                        + speed dev
 const char *const kTable[8] = {
-    "guard", "speed", "plaus stall", "learn supervise", "guard", "speed", "plaus stall", "learn fsw level",
+    "guard", "speed", "plaus stall", "learn supervise", "guard", "speed", "plaus stall", "learn fsw level dev",
 };
 
 // The tasks the predicates give slot @p slot, in the table's order.
@@ -41,6 +42,7 @@ std::string tasks_of(uint8_t slot)
     add(ctl_slot_supervise(slot), "supervise");
     add(ctl_slot_fsw(slot), "fsw");
     add(ctl_slot_level(slot), "level");
+    add(ctl_slot_speed_dev(slot), "dev");
     return t;
 }
 
@@ -64,7 +66,7 @@ TEST(CtlSchedule, NextSlotCountsAroundTheCycle)
 // the heavy ones (a monitor and the speed command).
 TEST(CtlSchedule, RatesAreTheTasksOwnAndHeavyTasksNeverMeet)
 {
-    int guard = 0, plaus = 0, speed = 0, learn = 0, stall = 0, sup = 0, fsw = 0, level = 0;
+    int guard = 0, plaus = 0, speed = 0, learn = 0, stall = 0, sup = 0, fsw = 0, level = 0, dev = 0;
     for (uint8_t slot = 0; slot < CTL_SLOW_SLOTS; ++slot) {
         guard += ctl_slot_guard(slot);
         plaus += ctl_slot_plaus(slot);
@@ -74,11 +76,17 @@ TEST(CtlSchedule, RatesAreTheTasksOwnAndHeavyTasksNeverMeet)
         sup += ctl_slot_supervise(slot);
         fsw += ctl_slot_fsw(slot);
         level += ctl_slot_level(slot);
+        dev += ctl_slot_speed_dev(slot);
         const int heavy = int(ctl_slot_guard(slot)) + int(ctl_slot_plaus(slot)) + int(ctl_slot_speed_command(slot));
         EXPECT_LE(heavy, 1) << "slot " << int(slot);
         // the supervision beside neither a monitor nor the command
         if (ctl_slot_supervise(slot)) {
             EXPECT_EQ(heavy, 0) << "slot " << int(slot);
+        }
+        // the speed-deviation step neither beside a heavy task nor the stall windows
+        if (ctl_slot_speed_dev(slot)) {
+            EXPECT_EQ(heavy, 0) << "slot " << int(slot);
+            EXPECT_FALSE(ctl_slot_stall(slot)) << "slot " << int(slot);
         }
     }
     EXPECT_EQ(guard, int(CTL_SLOW_SLOTS / CTL_GUARD_WINDOW_MAX));
@@ -89,6 +97,7 @@ TEST(CtlSchedule, RatesAreTheTasksOwnAndHeavyTasksNeverMeet)
     EXPECT_EQ(sup, 1);
     EXPECT_EQ(fsw, 1);
     EXPECT_EQ(level, 1);
+    EXPECT_EQ(dev, 1);
     // the RBFN learns from a command before the next one: one learning slot between two commands
     for (uint8_t slot = 0; slot < CTL_SLOW_SLOTS; ++slot) {
         if (!ctl_slot_speed_command(slot))

@@ -40,6 +40,10 @@ int lines(const std::string &s)
     return n;
 }
 
+// The 10 hp plate up to its speed (lines 1-9; n_rpm follows on line 10).
+#define kPlate10hp "[ratings]\nP_W = 7457\nV_ll_V = 220\nI_A = 24.4\nf_Hz = 60\nvdc_nom_V = 311\n" \
+                   "inv_I_rated_A = 30\ninv_I_peak_A = 100\n\n"
+
 struct BadCase {
     const char *name;
     const char *text;
@@ -107,6 +111,23 @@ TEST(DtcSimCli, BadScenarioFilesNameTheLineAndLeaveNothing)
         { "fault_vdc", "[faults]\nvdc = 0.5 -311\n", 2, "out of range" },
         { "dead_time", "[inverter]\ndead_time_s = -2e-6\n", 2, "[inverter] dead_time_s must be in [0, 5e-05] s" },
         { "saturation", "[motor]\nLm_sat_psi_Wb = 0.7\nLm_sat_exponent = 1.5\n", 3, "Lm_sat_exponent must be in [2, 20]" },
+        // implausible plates ([ratings], judged as the drive's CAN write is: ratings_check), named at the field's line
+        { "plate_synchronous", kPlate10hp "n_rpm = 1800\n", 10, "[ratings] n_rpm: is not below synchronous speed" },
+        { "plate_cos_phi", kPlate10hp "n_rpm = 1744\ncos_phi = 1.2\n", 11, "[ratings] cos_phi: is above its range" },
+        { "plate_link", "[ratings]\nP_W = 37285\nV_ll_V = 460\nI_A = 62.8\nf_Hz = 60\nvdc_nom_V = 311\n"
+                        "inv_I_rated_A = 78.5\ninv_I_peak_A = 257.6\nn_rpm = 1705\n", 6,
+          "[ratings] vdc_nom_V: cannot give the rated line voltage" },
+        { "plate_negative", "[ratings]\nP_W = 7457\nV_ll_V = 220\nI_A = -24.4\nf_Hz = 60\nvdc_nom_V = 311\n"
+                            "inv_I_rated_A = 30\ninv_I_peak_A = 100\nn_rpm = 1744\n", 4, "[ratings] I_A: must be > 0" },
+        { "plate_power_zero", "[ratings]\nP_W = 0\nV_ll_V = 220\nI_A = 24.4\nf_Hz = 60\nvdc_nom_V = 311\n"
+                              "inv_I_rated_A = 30\ninv_I_peak_A = 100\nn_rpm = 1744\n", 2, "[ratings] P_W: must be > 0" },
+        { "plate_missing", "[ratings]\nP_W = 7457\nV_ll_V = 220\nf_Hz = 60\n", 2, "[ratings] I_A: missing" },
+        { "plate_model", "[commission]\nmodel = plate\n", 2, "[commission] model: plate needs a [ratings] section" },
+        { "plate_model_name", "[commission]\nmodel = guessed\n", 2, "unknown model 'guessed'" },
+        // the control period cannot follow a 200 Hz machine's overspeed (judged by the derivation)
+        { "plate_period", "[ratings]\nP_W = 7457\nV_ll_V = 220\nI_A = 24.4\nf_Hz = 200\nvdc_nom_V = 311\n"
+                          "inv_I_rated_A = 30\ninv_I_peak_A = 100\nn_rpm = 5850\n", 5,
+          "[ratings] f_Hz: is above what the control period follows" },
     };
     TempDir d;
     for (const auto &c : cases) {

@@ -498,6 +498,8 @@ const Today kToday[] = {
     {RATINGS_ID_RBFN_DEAD_ZONE, 1.0, 0.005},
     {RATINGS_ID_RBFN_ZETA_MAX, 200.0, 0.005},
     {RATINGS_ID_STALL_TIME, 1.0, 0.01},
+    {RATINGS_ID_SPEED_DEV_BAND, 5.86, 0.01},
+    {RATINGS_ID_SPEED_DEV_TIME, 1.0, 0.01},
     {RATINGS_ID_TE_MAX, 80.0, 0.005},
     {RATINGS_ID_RBFN_M_W, 4969.0, 0.01},    // 1.25 sqrt 5 x 80 / 0.045 (docs/envelope.md section 1)
     {RATINGS_ID_RBFN_CENTRES, 28.11, 0.01}, // the outermost centre: (80 / 0.045) / sqrt 4000
@@ -566,6 +568,40 @@ TEST(RatingsDerive, TheTenHpPlateGivesTheTenHpDrivesDefaults)
     EXPECT_EQ(ctl_cfg_check(&c), CTL_CFG_OK);
     // and the gains ctl_cfg_derive works out follow: the IP's ki = wn^2 J within 1 %
     EXPECT_NEAR(c.speed.ip.ki / (100.0 * 0.045), 1.0, 0.01);
+}
+
+// ctl_cfg_default is the reference plate derived: every derivable field
+// holds the 10 hp drive's tuned value bit for bit (the paper's cases stay
+// identical), the sized RBFN values are speed_rbfn_size's of 80 N m and
+// 0.045 kg m^2, and the mask says the motor's model is set, the rest derived.
+TEST(RatingsDerive, TheDefaultConfigurationIsTheTenHpPlateDerivedExactly)
+{
+    ctl_cfg c;
+    ctl_cfg_default(&c);
+    for (const Today &t : kToday) {
+        const ratings_derivable &e = ratings_derivables[t.id];
+        if (e.cfg_offset == RATINGS_NO_FIELD || t.id == RATINGS_ID_RBFN_M_W || t.id == RATINGS_ID_RBFN_CENTRES ||
+            t.id == RATINGS_ID_RBFN_WIDTHS)
+            continue;
+        float want = t.id == RATINGS_ID_MOTOR_LS || t.id == RATINGS_ID_MOTOR_LR ? 0.00142f + 0.0416f : float(t.value);
+        EXPECT_EQ(field_value(c, t.id), want) << e.name;
+        EXPECT_EQ(ratings_mask_has(&c.set, t.id), t.id <= RATINGS_ID_MOTOR_B) << e.name;
+    }
+    rbfn_cfg r = c.speed.rbfn;
+    speed_rbfn_size(&r, 80.0f, 0.045f);
+    EXPECT_EQ(c.speed.rbfn.m_w, r.m_w);
+    for (unsigned q = 0; q < RBFN_NODES_MAX; ++q) {
+        EXPECT_EQ(c.speed.rbfn.centre[q], r.centre[q]) << q;
+        EXPECT_EQ(c.speed.rbfn.width[q], r.width[q]) << q;
+    }
+    ratings r10 = plate_10hp();
+    EXPECT_EQ(std::memcmp(&c.plate, &r10, sizeof r10), 0);
+    EXPECT_TRUE(c.from_plate);
+    EXPECT_EQ(ctl_cfg_check(&c), CTL_CFG_OK);
+    // and a commit derives it again to the same bytes
+    ctl_cfg again = c;
+    EXPECT_TRUE(ctl_cfg_rederive(&again));
+    EXPECT_EQ(std::memcmp(&again, &c, sizeof c), 0);
 }
 
 // ------------------------------------------------------------ overrides

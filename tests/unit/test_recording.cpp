@@ -327,6 +327,7 @@ TEST(RecordingControlKeys, RegistryNamesFieldsOfCtlCfg)
         {"ripple_reduction", offsetof(ctl_cfg, dtc.ripple_reduction), CONTROL_KEY_BOOL},
         {"bringup_level", offsetof(ctl_cfg, bringup_level), CONTROL_KEY_U32},
         {"bringup_te_Nm", offsetof(ctl_cfg, bringup_te_Nm), CONTROL_KEY_REAL},
+        {"speed_dev_time_s", offsetof(ctl_cfg, speed_dev_time_s), CONTROL_KEY_REAL},
     };
     for (const Spot &s : spots) {
         int i = control_key_find(s.name);
@@ -336,7 +337,7 @@ TEST(RecordingControlKeys, RegistryNamesFieldsOfCtlCfg)
     }
     // The first and last keys of the list fix the order a recording's words follow.
     EXPECT_STREQ(k[0].name, "te_max_Nm");
-    EXPECT_STREQ(k[n - 1].name, "bringup_te_Nm");
+    EXPECT_STREQ(k[n - 1].name, "speed_dev_time_s");
 }
 
 TEST(RecordingControlKeys, ConfigurationWordsFollowTheRegistry)

@@ -148,8 +148,12 @@ TEST(ScenarioParser, EveryScalarKeyLands)
         { "supply", "v_ll_rms_V", "380", [](const scenario &s) { return s.plant.sine.v_ll_rms_V; }, 380 },
         { "supply", "f_Hz", "50", [](const scenario &s) { return s.plant.sine.f_Hz; }, 50 },
         { "supply", "phase_deg", "90", [](const scenario &s) { return s.plant.sine.phase_rad; }, kPi / 2 },
+        { "plant", "initial_speed_rpm", "-600", [](const scenario &s) { return s.plant.initial_omega_m_rad_s; },
+          -600.0 * kPi / 30.0 },
+        { "plant", "initial_flux_frac", "0.3", [](const scenario &s) { return s.plant.initial_flux_frac; }, 0.3 },
         { "controller", "name", "nominal", [](const scenario &s) { return (double)s.controller; }, SCENARIO_CTL_NOMINAL },
         { "metrics", "disturbance_t_s", "2.5", [](const scenario &s) { return s.has_disturbance ? s.disturbance_t_s : -1; }, 2.5 },
+        { "commission", "identify", "standstill", [](const scenario &s) { return (double)s.identify; }, SCENARIO_IDENTIFY_STANDSTILL },
         { "metrics", "startup_end_s", "1.5", [](const scenario &s) { return s.has_startup_end ? s.startup_end_s : -1; }, 1.5 },
     };
     std::set<std::string> covered;
@@ -166,10 +170,46 @@ TEST(ScenarioParser, EveryScalarKeyLands)
         }
         covered.insert(std::string(c.section) + "." + c.key);
     }
+    // [ratings] and [commission] are judged as a whole plate: TheRatingsSectionLands.
+    for (const char *k : { "P_W", "V_ll_V", "I_A", "f_Hz", "n_rpm", "cos_phi", "vdc_nom_V", "inv_I_rated_A",
+                           "inv_I_peak_A" })
+        covered.insert(std::string("ratings.") + k);
+    covered.insert("commission.model");
     // The table above covers every scalar key the parser knows.
     scenario_key_info info;
     for (size_t i = 0; scenario_key_info_at(i, &info); ++i)
         EXPECT_TRUE(covered.count(std::string(info.section) + "." + info.key)) << info.section << "." << info.key;
+}
+
+// A plate lands field by field, each at its line; the model defaults to exact.
+TEST(ScenarioParser, TheRatingsSectionLands)
+{
+    const char *text = "[ratings]\nP_W = 37285\nV_ll_V = 460\nI_A = 62.8\nf_Hz = 60\nn_rpm = 1705\n"
+                       "cos_phi = 0.9045\nvdc_nom_V = 650\ninv_I_rated_A = 78.5\ninv_I_peak_A = 257.6\n";
+    auto l = parse_text(text);
+    ASSERT_EQ(l.rc, 0) << l.error;
+    const scenario_ratings &r = l.sc->ratings;
+    EXPECT_TRUE(l.sc->has_ratings);
+    EXPECT_EQ(r.P_W, 37285.0);
+    EXPECT_EQ(r.V_ll_V, 460.0);
+    EXPECT_EQ(r.I_A, 62.8);
+    EXPECT_EQ(r.f_Hz, 60.0);
+    EXPECT_EQ(r.n_rpm, 1705.0);
+    EXPECT_EQ(r.cos_phi, 0.9045);
+    EXPECT_EQ(r.vdc_nom_V, 650.0);
+    EXPECT_EQ(r.inv_I_rated_A, 78.5);
+    EXPECT_EQ(r.inv_I_peak_A, 257.6);
+    EXPECT_EQ(scenario_key_line(l.sc.get(), "ratings", "n_rpm"), 6);
+    EXPECT_EQ(l.sc->model, int(SCENARIO_MODEL_EXACT));
+    auto p = parse_text(std::string(text) + "[commission]\nmodel = plate\n");
+    ASSERT_EQ(p.rc, 0) << p.error;
+    EXPECT_EQ(p.sc->model, int(SCENARIO_MODEL_PLATE));
+    // without a plate nothing is derived, and cos phi may be left out
+    auto none = parse_text("[sim]\nduration_s = 1\n");
+    EXPECT_FALSE(none.sc->has_ratings);
+    auto no_pf = parse_text("[ratings]\nP_W = 37285\nV_ll_V = 460\nI_A = 62.8\nf_Hz = 60\nn_rpm = 1705\n"
+                            "vdc_nom_V = 650\ninv_I_rated_A = 78.5\ninv_I_peak_A = 257.6\n");
+    EXPECT_EQ(no_pf.rc, 0) << no_pf.error;
 }
 
 TEST(ScenarioParser, RepeatedKeysAndProfile)
@@ -376,6 +416,13 @@ TEST(ScenarioParser, NewKeyErrors)
     EXPECT_TRUE(fails_with("[faults]\nopen_phase = 1\n", 2, "expected 'open_phase = T_S PHASE', got 1 value"));
     EXPECT_TRUE(fails_with("[faults]\nbroken = 1 a\n", 2, "unknown key 'broken' in section [faults]"));
     EXPECT_TRUE(fails_with("[fault]\nstale = 1\n", 1 + 1, "unknown section [fault]"));
+    EXPECT_TRUE(fails_with("[plant]\ninitial_speed_rpm = 20000\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[plant]\ninitial_speed_rpm = -19001\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[plant]\ninitial_speed_rpm = nan\n", 2, "malformed number"));
+    EXPECT_TRUE(fails_with("[plant]\ninitial_flux_frac = -0.1\n", 2, "out of range"));
+    EXPECT_TRUE(fails_with("[plant]\n\ninitial_flux_frac = 1.3\n", 3, "out of range"));
+    EXPECT_TRUE(fails_with("[supply]\nf_Hz = 0\n[plant]\ninitial_flux_frac = 0.5\n", 4,
+                           "initial_flux_frac needs the nameplate supply's frequency"));
 }
 
 TEST(ScenarioParser, ErrorsNameFileAndLine)
@@ -387,6 +434,21 @@ TEST(ScenarioParser, ErrorsNameFileAndLine)
     EXPECT_TRUE(fails_with("[sim]\nduration_s = inf\n", 2, "malformed number"));
     EXPECT_TRUE(fails_with("[sim]\nduration_s = -inf\n", 2, "malformed number"));
     EXPECT_TRUE(fails_with("[sim]\nduration_s = 1e999\n", 2, "malformed number"));
+}
+
+TEST(ScenarioParser, CommissionIdentifyValuesAndLine)
+{
+    auto l = parse_text("");
+    ASSERT_EQ(l.rc, 0);
+    EXPECT_EQ(l.sc->identify, SCENARIO_IDENTIFY_NONE); // the default: the model the scenario gives
+    EXPECT_EQ(l.sc->identify_line, 0);
+    l = parse_text("[sim]\nduration_s = 1\n\n[commission]\nidentify = full\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    EXPECT_EQ(l.sc->identify, SCENARIO_IDENTIFY_FULL);
+    EXPECT_EQ(l.sc->identify_line, 5);
+    l = parse_text("[commission]\nidentify = none\n");
+    ASSERT_EQ(l.rc, 0) << l.error;
+    EXPECT_EQ(l.sc->identify, SCENARIO_IDENTIFY_NONE);
 }
 
 TEST(ScenarioParser, MoreErrors)
@@ -410,6 +472,9 @@ TEST(ScenarioParser, MoreErrors)
     EXPECT_TRUE(fails_with("[supply]\nmode = dc\n", 2, "unknown mode 'dc'"));
     EXPECT_TRUE(fails_with("[supply]\nf_Hz = -60\n", 2, "f_Hz must be >= 0"));
     EXPECT_TRUE(fails_with("[controller]\nname = pid\n", 2, "unknown controller 'pid'"));
+    EXPECT_TRUE(fails_with("[sim]\nduration_s = 1\n[commission]\nidentify = rotating\n", 4,
+                           "[commission] identify: unknown value 'rotating' (expected none, standstill or full)"));
+    EXPECT_TRUE(fails_with("[commission]\nidentify = none\nidentify = full\n", 3, "set twice"));
     EXPECT_TRUE(fails_with("[events]\nJ_scale = 2.5 1.4\nB_scale = 1.0 1.4\n", 3, "out of time order"));
     EXPECT_TRUE(fails_with("[events]\nJ_scale = 2.5 0\n", 2, "factor"));
     EXPECT_TRUE(fails_with("[events]\nJ_scale = -1 2\n", 2, "out of range"));

@@ -87,6 +87,10 @@ static void start(ctl_state *s, const ctl_cfg *cfg)
     s->psi_target_Wb = cfg->dtc.psi_ref_Wb; /* at standstill: rated (the supervision takes over within a slot cycle) */
     s->te_limit_Nm = cfg->speed.te_max_Nm; /* until the supervision works it out at the flux reached */
     s->short_sum_Nm = R(0.0);
+    s->t_dev_s = R(0.0);
+    s->t_dev_win_s = R(0.0);
+    s->dev_ref_prev_rad_s = R(0.0);
+    s->warnings = 0u;
     ctl_gates_off(s); /* the first period after enabling applies OOO */
 }
 
@@ -127,7 +131,7 @@ static void magnetise(ctl_state *s, const ctl_cfg *cfg)
  * controller. The speed loop runs every CTL_RBFN_TICKS-th tick, whatever the
  * controller: its command in a slot the monitors leave free, the RBFN's
  * learning of that command and the stall windows each in a later slot of
- * their own; between its steps the torque command and the speed controller's
+ * their own, the speed-deviation supervision once per slot cycle; between its steps the torque command and the speed controller's
  * outputs (s->speed_held, written in place) hold. */
 static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
 {
@@ -135,10 +139,14 @@ static void control_speed(ctl_state *s, const ctl_cfg *cfg, const ctl_in *in)
     bool rbfn = cfg->speed.mode == SPEED_MODE_RBFN;
     uint8_t slot = s->slow_slot;
     if (!ctl_slot_speed_command(slot)) {
-        if (ctl_slot_stall(slot))
+        if (ctl_slot_stall(slot)) {
             ctl_stall_step(s, cfg, T);
-        else if (rbfn && ctl_slot_rbfn_learn(slot))
+            return;
+        }
+        if (rbfn && ctl_slot_rbfn_learn(slot))
             speed_ctl_learn(&s->speed, &cfg->speed, T, &s->speed_held); /* the last command's */
+        if (ctl_slot_speed_dev(slot))
+            ctl_speed_dev_step(s, cfg, cfg->sup_T_s); /* once per slot cycle */
         return;
     }
     real_t prev = s->speed_ref_ramped_rad_s;

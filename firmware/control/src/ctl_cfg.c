@@ -9,72 +9,44 @@
 
 #include "dtc/bringup.h"
 
-void ctl_cfg_default(ctl_cfg *cfg)
+void ctl_cfg_fixed_default(ctl_cfg *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
-
-    /* docs/motor-10hp.json */
-    motor_model *m = &cfg->motor;
-    m->Rs_ohm = R(0.288);
-    m->Rr_ohm = R(0.158);
-    m->Lm_H = R(0.0416);
-    m->Ls_H = R(0.00142) + R(0.0416);
-    m->Lr_H = R(0.00142) + R(0.0416);
-    m->pole_pairs = R(2.0);
-    m->J_kgm2 = R(0.045);
-    m->B_Nms = R(0.005);
+    /* Only what no plate derives (docs/commissioning.md, "What stays
+     * absolute"); the derivable values, the motor model and the ratings are
+     * ctl_cfg_default's (ctl_cfg_ratings.c). */
     cfg->period_s = R(200e-6);
-    cfg->vdc_nom_V = R(311.0);
-    cfg->c_dc_F = R(2.2e-3);
-
-    speed_cfg_default(&cfg->speed, m);
+    speed_cfg_default(&cfg->speed, &cfg->motor); /* the mode, zeta, n_nodes; its absolute values are derived */
 
     dtc3l_cfg *d = &cfg->dtc;
-    d->psi_ref_Wb = R(0.45);         /* rated stator flux */
-    d->premag_s = R(0.3);            /* > flux ramp (0.13 s) + a few sigma Tr */
-    d->flux_band_Wb = R(0.01);
-    d->torque_band_Nm = R(3.5);      /* about 850 Hz device switching at 500 rpm */
-    d->torque_band2_Nm = R(8.0);
     d->ripple_reduction = true;
-    d->ripple_speed_max_rad_s = R(200.0); /* 1900 rpm: the whole speed range */
-    d->np_band_V = R(1.5);
     d->level_up = R(0.6);            /* 660 rpm at rated flux and 311 V */
     d->level_down = R(0.5);
     d->duty_min = R(0.05);           /* 10 us at 200 us */
 
     observer_cfg *o = &cfg->obs;
     o->k_gain = R(1.3);
-    o->kp_speed = R(50.0);
-    o->ki_speed = R(2000.0);
     o->ki_rs = R(0.0);
     o->regen_angle_rad = R(1.4);      /* regenerating-mode stabilisation (observer.c: its shape) */
-    o->regen_speed_rad_s = R(100.0);  /* 477 rpm: fades out below the paper's 500 rpm point */
     o->speed_lpf_hz = R(50.0);
 
-    cfg->i_trip_A = R(100.0);
-    cfg->vdc_max_V = R(400.0);
-    cfg->vdc_min_V = R(200.0);
-    cfg->np_trip_V = R(30.0);
-    cfg->overspeed_rad_s = R(310.0);       /* 2960 rpm: the reference limit 310 / 1.1 = 2691 rpm is above 1.5 x base (2610 rpm) */
     cfg->fw_voltage_frac = R(0.9);
     cfg->te_pullout_frac = R(0.9);
     cfg->fsw_max_hz = R(850.0);            /* 0.5..1 kHz at 500 rpm, <= 1.5 kHz everywhere */
     cfg->band_scale_max = R(4.0);
     cfg->rs_ident_tol = R(0.1); /* docs/envelope.md section 6 */
     cfg->regen_flux_min_frac = R(0.7); /* docs/envelope.md section 6; the torque limit at 0.7 x rated flux is 44.6 N m */
-    cfg->guard.wc_rad_s = R(6.0);          /* 1 Hz */
     cfg->guard.flux_err_frac = R(0.15);
-    cfg->guard.time_s = R(0.01);
     cfg->guard.rs_tol_frac = R(0.3);       /* a winding 30 % warmer than modelled */
     cfg->bringup_level = BRINGUP_SPEED;
-    cfg->bringup_hz = R(5.0);
-    cfg->stall_time_s = R(1.0);           /* longer than a full-power load recovery in field weakening */
     cfg->bringup_te_Nm = R(0.0);
     cfg->dead_time_comp_s = R(1.0e-6);     /* the board's HRTIM dead time (docs/board.md) */
     cfg->v_drop_V = R(1.0);                /* on-state drop per device, board-dependent (0: none) */
-    cfg->guard.v_tol_V = R(6.0);           /* two device drops of ~1 V (2.7 V as a vector) plus dead time, x2 margin */
 
-    ctl_cfg_derive(cfg);
+    /* Speed-deviation supervision: the reference plate's values (ratings.c
+     * REF_SPEED_DEV_*, derived from the plate by ctl_cfg_default). */
+    cfg->speed_dev_band_rad_s = R(5.86);
+    cfg->speed_dev_time_s = R(1.0);
 }
 
 void ctl_cfg_derive(ctl_cfg *cfg)
@@ -121,6 +93,9 @@ void ctl_cfg_derive(ctl_cfg *cfg)
     cfg->psi_ramp_step_Wb = num_mul(cfg->psi_ramp_Wb_s, cfg->period_s);
     cfg->speed_T_s = num_mul((real_t)CTL_RBFN_TICKS, cfg->period_s);
     cfg->speed_ramp_step_rad_s = num_mul(cfg->speed.ramp_rad_s2, cfg->speed_T_s);
+    cfg->sup_T_s = t_sup;
+    cfg->speed_dev_shrink_rad_s_per_s =
+        cfg->speed_dev_time_s > R(0.0) ? num_div(cfg->speed_dev_band_rad_s, cfg->speed_dev_time_s) : R(0.0);
     cfg->inv_speed_T_per_s = num_mul(R(1.0) / (real_t)CTL_RBFN_TICKS, cfg->inv_period_per_s);
 }
 
@@ -157,6 +132,9 @@ int ctl_cfg_check(const ctl_cfg *cfg)
      * reference's limit (overspeed_rad_s / 1.1, what ctl_cfg_derive sets speed_max_rad_s to). */
     if (!(num_mul(num_abs(cfg->bringup_hz), R(2.0) * NUM_PI) <=
           num_mul(num_div(cfg->overspeed_rad_s, R(1.1)), m->pole_pairs)))
+        return CTL_CFG_E_PROTECTION;
+    if (!(cfg->speed_dev_band_rad_s >= R(0.0) && cfg->speed_dev_band_rad_s <= R(500.0) &&
+          cfg->speed_dev_time_s >= R(0.0) && cfg->speed_dev_time_s <= R(60.0)))
         return CTL_CFG_E_PROTECTION;
     if (speed_cfg_check(&cfg->speed, m) != SPEED_CFG_OK)
         return CTL_CFG_E_SPEED;

@@ -47,6 +47,7 @@ static inline void ctl_fill_telemetry(const ctl_state *s, const speed_out *so, c
     t->vector_index = s->applied.state[0]; /* out->act is s->applied.act in every path */
     t->state = (uint8_t)s->run_state;
     t->faults = s->faults;
+    t->warnings = s->warnings;
 }
 
 /** Safe output: gates off, zero vector, zero torque, telemetry. Context: ISR. */

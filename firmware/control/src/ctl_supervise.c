@@ -152,6 +152,45 @@ void ctl_stall_step(ctl_state *s, const ctl_cfg *cfg, real_t T)
     s->monitor_faults = (s->monitor_faults & ~(uint32_t)CTL_FAULT_STALL) | (stall ? (uint32_t)CTL_FAULT_STALL : 0u);
 }
 
+/* Windows of the speed-deviation count: the stall's. A window counts unless
+ * its error shrank by more than the band's share of the window
+ * (speed_dev_band x window / speed_dev_time: a recovery that would reach the
+ * band within the time), so that the estimate's noise on a lasting error
+ * (+-1.5 rpm at 41 N m) does not halve the count. At the torque limit the
+ * count holds: the stall monitor judges there (an acceleration at the limit
+ * however slow is not a deviation). */
+#define SPEED_DEV_WINDOW_S STALL_WINDOW_S
+void ctl_speed_dev_step(ctl_state *s, const ctl_cfg *cfg, real_t T)
+{
+    real_t ref = s->speed_ref_ramped_rad_s;
+    real_t err = num_abs(ref - s->obs.omega_m_filt_rad_s);
+    bool ramping = f32_bits(ref) != f32_bits(s->dev_ref_prev_rad_s);
+    s->dev_ref_prev_rad_s = ref;
+    if (!(cfg->speed_dev_time_s > R(0.0)) || err <= cfg->speed_dev_band_rad_s) {
+        s->t_dev_s = R(0.0);
+        s->t_dev_win_s = R(0.0);
+        s->warnings &= ~(uint32_t)CTL_WARN_SPEED_DEV;
+        return;
+    }
+    /* beyond the band (a NaN estimate too: the overspeed trip has it first) */
+    if (ramping || num_abs(s->te_ref_Nm) >= num_mul(R(0.98), s->te_limit_Nm)) {
+        s->t_dev_win_s = R(0.0); /* the count holds; a new window starts when the ramp rests */
+        return;
+    }
+    if (s->t_dev_win_s == R(0.0))
+        s->err_dev_win_start_rad_s = err;
+    s->t_dev_win_s += T;
+    if (s->t_dev_win_s < SPEED_DEV_WINDOW_S)
+        return;
+    if (!(err < s->err_dev_win_start_rad_s - num_mul(cfg->speed_dev_shrink_rad_s_per_s, s->t_dev_win_s)))
+        s->t_dev_s += s->t_dev_win_s;
+    s->t_dev_win_s = R(0.0);
+    if (s->t_dev_s >= num_mul(R(0.5), cfg->speed_dev_time_s))
+        s->warnings |= (uint32_t)CTL_WARN_SPEED_DEV;
+    if (s->t_dev_s >= cfg->speed_dev_time_s)
+        s->monitor_faults |= (uint32_t)CTL_FAULT_SPEED_DEV;
+}
+
 /* The 20 ms filter and the 5 1/s band rate need no per-tick step: the sum of
  * the leg changes is the only per-tick work. */
 void ctl_regulate_switching_frequency(ctl_state *s, const ctl_cfg *cfg, uint8_t prev_state, uint8_t a0, uint8_t a1)

@@ -48,6 +48,21 @@ void ctl_ramp_flux_reference(ctl_state *s, const ctl_cfg *cfg);
 void ctl_stall_step(ctl_state *s, const ctl_cfg *cfg, real_t T);
 
 /**
+ * One step of the speed-deviation supervision (in the slot ctl_slot_speed_dev,
+ * once per slot cycle of @p T s, on the command held since the last speed
+ * command): the error
+ * |ramped reference - filtered estimate| beyond speed_dev_band_rad_s (rad/s)
+ * is counted while the ramp stands still, in windows of 0.1 s; a window in
+ * which the error shrank (a recovery, an acceleration at the limit) does not
+ * count, a moving ramp holds the count, an error back inside the band clears
+ * it. Half of speed_dev_time_s sets CTL_WARN_SPEED_DEV in s->warnings, all of
+ * it CTL_FAULT_SPEED_DEV in s->monitor_faults. It only observes: nothing of
+ * the control changes until the fault. Off when speed_dev_time_s is 0.
+ * Context: ISR.
+ */
+void ctl_speed_dev_step(ctl_state *s, const ctl_cfg *cfg, real_t T);
+
+/**
  * Every tick, with the actuation just latched (states @p a0, @p a1 after
  * @p prev_state, all 0..26): its leg changes summed; in the slot ctl_slot_fsw
  * their mean low-passed as a device switching frequency (s->fsw_hz, Hz) and

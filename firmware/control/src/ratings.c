@@ -20,6 +20,32 @@
 #define PU_STR(k) PU_STR_(k)
 #define PU_SQRT2 R(1.41421356237310)
 
+/* ------------------------------------------------------ reference drive */
+
+void ratings_reference(ratings *r, motor_model *m)
+{
+    /* the plate of docs/motor-10hp.json and the board's inverter label
+     * (30 A rated, 100 A peak: its over-current trip) on its 311 V link */
+    r->P_W = R(7457.0);
+    r->V_ll_V = R(220.0);
+    r->I_A = R(24.4);
+    r->f_Hz = R(60.0);
+    r->n_rpm = R(1744.0);
+    r->cos_phi = R(0.886);
+    r->vdc_nom_V = R(311.0);
+    r->inv_I_rated_A = R(30.0);
+    r->inv_I_peak_A = R(100.0);
+    /* the motor's own model (docs/motor-10hp.json) */
+    m->Rs_ohm = R(0.288);
+    m->Rr_ohm = R(0.158);
+    m->Lm_H = R(0.0416);
+    m->Ls_H = R(0.00142) + R(0.0416);
+    m->Lr_H = R(0.00142) + R(0.0416);
+    m->pole_pairs = R(2.0);
+    m->J_kgm2 = R(0.045);
+    m->B_Nms = R(0.005);
+}
+
 /* ------------------------------------------------------------------ plate */
 
 /* Ranges of the fields (the issue's: 0.5 kW .. 5 MW, 200 V .. 6.6 kV). The
@@ -453,6 +479,8 @@ const ratings_derivable ratings_derivables[RATINGS_ID_COUNT] = {
     PU_CFG(RATINGS_ID_RBFN_DEAD_ZONE, speed.rbfn.zeta_dead_zone_rad_s, "rad/s", PU_STR(PU_RBFN_DEAD_ZONE) " w_mr"),
     PU_CFG(RATINGS_ID_RBFN_ZETA_MAX, speed.rbfn.zeta_max, "rad/s^2", PU_STR(PU_ZETA_MAX) " T_r / J"),
     PU_CFG(RATINGS_ID_STALL_TIME, stall_time_s, "s", PU_STR(PU_STALL_TIME_TM) " t_m"),
+    PU_CFG(RATINGS_ID_SPEED_DEV_BAND, speed_dev_band_rad_s, "rad/s", "w_mb - w_mr (the rated slip speed)"),
+    PU_CFG(RATINGS_ID_SPEED_DEV_TIME, speed_dev_time_s, "s", PU_STR(PU_STALL_TIME_TM) " t_m"),
     PU_CFG(RATINGS_ID_TE_MAX, speed.te_max_Nm, "N m",
         "min(" PU_STR(PU_TE_MAX) " T_r, torque at i_trip / 1.5, te_pullout_frac x pull-out at psi_ref)"),
     PU_CFG(RATINGS_ID_RBFN_M_W, speed.rbfn.m_w, "rad/s^2", "1.25 sqrt(n) te_max / J (speed_rbfn_size)"),
@@ -480,6 +508,19 @@ const ratings_derivable ratings_derivables[RATINGS_ID_COUNT] = {
     PU_MACRO(RATINGS_ID_PLAUS_PHASE_MIN, "plausibility.h PLAUS_PHASE_MIN_HZ", "Hz", PU_STR(PU_PLAUS_PHASE_MIN) " f"),
 };
 
+ratings_id ratings_id_at(size_t offset)
+{
+    for (int i = 0; i < (int)RATINGS_ID_COUNT; i++) {
+        size_t off = ratings_derivables[i].cfg_offset;
+        size_t len = sizeof(real_t);
+        if (i == (int)RATINGS_ID_RBFN_CENTRES || i == (int)RATINGS_ID_RBFN_WIDTHS)
+            len = (size_t)RBFN_NODES_MAX * sizeof(real_t);
+        if (off != RATINGS_NO_FIELD && offset >= off && offset < off + len)
+            return (ratings_id)i;
+    }
+    return RATINGS_ID_COUNT;
+}
+
 ratings_error ratings_prepare(ratings_derivation *d, const ratings *r)
 {
     ratings_error e = ratings_check(r);
@@ -488,8 +529,74 @@ ratings_error ratings_prepare(ratings_derivation *d, const ratings *r)
     d->plate = *r;
     ratings_base_of(r, &d->base);
     ratings_motor_estimate(r, &d->base, &d->estimate);
+    ratings_reference(&d->ref_plate, &d->ref_model);
+    ratings_base_of(&d->ref_plate, &d->ref_base);
     return e;
 }
+
+/* The reference drive's tuned values (ctl_cfg_default's until the ratings;
+ * why each: the PU_ comments above). Each derived value is one of them times
+ * the ratio of the plate's base to the reference plate's: the per-unit
+ * constant PU_ computed from the same float operations, so the reference
+ * plate gives these values exactly (a ratio of equal numbers is 1). */
+#define REF_C_DC_F R(2.2e-3)
+#define REF_PSI_REF_WB R(0.45)         /* rated stator flux */
+#define REF_I_TRIP_A R(100.0)
+#define REF_VDC_MAX_V R(400.0)
+#define REF_VDC_MIN_V R(200.0)
+#define REF_NP_TRIP_V R(30.0)
+#define REF_NP_BAND_V R(1.5)
+#define REF_OVERSPEED_RAD_S R(310.0)   /* 2960 rpm: its reference limit 310 / 1.1 = 2691 rpm is above 1.5 x base */
+#define REF_FLUX_BAND_WB R(0.01)
+#define REF_TORQUE_BAND_NM R(3.5)      /* about 850 Hz device switching at 500 rpm */
+#define REF_TORQUE_BAND2_NM R(8.0)
+#define REF_RIPPLE_SPEED_RAD_S R(200.0) /* 1900 rpm: the whole speed range */
+#define REF_OBS_KP R(50.0)
+#define REF_OBS_KI R(2000.0)
+#define REF_OBS_REGEN_SPEED_RAD_S R(100.0) /* 477 rpm: fades out below the paper's 500 rpm point */
+#define REF_GUARD_WC_RAD_S R(6.0)      /* 1 Hz */
+#define REF_GUARD_TIME_S R(0.01)
+#define REF_GUARD_V_TOL_V R(6.0)       /* two device drops of ~1 V (2.7 V as a vector) plus dead time, x2 margin */
+#define REF_BRINGUP_HZ R(5.0)
+#define REF_WN_RAD_S R(10.0)
+#define REF_K_X R(40.0)
+#define REF_GAMMA_W R(4000.0)
+#define REF_GAMMA_ZETA R(1000.0)
+#define REF_ZETA_LEAK R(0.5)
+#define REF_RAMP_RAD_S2 R(100.0)
+#define REF_RBFN_BOUNDARY_RAD_S R(1.0)
+#define REF_RBFN_DEAD_ZONE_RAD_S R(1.0)
+#define REF_ZETA_MAX R(200.0)
+#define REF_STALL_TIME_S R(1.0)        /* longer than a full-power load recovery in field weakening */
+/* Speed deviation: the band the rated slip speed (1800 - 1744 rpm = 5.86 rad/s: a controller with
+ * integral action holds the speed well inside it; the nominal controller's lasting error under a
+ * load T is T / (J K_x), 11 rad/s at 20 N m), the time the stall's (5 t_m). */
+#define REF_SPEED_DEV_BAND_RAD_S R(5.86)
+#define REF_SPEED_DEV_TIME_S R(1.0)
+#define REF_TE_MAX_NM R(80.0)          /* 2 x rated torque, below the 88 N m pull-out */
+#define REF_PREMAG_S R(0.3)            /* the flux ramp (0.13 s) + a few sigma Tr */
+#define REF_DROP_BAND_A R(0.5)
+#define REF_LOWFLUX_MARGIN_RAD_S R(2.5)
+#define REF_LOWFLUX_ENTER_RAD_S R(6.3)
+#define REF_LOWFLUX_EXIT_RAD_S R(8.8)
+#define REF_LOWFLUX_MIN_NM R(2.0)
+#define REF_STALL_SPEED_ERR_RAD_S R(3.0)
+#define REF_STALL_WINDOW_S R(0.1)
+#define REF_BRAKE_STALL_SPEED_RAD_S R(50.0)
+#define REF_BRAKE_STALL_TIME_S R(0.1)
+#define REF_BRINGUP_BOOST_A R(5.0)
+#define REF_OBS_REGEN_MIN_NM R(2.0)
+#define REF_RSID_MAX_SPEED_RAD_S R(2.0)
+#define REF_RSID_SPEED_FROM_S R(0.15)
+#define REF_RSID_MIN_CHARGE_AS R(0.2)
+#define REF_DTC_PSI_TINY_WB R(0.001)
+#define REF_PLAUS_SUM_ABS_A R(5.0)
+#define REF_PLAUS_CURRENT_A R(3.0)
+#define REF_PLAUS_OPEN_A R(0.5)
+#define REF_PLAUS_PHASE_MIN_HZ R(2.0)
+
+/* ref x base / ref_base */
+static real_t scaled(real_t ref, real_t base, real_t ref_base) { return num_mul(ref, num_div(base, ref_base)); }
 
 /* sigma and Tr of the model in use */
 static real_t sigma_of(const motor_model *m)
@@ -498,9 +605,9 @@ static real_t sigma_of(const motor_model *m)
 }
 
 /* The mechanical time constant the speed loop is scaled by: J w_mr / T_r, s (ratings.h IP_WN). */
-static real_t t_mech_s(const ratings_base *b, const ctl_cfg *cfg)
+static real_t t_mech_s(const ratings_base *b, real_t J_kgm2)
 {
-    real_t t = num_div(num_mul(cfg->motor.J_kgm2, b->w_mr), b->T_r);
+    real_t t = num_div(num_mul(J_kgm2, b->w_mr), b->T_r);
     return t > PU_T_M_MIN_S ? t : PU_T_M_MIN_S;
 }
 
@@ -516,10 +623,31 @@ static real_t torque_at_current(const ctl_cfg *cfg, real_t i_A)
     return num_mul(num_mul(kt, psi_r), i_q);
 }
 
-/* The flux ramp's time psi_ref / psi_ramp_Wb_s (ctl_cfg_derive's ramp), s. */
-static real_t flux_ramp_s(const ctl_cfg *cfg)
+/* The flux ramp's time psi_ref / rate, the rate ctl_cfg_derive's: the
+ * magnetising current's transient at most a fifth of i_trip, s. */
+static real_t flux_ramp_s(const motor_model *m, real_t psi_ref_Wb, real_t i_trip_A)
 {
-    return cfg->psi_ramp_Wb_s > R(0.0) ? num_div(cfg->dtc.psi_ref_Wb, cfg->psi_ramp_Wb_s) : R(0.0);
+    real_t tr = num_div(m->Lr_H, m->Rr_ohm);
+    real_t a_per_wb_s = num_div(num_mul(R(1.0) - sigma_of(m), tr), m->Ls_H);
+    real_t rate = num_div(num_mul(R(0.2), i_trip_A), a_per_wb_s);
+    return rate > R(0.0) ? num_div(psi_ref_Wb, rate) : R(0.0);
+}
+
+/* The flux ramp plus k sigma Tr: the magnetising time (k = 10) and the Rs
+ * identification's start (k = 1), s. */
+static real_t magnetising_s(const motor_model *m, real_t psi_ref_Wb, real_t i_trip_A, real_t k)
+{
+    real_t tr = num_div(m->Lr_H, m->Rr_ohm);
+    return flux_ramp_s(m, psi_ref_Wb, i_trip_A) + num_mul(num_mul(k, sigma_of(m)), tr);
+}
+
+/* The stator flux at the rated point: |V_b - Rs I_b e^-j phi| / w_b, Wb. */
+static real_t rated_flux_Wb(const ratings_base *b, real_t Rs_ohm)
+{
+    real_t ri = num_mul(Rs_ohm, b->I_b);
+    real_t re = b->V_b - num_mul(ri, b->cos_phi);
+    real_t im = num_mul(ri, num_sqrt(R(1.0) - num_mul(b->cos_phi, b->cos_phi)));
+    return num_div(num_sqrt(num_mul(re, re) + num_mul(im, im)), b->w_b);
 }
 
 /* The RBFN sized by speed_rbfn_size for the torque limit and J in @p cfg. */
@@ -533,10 +661,16 @@ real_t ratings_value(const ratings_derivation *d, const ctl_cfg *cfg, ratings_id
 {
     const ratings *r = &d->plate;
     const ratings_base *b = &d->base;
+    const ratings_base *rb0 = &d->ref_base;
+    const motor_model *m0 = &d->ref_model;
     const motor_model *est = &d->estimate;
     const motor_model *m = &cfg->motor;
     real_t wn = cfg->speed.ip.wn_rad_s;
-    real_t tr = num_div(m->Lr_H, m->Rr_ohm);
+    real_t wn_ratio = num_div(wn, REF_WN_RAD_S);
+    real_t tm_ratio = num_div(t_mech_s(b, m->J_kgm2), t_mech_s(rb0, m0->J_kgm2));
+    real_t accel_ratio = num_div(num_div(b->T_r, m->J_kgm2), num_div(rb0->T_r, m0->J_kgm2));
+    real_t obs_ratio = num_div(num_div(b->w_b, num_mul(b->I_b, b->psi_b)),
+                               num_div(rb0->w_b, num_mul(rb0->I_b, rb0->psi_b)));
     rbfn_cfg rb;
     switch (id) {
     case RATINGS_ID_MOTOR_RS: return est->Rs_ohm;
@@ -547,48 +681,47 @@ real_t ratings_value(const ratings_derivation *d, const ctl_cfg *cfg, ratings_id
     case RATINGS_ID_MOTOR_J: return est->J_kgm2;
     case RATINGS_ID_MOTOR_B: return est->B_Nms;
     case RATINGS_ID_C_DC:
-        return num_div(num_mul(R(4.0) * PU_R(PU_C_DC_TAU_S), b->S_b), num_mul(b->vdc_b, b->vdc_b));
-    case RATINGS_ID_PSI_REF: {
-        /* the stator flux at the rated point: |V - Rs I e^-j phi| / w */
-        real_t ri = num_mul(m->Rs_ohm, b->I_b);
-        real_t re = b->V_b - num_mul(ri, b->cos_phi);
-        real_t im = num_mul(ri, num_sqrt(R(1.0) - num_mul(b->cos_phi, b->cos_phi)));
-        return num_div(num_sqrt(num_mul(re, re) + num_mul(im, im)), b->w_b);
-    }
+        return scaled(REF_C_DC_F, num_div(b->S_b, num_mul(b->vdc_b, b->vdc_b)),
+                      num_div(rb0->S_b, num_mul(rb0->vdc_b, rb0->vdc_b)));
+    case RATINGS_ID_PSI_REF:
+        /* the rated point's stator flux, less the reference's 0.7 % below its own */
+        return scaled(REF_PSI_REF_WB, rated_flux_Wb(b, m->Rs_ohm), rated_flux_Wb(rb0, m0->Rs_ohm));
     case RATINGS_ID_I_TRIP: {
-        real_t i = num_mul(PU_R(PU_I_TRIP), b->I_b);
+        real_t i = scaled(REF_I_TRIP_A, b->I_b, rb0->I_b);
         return i < r->inv_I_peak_A ? i : r->inv_I_peak_A;
     }
-    case RATINGS_ID_VDC_MAX: return num_mul(PU_R(PU_VDC_MAX), b->vdc_b);
-    case RATINGS_ID_VDC_MIN: return num_mul(PU_R(PU_VDC_MIN), b->vdc_b);
-    case RATINGS_ID_NP_TRIP: return num_mul(PU_R(PU_NP_TRIP), b->vdc_b);
-    case RATINGS_ID_NP_BAND: return num_mul(PU_R(PU_NP_BAND), b->vdc_b);
-    case RATINGS_ID_OVERSPEED: return num_mul(PU_R(PU_OVERSPEED), b->w_mr);
-    case RATINGS_ID_FLUX_BAND: return num_mul(PU_R(PU_FLUX_BAND), b->psi_b);
-    case RATINGS_ID_TORQUE_BAND: return num_mul(PU_R(PU_TORQUE_BAND), b->T_r);
-    case RATINGS_ID_TORQUE_BAND2: return num_mul(PU_R(PU_TORQUE_BAND2), b->T_r);
-    case RATINGS_ID_RIPPLE_SPEED_MAX: return num_mul(PU_R(PU_RIPPLE_SPEED), b->w_mr);
-    case RATINGS_ID_OBS_KP_SPEED: return num_div(num_mul(PU_R(PU_OBS_KP), b->w_b), num_mul(b->I_b, b->psi_b));
-    case RATINGS_ID_OBS_KI_SPEED: return num_div(num_mul(PU_R(PU_OBS_KI), b->w_b), num_mul(b->I_b, b->psi_b));
-    case RATINGS_ID_OBS_REGEN_SPEED: return num_mul(PU_R(PU_OBS_REGEN_SPEED), b->w_b);
-    case RATINGS_ID_GUARD_WC: return num_mul(PU_R(PU_GUARD_WC), b->w_b);
-    case RATINGS_ID_GUARD_TIME: return num_div(PU_R(PU_GUARD_TIME), b->w_b);
-    case RATINGS_ID_GUARD_V_TOL: return num_mul(PU_R(PU_GUARD_V_TOL), b->vdc_b);
-    case RATINGS_ID_BRINGUP_HZ: return num_mul(PU_R(PU_BRINGUP_HZ), r->f_Hz);
-    case RATINGS_ID_IP_WN: return num_div(PU_R(PU_WN_TM), t_mech_s(b, cfg));
+    case RATINGS_ID_VDC_MAX: return scaled(REF_VDC_MAX_V, b->vdc_b, rb0->vdc_b);
+    case RATINGS_ID_VDC_MIN: return scaled(REF_VDC_MIN_V, b->vdc_b, rb0->vdc_b);
+    case RATINGS_ID_NP_TRIP: return scaled(REF_NP_TRIP_V, b->vdc_b, rb0->vdc_b);
+    case RATINGS_ID_NP_BAND: return scaled(REF_NP_BAND_V, b->vdc_b, rb0->vdc_b);
+    case RATINGS_ID_OVERSPEED: return scaled(REF_OVERSPEED_RAD_S, b->w_mr, rb0->w_mr);
+    case RATINGS_ID_FLUX_BAND: return scaled(REF_FLUX_BAND_WB, b->psi_b, rb0->psi_b);
+    case RATINGS_ID_TORQUE_BAND: return scaled(REF_TORQUE_BAND_NM, b->T_r, rb0->T_r);
+    case RATINGS_ID_TORQUE_BAND2: return scaled(REF_TORQUE_BAND2_NM, b->T_r, rb0->T_r);
+    case RATINGS_ID_RIPPLE_SPEED_MAX: return scaled(REF_RIPPLE_SPEED_RAD_S, b->w_mr, rb0->w_mr);
+    case RATINGS_ID_OBS_KP_SPEED: return num_mul(REF_OBS_KP, obs_ratio);
+    case RATINGS_ID_OBS_KI_SPEED: return num_mul(REF_OBS_KI, obs_ratio);
+    case RATINGS_ID_OBS_REGEN_SPEED: return scaled(REF_OBS_REGEN_SPEED_RAD_S, b->w_b, rb0->w_b);
+    case RATINGS_ID_GUARD_WC: return scaled(REF_GUARD_WC_RAD_S, b->w_b, rb0->w_b);
+    case RATINGS_ID_GUARD_TIME: return scaled(REF_GUARD_TIME_S, rb0->w_b, b->w_b);
+    case RATINGS_ID_GUARD_V_TOL: return scaled(REF_GUARD_V_TOL_V, b->vdc_b, rb0->vdc_b);
+    case RATINGS_ID_BRINGUP_HZ: return scaled(REF_BRINGUP_HZ, r->f_Hz, d->ref_plate.f_Hz);
+    case RATINGS_ID_IP_WN: return num_div(REF_WN_RAD_S, tm_ratio);
     case RATINGS_ID_REF_WN: return wn;
-    case RATINGS_ID_NOMINAL_K_X: return num_mul(PU_R(PU_K_X_WN), wn);
+    case RATINGS_ID_NOMINAL_K_X: return num_mul(REF_K_X, wn_ratio);
     case RATINGS_ID_RBFN_K: return num_mul(R(2.0) * cfg->speed.ip.zeta, wn);
-    case RATINGS_ID_RBFN_GAMMA_W: return num_mul(PU_R(PU_GAMMA_W_WN2), num_mul(wn, wn));
-    case RATINGS_ID_RBFN_GAMMA_ZETA: return num_mul(PU_R(PU_GAMMA_ZETA_WN2), num_mul(wn, wn));
-    case RATINGS_ID_RBFN_ZETA_LEAK: return num_mul(PU_R(PU_ZETA_LEAK_WN), wn);
-    case RATINGS_ID_SPEED_RAMP: return num_div(num_mul(PU_R(PU_RAMP), b->T_r), m->J_kgm2);
-    case RATINGS_ID_RBFN_BOUNDARY: return num_mul(PU_R(PU_RBFN_BOUNDARY), b->w_mr);
-    case RATINGS_ID_RBFN_DEAD_ZONE: return num_mul(PU_R(PU_RBFN_DEAD_ZONE), b->w_mr);
-    case RATINGS_ID_RBFN_ZETA_MAX: return num_div(num_mul(PU_R(PU_ZETA_MAX), b->T_r), m->J_kgm2);
-    case RATINGS_ID_STALL_TIME: return num_mul(PU_R(PU_STALL_TIME_TM), t_mech_s(b, cfg));
+    case RATINGS_ID_RBFN_GAMMA_W: return num_mul(REF_GAMMA_W, num_mul(wn_ratio, wn_ratio));
+    case RATINGS_ID_RBFN_GAMMA_ZETA: return num_mul(REF_GAMMA_ZETA, num_mul(wn_ratio, wn_ratio));
+    case RATINGS_ID_RBFN_ZETA_LEAK: return num_mul(REF_ZETA_LEAK, wn_ratio);
+    case RATINGS_ID_SPEED_RAMP: return num_mul(REF_RAMP_RAD_S2, accel_ratio);
+    case RATINGS_ID_RBFN_BOUNDARY: return scaled(REF_RBFN_BOUNDARY_RAD_S, b->w_mr, rb0->w_mr);
+    case RATINGS_ID_RBFN_DEAD_ZONE: return scaled(REF_RBFN_DEAD_ZONE_RAD_S, b->w_mr, rb0->w_mr);
+    case RATINGS_ID_RBFN_ZETA_MAX: return num_mul(REF_ZETA_MAX, accel_ratio);
+    case RATINGS_ID_STALL_TIME: return num_mul(REF_STALL_TIME_S, tm_ratio);
+    case RATINGS_ID_SPEED_DEV_BAND: return scaled(REF_SPEED_DEV_BAND_RAD_S, b->w_mb - b->w_mr, rb0->w_mb - rb0->w_mr);
+    case RATINGS_ID_SPEED_DEV_TIME: return num_mul(REF_SPEED_DEV_TIME_S, tm_ratio);
     case RATINGS_ID_TE_MAX: {
-        real_t te = num_mul(PU_R(PU_TE_MAX), b->T_r);
+        real_t te = scaled(REF_TE_MAX_NM, b->T_r, rb0->T_r);
         real_t te_i = torque_at_current(cfg, num_div(cfg->i_trip_A, PU_TE_CURRENT_MARGIN));
         real_t te_po = num_mul(cfg->te_limit_Nm_Wb2, num_mul(cfg->dtc.psi_ref_Wb, cfg->dtc.psi_ref_Wb));
         te = te_i < te ? te_i : te;
@@ -597,26 +730,30 @@ real_t ratings_value(const ratings_derivation *d, const ctl_cfg *cfg, ratings_id
     case RATINGS_ID_RBFN_M_W: rbfn_sized(cfg, &rb); return rb.m_w;
     case RATINGS_ID_RBFN_CENTRES: rbfn_sized(cfg, &rb); return rb.centre[rb.n_nodes >= 1u && rb.n_nodes <= RBFN_NODES_MAX ? rb.n_nodes - 1u : 0u];
     case RATINGS_ID_RBFN_WIDTHS: rbfn_sized(cfg, &rb); return rb.width[0];
-    case RATINGS_ID_PREMAG: return flux_ramp_s(cfg) + num_mul(num_mul(PU_PREMAG_SIGMA_TR, sigma_of(m)), tr);
-    case RATINGS_ID_DROP_BAND: return num_mul(PU_R(PU_DROP_BAND), b->I_b);
-    case RATINGS_ID_LOWFLUX_MARGIN: return num_mul(PU_R(PU_LOWFLUX_MARGIN), b->w_b);
-    case RATINGS_ID_LOWFLUX_ENTER: return num_mul(PU_R(PU_LOWFLUX_ENTER), b->w_b);
-    case RATINGS_ID_LOWFLUX_EXIT: return num_mul(PU_R(PU_LOWFLUX_EXIT), b->w_b);
-    case RATINGS_ID_LOWFLUX_MIN_TE: return num_mul(PU_R(PU_LOWFLUX_MIN_TE), b->T_r);
-    case RATINGS_ID_STALL_SPEED_ERR: return num_mul(PU_R(PU_STALL_SPEED_ERR), b->w_mr);
-    case RATINGS_ID_STALL_WINDOW: return num_mul(PU_R(PU_STALL_WINDOW_TM), t_mech_s(b, cfg));
-    case RATINGS_ID_BRAKE_STALL_SPEED: return num_mul(PU_R(PU_BRAKE_STALL_SPEED), b->w_mb);
-    case RATINGS_ID_BRAKE_STALL_TIME: return num_mul(PU_R(PU_BRAKE_STALL_TIME_TM), t_mech_s(b, cfg));
-    case RATINGS_ID_BRINGUP_BOOST: return num_mul(PU_R(PU_BRINGUP_BOOST), b->I_b);
-    case RATINGS_ID_OBS_REGEN_MIN_TE: return num_mul(PU_R(PU_OBS_REGEN_MIN_TE), b->T_r);
-    case RATINGS_ID_RSID_MAX_SPEED: return num_mul(PU_R(PU_RSID_MAX_SPEED), b->w_b);
-    case RATINGS_ID_RSID_SPEED_FROM: return flux_ramp_s(cfg) + num_mul(sigma_of(m), tr);
-    case RATINGS_ID_RSID_MIN_CHARGE: return num_mul(PU_R(PU_RSID_MIN_CHARGE_S), b->I_b);
-    case RATINGS_ID_DTC_PSI_TINY: return num_mul(PU_R(PU_DTC_PSI_TINY), b->psi_b);
-    case RATINGS_ID_PLAUS_SUM_ABS: return num_mul(PU_R(PU_PLAUS_SUM_ABS), b->I_b);
-    case RATINGS_ID_PLAUS_CURRENT: return num_mul(PU_R(PU_PLAUS_CURRENT), b->I_b);
-    case RATINGS_ID_PLAUS_OPEN: return num_mul(PU_R(PU_PLAUS_OPEN), b->I_b);
-    case RATINGS_ID_PLAUS_PHASE_MIN: return num_mul(PU_R(PU_PLAUS_PHASE_MIN), r->f_Hz);
+    case RATINGS_ID_PREMAG:
+        return scaled(REF_PREMAG_S, magnetising_s(m, cfg->dtc.psi_ref_Wb, cfg->i_trip_A, PU_PREMAG_SIGMA_TR),
+                      magnetising_s(m0, REF_PSI_REF_WB, REF_I_TRIP_A, PU_PREMAG_SIGMA_TR));
+    case RATINGS_ID_DROP_BAND: return scaled(REF_DROP_BAND_A, b->I_b, rb0->I_b);
+    case RATINGS_ID_LOWFLUX_MARGIN: return scaled(REF_LOWFLUX_MARGIN_RAD_S, b->w_b, rb0->w_b);
+    case RATINGS_ID_LOWFLUX_ENTER: return scaled(REF_LOWFLUX_ENTER_RAD_S, b->w_b, rb0->w_b);
+    case RATINGS_ID_LOWFLUX_EXIT: return scaled(REF_LOWFLUX_EXIT_RAD_S, b->w_b, rb0->w_b);
+    case RATINGS_ID_LOWFLUX_MIN_TE: return scaled(REF_LOWFLUX_MIN_NM, b->T_r, rb0->T_r);
+    case RATINGS_ID_STALL_SPEED_ERR: return scaled(REF_STALL_SPEED_ERR_RAD_S, b->w_mr, rb0->w_mr);
+    case RATINGS_ID_STALL_WINDOW: return num_mul(REF_STALL_WINDOW_S, tm_ratio);
+    case RATINGS_ID_BRAKE_STALL_SPEED: return scaled(REF_BRAKE_STALL_SPEED_RAD_S, b->w_mb, rb0->w_mb);
+    case RATINGS_ID_BRAKE_STALL_TIME: return num_mul(REF_BRAKE_STALL_TIME_S, tm_ratio);
+    case RATINGS_ID_BRINGUP_BOOST: return scaled(REF_BRINGUP_BOOST_A, b->I_b, rb0->I_b);
+    case RATINGS_ID_OBS_REGEN_MIN_TE: return scaled(REF_OBS_REGEN_MIN_NM, b->T_r, rb0->T_r);
+    case RATINGS_ID_RSID_MAX_SPEED: return scaled(REF_RSID_MAX_SPEED_RAD_S, b->w_b, rb0->w_b);
+    case RATINGS_ID_RSID_SPEED_FROM:
+        return scaled(REF_RSID_SPEED_FROM_S, magnetising_s(m, cfg->dtc.psi_ref_Wb, cfg->i_trip_A, R(1.0)),
+                      magnetising_s(m0, REF_PSI_REF_WB, REF_I_TRIP_A, R(1.0)));
+    case RATINGS_ID_RSID_MIN_CHARGE: return scaled(REF_RSID_MIN_CHARGE_AS, b->I_b, rb0->I_b);
+    case RATINGS_ID_DTC_PSI_TINY: return scaled(REF_DTC_PSI_TINY_WB, b->psi_b, rb0->psi_b);
+    case RATINGS_ID_PLAUS_SUM_ABS: return scaled(REF_PLAUS_SUM_ABS_A, b->I_b, rb0->I_b);
+    case RATINGS_ID_PLAUS_CURRENT: return scaled(REF_PLAUS_CURRENT_A, b->I_b, rb0->I_b);
+    case RATINGS_ID_PLAUS_OPEN: return scaled(REF_PLAUS_OPEN_A, b->I_b, rb0->I_b);
+    case RATINGS_ID_PLAUS_PHASE_MIN: return scaled(REF_PLAUS_PHASE_MIN_HZ, r->f_Hz, d->ref_plate.f_Hz);
     case RATINGS_ID_COUNT:
     default: return R(0.0);
     }

@@ -6,7 +6,8 @@
  *        board owns, and runs its background loop.
  *
  * Who calls whom (no file calls back up):
- *   drive_app -> drive_isr, drive_co, persist, drive_params
+ *   drive_app -> drive_isr, drive_co, drive_ident, persist, drive_params
+ *   drive_ident -> drive_isr
  *   drive_co -> drive_isr, persist      drive_params -> drive_co, drive_isr
  *   persist -> its persist_params only (function pointers), the HAL's NVM
  */
@@ -15,6 +16,7 @@
 #include <string.h>
 
 #include "dtc/drive_co.h"
+#include "dtc/drive_ident.h"
 #include "dtc/drive_params.h"
 #include "hal/hal.h"
 
@@ -23,6 +25,7 @@ void drive_init(drive *d)
     memset(d, 0, sizeof *d);
     drive_isr_init(d);
     d->reset_cause = (uint8_t)hal_reset_cause();
+    drive_ident_default_plate(&d->ident_plate);
     drive_co_init(d);
     persist_init(&d->persist, &drive_params, d);
     (void)persist_load(&d->persist); /* defaults, then the stored set; status in d->persist */
@@ -32,5 +35,6 @@ void drive_init(drive *d)
 void drive_background(drive *d)
 {
     drive_co_process(d);
+    drive_ident_background(d);
     hal_watchdog_kick();
 }

@@ -9,9 +9,11 @@
 
 #include <string.h>
 
+#include "dtc/drive_ident.h"
 #include "dtc/num.h"
 #include "dtc/param_table.h"
 #include "dtc/persist.h"
+#include "dtc/ratings.h"
 #include "dtc/scope.h"
 #include "dtc/speed_ref.h"
 #include "hal/hal.h"
@@ -26,7 +28,7 @@ const co_dict drive_od = {co_params, (uint16_t)CO_PARAM_COUNT};
 bool drive_co_running(const drive *d)
 {
     ctl_run_state st = d->ctl.run_state; /* one aligned read of ISR state */
-    return d->run || st == CTL_MAGNETISING || st == CTL_RUNNING;
+    return d->run || st == CTL_MAGNETISING || st == CTL_RUNNING || drive_ident_running(d);
 }
 
 /* A save for 0x1010:1 or 0x1011:1: the slot image is built on this frame,
@@ -176,6 +178,11 @@ static uint32_t fn_read(drive *d, const co_param *p, co_num *v)
     case CO_FN_SCOPE_TRIGGER_TICK:
         v->u = d->scope.trigger_tick;
         break;
+    case CO_FN_IDENT_COMMAND:
+        break;
+    case CO_FN_IDENT_PROGRESS:
+        v->u = drive_ident_progress(d);
+        break;
     case CO_FN_SCOPE_DATA:
     case CO_FN_COUNT:
     default:
@@ -268,6 +275,9 @@ static uint32_t vl_limits_write(drive *d, const co_param *p, const co_num *v)
 
 static void apply_cia402(drive *d, co_cia402_action a)
 {
+    /* a run lasts in "Switched on" only: a disable, a shutdown, a quick stop, an enable end it */
+    if (a != CO_CIA402_KEEP || d->co.cia402.state != CO_CIA402_SWITCHED_ON)
+        drive_ident_stop(d);
     switch (a) {
     case CO_CIA402_QUICK_STOP:
         quick_stop(d);
@@ -291,6 +301,30 @@ static void apply_cia402(drive *d, co_cia402_action a)
     }
 }
 
+/* Every value the commit derived (not set by the user) within the range its
+ * dictionary entry declares: a write whose derivation would leave one (an
+ * i_trip_A so low that the derived torque limit falls below te_max_Nm's
+ * minimum) is refused, so a read-back never shows a value the entry could not
+ * take. Context: BG. */
+static bool derived_within_ranges(const ctl_cfg *e)
+{
+    for (uint32_t i = 0u; i < CO_PARAM_COUNT; i++) {
+        const co_param *q = &co_params[i];
+        if (q->bind != DRIVE_BIND_CFG || (q->flags & CO_F_LIMITS) == 0u)
+            continue;
+        ratings_id id = ratings_id_at(q->offset);
+        if (id == RATINGS_ID_COUNT || ratings_mask_has(&e->set, id))
+            continue;
+        co_num raw = co_od_to_raw(q, co_field_get(e, q));
+        uint8_t bytes[4] = {0u, 0u, 0u, 0u};
+        co_num_encode(q->dtype, &raw, bytes);
+        co_num back;
+        if (co_od_check(q, bytes, co_dtype_size(q->dtype), CO_WR_LOAD, &back) != CO_ABORT_NONE)
+            return false;
+    }
+    return true;
+}
+
 static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
 {
     switch ((co_fn_id)p->offset) {
@@ -309,7 +343,9 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
             rad_s2 = ramp->max.f;
         ctl_cfg *e = drive_cfg_edit(d);
         e->speed.ramp_rad_s2 = rad_s2;
-        if (was_ok && ctl_cfg_check(e) != CTL_CFG_OK)
+        ratings_mask_set(&e->set, RATINGS_ID_SPEED_RAMP);
+        (void)ctl_cfg_rederive(e);
+        if ((was_ok && ctl_cfg_check(e) != CTL_CFG_OK) || !derived_within_ranges(e))
             return CO_ABORT_PARAM_INCOMPAT;
         drive_cfg_commit(d);
         return CO_ABORT_NONE;
@@ -355,6 +391,21 @@ static uint32_t fn_write(drive *d, const co_param *p, const co_num *v)
             return CO_ABORT_STATE;
         scope_trigger_now(&d->scope);
         return CO_ABORT_NONE;
+    case CO_FN_IDENT_COMMAND:
+        /* 0 aborts (nothing is written); 1 starts the standstill run on the plate the drive holds,
+         * 2 the run with its rotating part; only in CiA 402 "Switched on" (voltage on, operation
+         * not enabled); a refusal leaves its reason in ident_error (0x2800:6) */
+        if (v->u == 0u) {
+            drive_ident_stop(d);
+            return CO_ABORT_NONE;
+        }
+        if (d->co.cia402.state != CO_CIA402_SWITCHED_ON && !drive_ident_running(d)) {
+            d->ident_error = DRIVE_IDENT_E_CIA402;
+            d->ident_outcome = (uint8_t)DRIVE_IDENT_REFUSED;
+            return CO_ABORT_STATE;
+        }
+        return drive_ident_start(d, NULL, v->u == 2u) == 0 ? CO_ABORT_NONE : CO_ABORT_STATE;
+    case CO_FN_IDENT_PROGRESS:
     case CO_FN_ERROR_REGISTER:
     case CO_FN_STATUSWORD:
     case CO_FN_PERSIST_STATUS:
@@ -407,7 +458,14 @@ static uint32_t app_write(void *ctx, const co_param *p, const co_num *internal)
         bool was_ok = ctl_cfg_check(drive_cfg(d)) == CTL_CFG_OK;
         ctl_cfg *e = drive_cfg_edit(d);
         co_field_set(e, p, internal);
-        if (was_ok && ctl_cfg_check(e) != CTL_CFG_OK)
+        /* A derivable value written is the user's from now on (the read-back
+         * says "set"); what is derived from it follows at the commit. */
+        ratings_id id = ratings_id_at(p->offset);
+        if (id != RATINGS_ID_COUNT)
+            ratings_mask_set(&e->set, id);
+        /* the configuration judged is the derived one */
+        (void)ctl_cfg_rederive(e);
+        if ((was_ok && ctl_cfg_check(e) != CTL_CFG_OK) || !derived_within_ranges(e))
             return CO_ABORT_PARAM_INCOMPAT;
         drive_cfg_commit(d);
         return CO_ABORT_NONE;
@@ -439,6 +497,7 @@ static void app_event(void *ctx, co_event ev)
 {
     drive *d = ctx;
     (void)ev; /* every connection event gets the same reaction */
+    drive_ident_stop(d); /* a lost master ends an identification run, whatever 0x6007 says */
     bool enabled = d->co.cia402.state == CO_CIA402_OPERATION_ENABLED || d->run;
     if (!enabled || d->quick_stop_req)
         return;
@@ -483,7 +542,7 @@ static void app_reset_node(void *ctx)
 static void app_booted(void *ctx)
 {
     drive *d = ctx;
-    if (d->persist.status == PERSIST_CORRUPT)
+    if (d->persist.status == PERSIST_CORRUPT || d->persist.status == PERSIST_OLD_FORMAT)
         co_emcy_event(&d->co, &co_emcy_table[CO_EMCY_PARAM_SET_LOST], true);
     /* After a watchdog reset, once per start (not after NMT resets): an event, not latched. */
     if (d->reset_cause == HAL_RESET_WATCHDOG && !d->reset_cause_sent) {
@@ -581,6 +640,11 @@ void drive_co_process(drive *d)
     co_pass pass = {hal_millis(), d->bg_snap.tick, tick_hz(d), d->bg_snap.tel.faults | d->drive_faults,
                     bus.bus_off, bus.bus_off_count};
     co_dev_begin_pass(&d->co, &pass);
+    /* a warning rising: one EMCY, not latched (the fault word and the error register stay as they are) */
+    uint32_t warn = d->bg_snap.tel.warnings;
+    if ((warn & ~d->warnings_seen & (uint32_t)CTL_WARN_SPEED_DEV) != 0u)
+        co_emcy_event(&d->co, &co_emcy_table[CO_EMCY_SPEED_DEV_WARNING], false);
+    d->warnings_seen = warn;
 
     hal_can_frame f;
     for (uint32_t i = 0u; i < CO_RX_BUDGET && hal_can_recv(&f) == HAL_OK; i++)

@@ -14,6 +14,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "dtc/ctl_ident.h"
 #include "dtc/num.h"
 #include "dtc/speed_ref.h"
 #include "hal/hal.h"
@@ -53,7 +54,7 @@ ctl_cfg *drive_cfg_edit(drive *d)
 void drive_cfg_commit(drive *d)
 {
     uint32_t inactive = (d->cfg_active & 1u) ^ 1u;
-    ctl_cfg_derive(&d->cfg[inactive]);
+    (void)ctl_cfg_rederive(&d->cfg[inactive]);
     d->period_cycles[inactive] = period_in_cycles(&d->cfg[inactive]);
     publish_fence();
     /* One aligned word store: the ISR sees either the old or the new copy. */
@@ -201,7 +202,12 @@ void drive_isr(void *ctx)
     in->fault_input = hal_fault_input_active();
     in->overrun = d->tick_missed;
 
-    ctl_step(&d->ctl, cfg, in, &d->out);
+    if (d->ident_on) { /* the identification run state (dtc/drive_ident.h) */
+        in->run = d->ident_run;
+        ctl_ident_step(&d->ctl, cfg, &d->ident, &d->ident_cfg, in, &d->out);
+    } else {
+        ctl_step(&d->ctl, cfg, in, &d->out);
+    }
 
     /* Protection acts in the same tick: gates off before anything else. */
     if (!d->out.gate_enable) {

@@ -61,8 +61,9 @@ static uint32_t put_in_use(void *ctx)
 {
     drive *d = ctx;
     uint32_t dropped = 0u;
-    /* A stored configuration the control core refuses is not used at all. */
-    if (ctl_cfg_check(d->params_edit) != CTL_CFG_OK) {
+    /* A stored configuration the control core refuses is not used at all:
+     * judged as derived from its stored ratings and set mask. */
+    if (!ctl_cfg_rederive(d->params_edit) || ctl_cfg_check(d->params_edit) != CTL_CFG_OK) {
         ctl_cfg_default(d->params_edit);
         dropped = 1u;
     }

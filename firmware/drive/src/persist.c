@@ -43,6 +43,7 @@ static uint32_t get32(const uint8_t *b) { return get16(b) | (get16(b + 2) << 16)
 typedef struct {
     bool valid;      /**< header and CRC check out */
     bool erased;     /**< the header is all 0xFF (never written) */
+    bool old_format; /**< the magic, but another format: a set an older firmware stored */
     bool io_error;   /**< the NVM could not be read */
     uint16_t count;  /**< records */
     uint32_t seq;
@@ -64,8 +65,12 @@ static slot_info scan(uint32_t slot)
     si.erased = true;
     for (uint32_t i = 0u; i < sizeof h; i++)
         si.erased = si.erased && h[i] == 0xFFu;
-    if (get32(h) != PERSIST_MAGIC || get16(h + 4) != PERSIST_FORMAT)
+    if (get32(h) != PERSIST_MAGIC)
         return si;
+    if (get16(h + 4) != PERSIST_FORMAT) {
+        si.old_format = true;
+        return si;
+    }
     si.count = (uint16_t)get16(h + 6);
     si.seq = get32(h + 8);
     si.len = get32(h + 12);
@@ -152,6 +157,8 @@ uint8_t persist_load(persist_state *st)
             status = PERSIST_NO_NVM;
         else if (si[0].erased && si[1].erased)
             status = PERSIST_EMPTY;
+        else if ((si[0].old_format || si[0].erased) && (si[1].old_format || si[1].erased))
+            status = PERSIST_OLD_FORMAT;
         else
             status = PERSIST_CORRUPT;
     } else {

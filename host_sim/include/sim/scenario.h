@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "dtc/ratings_types.h"
 #include "plant/plant.h"
 
 #ifdef __cplusplus
@@ -30,7 +31,7 @@ extern "C" {
 #define SCENARIO_MAX_ENTRIES 64    /**< entries per repeated list (reference, load, events) */
 #define SCENARIO_MAX_CONTROL 64    /**< [control] keys per scenario */
 #define SCENARIO_MAX_WINDOWS 16    /**< [metrics] windows */
-#define SCENARIO_MAX_SCALAR_KEYS 64 /**< size of the line table of scalar keys */
+#define SCENARIO_MAX_SCALAR_KEYS 80 /**< size of the line table of scalar keys */
 #define SCENARIO_NAME_LEN 32       /**< window names, including the terminator */
 #define SCENARIO_LINE_SET (-1)     /**< "line" of a value that came from --set */
 
@@ -120,6 +121,23 @@ typedef struct {
     int line;
 } scenario_control;
 
+/** What the firmware is told of the motor ([commission] model). */
+typedef enum {
+    SCENARIO_MODEL_EXACT = 0, /**< the plant's [motor] model, as identified exactly (the default) */
+    SCENARIO_MODEL_PLATE = 1, /**< the [ratings] plate only: the firmware's model is its plate estimate */
+} scenario_model;
+
+/** The [ratings] section: the motor's plate and the inverter's label (dtc/ratings.h, SI). */
+typedef struct {
+    double P_W, V_ll_V, I_A, f_Hz, n_rpm, cos_phi, vdc_nom_V, inv_I_rated_A, inv_I_peak_A;
+} scenario_ratings;
+/** [commission] identify: the identification run before the profile starts. */
+typedef enum {
+    SCENARIO_IDENTIFY_NONE = 0,       /**< none: the firmware keeps the model it was given */
+    SCENARIO_IDENTIFY_STANDSTILL = 1, /**< standstill: the drive's standstill run, its results written */
+    SCENARIO_IDENTIFY_FULL = 2,       /**< full: with the rotating part (refused: the drive runs the standstill part only) */
+} scenario_identify;
+
 typedef struct {
     char source[1024];            /**< file name used in messages */
 
@@ -133,6 +151,10 @@ typedef struct {
     double trace_interval_s;      /**< CSV row interval, s (>= period_s) */
 
     int controller;               /**< scenario_controller */
+
+    bool has_ratings;             /**< a [ratings] section: the firmware is derived from the plate */
+    scenario_ratings ratings;     /**< the plate and the label (cos_phi 0: not on the plate) */
+    int model;                    /**< scenario_model ([commission] model; exact by default) */
 
     scenario_control control[SCENARIO_MAX_CONTROL];
     int n_control;
@@ -152,6 +174,10 @@ typedef struct {
     double startup_end_s;
     scenario_window windows[SCENARIO_MAX_WINDOWS];
     int n_windows;
+
+    /* [commission] identify (the drive's identification run before the profile; keep apart) */
+    int identify;                 /**< scenario_identify */
+    int identify_line;            /**< its source line (0: not given, SCENARIO_LINE_SET: --set) */
 
     /** Source line of each scalar key (index = key table index; 0 = default). */
     int key_line[SCENARIO_MAX_SCALAR_KEYS];
@@ -180,6 +206,13 @@ int scenario_set(scenario *sc, const char *assignment, char *err, size_t errlen)
  * Copies supply, phase and seed into sc->plant.
  */
 int scenario_finish(scenario *sc, char *err, size_t errlen);
+
+/** The line scalar key [@p section] @p key was set on, 0 when it was not
+ *  (or came from --set: SCENARIO_LINE_SET). */
+int scenario_key_line(const scenario *sc, const char *section, const char *key);
+
+/** The [ratings] section as the firmware's struct ratings (dtc/ratings.h). */
+void scenario_ratings_to_plate(const scenario *sc, ratings *r);
 
 /** Reference at @p t_s, rpm: 0 before the first entry, then the profile. */
 double scenario_ref_rpm(const scenario *sc, double t_s);

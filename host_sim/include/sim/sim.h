@@ -144,6 +144,7 @@ typedef struct {
     double w_norm_max;         /**< max telemetry |W| */
     double m_w;                /**< configured projection bound M_w */
     uint32_t faults;           /**< telemetry fault bits at the end */
+    uint32_t warnings_seen;    /**< telemetry warning bits (ctl_warning) present at any tick of the run */
     double isr_max_us;         /**< longest drive_isr, us (host time) */
     uint32_t isr_overruns;     /**< ticks longer than the period */
 

@@ -28,6 +28,14 @@ int plant_init(plant_state *s, const plant_config *cfg)
     s->cfg = *cfg;
     s->vc1 = 0.5 * cfg->dc.vdc_V;
     s->vc2 = 0.5 * cfg->dc.vdc_V;
+    s->omega_m = cfg->initial_omega_m_rad_s;
+    if (cfg->initial_flux_frac > 0.0) {
+        /* no stator current: psi_s = (Lm / Lr) psi_r */
+        double psi_rated = sqrt(2.0 / 3.0) * cfg->sine.v_ll_rms_V / (PLANT_TWO_PI * cfg->sine.f_Hz);
+        double lr = cfg->motor.Lm_H + cfg->motor.Llr_H;
+        s->psi_r[0] = cfg->initial_flux_frac * psi_rated;
+        s->psi_s[0] = s->psi_r[0] * cfg->motor.Lm_H / lr;
+    }
     plant_rng_seed(s, cfg->sensor.seed);
     return 0;
 }

@@ -59,6 +59,10 @@ void plant_default_config(plant_config *cfg)
     cfg->sine.f_Hz = 60.0;
     cfg->sine.phase_rad = 0.0;
 
+    /* The shaft at rest, the rotor without residual flux. */
+    cfg->initial_omega_m_rad_s = 0.0;
+    cfg->initial_flux_frac = 0.0;
+
     /* 200 us / 5. Halving it changes the phase currents of an inverter-fed
      * run by about 0.002 A, 1/17 of the 0.1 %-of-rated (0.0345 A) budget
      * (test_plant_machine: Convergence); the error comes mostly from the
@@ -142,5 +146,11 @@ int plant_check_config(const plant_config *cfg, const char **what)
 
     REQ(isfinite(cfg->h_max_s) && cfg->h_max_s >= 1e-7 && cfg->h_max_s <= 1e-4,
         "h_max_s must be in [1e-7, 1e-4] s");
+    REQ(isfinite(cfg->initial_omega_m_rad_s) && fabs(cfg->initial_omega_m_rad_s) <= 2000.0,
+        "initial_omega_m_rad_s must be in [-2000, 2000] rad/s");
+    REQ(isfinite(cfg->initial_flux_frac) && cfg->initial_flux_frac >= 0.0 && cfg->initial_flux_frac <= 1.2,
+        "initial_flux_frac must be in [0, 1.2]");
+    REQ(cfg->initial_flux_frac == 0.0 || cfg->sine.f_Hz > 0.0,
+        "initial_flux_frac needs the nameplate supply's frequency sine.f_Hz > 0");
     return 0;
 }

@@ -54,6 +54,13 @@ enum ctl_fault {
     CTL_FAULT_PHASE_LOSS = 1u << 11,     /**< one motor phase carries no current while the others do */
     CTL_FAULT_DC_DIVIDER = 1u << 12,     /**< capacitor voltages unequal while stopped: divider or sensor error */
     CTL_FAULT_STALL = 1u << 13,          /**< the speed loop cannot hold the speed at its torque limit (docs/faults.md) */
+    CTL_FAULT_SPEED_DEV = 1u << 14,      /**< the speed has stayed further from its reference than speed_dev_band_rad_s
+                                              for speed_dev_time_s (docs/faults.md) */
+};
+
+/** Warning bits (ctl_telemetry.warnings): conditions that do not stop the drive (docs/faults.md). */
+enum ctl_warning {
+    CTL_WARN_SPEED_DEV = 1u << 0, /**< the speed-deviation count has passed half of speed_dev_time_s */
 };
 
 /** Fault bits that ctl_step latches (OVERRUN from ctl_in.overrun). */
@@ -61,7 +68,7 @@ enum ctl_fault {
     (CTL_FAULT_OVERCURRENT | CTL_FAULT_DC_OVERVOLT | CTL_FAULT_DC_UNDERVOLT |               \
      CTL_FAULT_NP_IMBALANCE | CTL_FAULT_OVERSPEED | CTL_FAULT_STALE_SAMPLE | CTL_FAULT_HW | \
      CTL_FAULT_OVERRUN | CTL_FAULT_SAMPLE_INVALID | CTL_FAULT_LOSS_OF_CONTROL | CTL_FAULT_CURRENT_SENSOR | \
-     CTL_FAULT_PHASE_LOSS | CTL_FAULT_DC_DIVIDER | CTL_FAULT_STALL)
+     CTL_FAULT_PHASE_LOSS | CTL_FAULT_DC_DIVIDER | CTL_FAULT_STALL | CTL_FAULT_SPEED_DEV)
 
 /** Inputs of one control step. */
 typedef struct {
@@ -89,6 +96,7 @@ typedef struct {
     uint8_t vector_index;     /**< selected vector 0..26 (state number a*9 + b*3 + c) */
     uint8_t state;            /**< ctl_run_state */
     uint32_t faults;          /**< latched ctl_fault bits */
+    uint32_t warnings;        /**< present ctl_warning bits (not latched) */
 } ctl_telemetry;
 
 /** Outputs of one control step. */
@@ -150,6 +158,12 @@ typedef struct {
     real_t t_brake_limit_s;   /**< time in the present window braking at the torque limit off speed, s */
     real_t w_brake_start_rad_s; /**< |filtered speed estimate| at the start of that window, rad/s */
     bool brake_stall;         /**< braking at the limit did not slow the machine: STALL */
+    /* speed-deviation supervision (ctl_speed_dev_step) */
+    real_t t_dev_s;           /**< time beyond the band, ramp at rest, in windows whose error did not shrink, s */
+    real_t t_dev_win_s;       /**< time in the present speed-deviation window, s */
+    real_t err_dev_win_start_rad_s; /**< |speed error| at the start of that window, rad/s */
+    real_t dev_ref_prev_rad_s; /**< the ramped reference at the last step: another value means the ramp moves, rad/s */
+    uint32_t warnings;        /**< present ctl_warning bits */
     speed_out speed_held;     /**< the speed loop's outputs of its last step (held between its steps) */
     uint8_t slow_slot;        /**< this tick's slot of the slow tasks, 0..CTL_SLOW_SLOTS - 1 (dtc/ctl_schedule.h) */
 } ctl_state;

@@ -21,6 +21,7 @@
 #include "dtc/motor_model.h"
 #include "dtc/num.h"
 #include "dtc/observer.h"
+#include "dtc/ratings_types.h"
 #include "dtc/rs_ident.h"
 #include "dtc/speed_ctl.h"
 
@@ -80,6 +81,16 @@ typedef struct {
     real_t rs_ident_tol;      /**< Rs identified while magnetising replaces the model's when they differ by
                                    more than this fraction, 0..1 (1 = never; dtc/rs_ident.h) */
     ctl_guard_cfg guard;      /**< loss-of-control monitor (voltage-model flux check) */
+    /* speed-deviation supervision (docs/faults.md, SPEED_DEV) */
+    real_t speed_dev_band_rad_s; /**< |ramped reference - filtered estimate| beyond this counts, rad/s (0..500) */
+    real_t speed_dev_time_s;  /**< counted this long trips SPEED_DEV, half of it warns, s (0..60; 0: off) */
+
+    /* what the configuration is derived from (background only; dtc/ratings.h, docs/commissioning.md) */
+    ratings plate;            /**< the motor's plate and the inverter's label */
+    ratings_mask set;         /**< the derivable values the user set (kept); the others are derived */
+    bool from_plate;          /**< true: every commit derives the values not in @c set from @c plate
+                                   (ratings_derive_cfg, then ctl_cfg_derive); false: the configuration is
+                                   absolute, given as a whole (ctl_cfg_derive only) */
 
     /* derived by ctl_cfg_derive() */
     real_t psi_ramp_Wb_s;     /**< flux-reference slew rate, Wb/s: keeps the magnetising
@@ -110,12 +121,40 @@ typedef struct {
     real_t speed_T_s;         /**< CTL_RBFN_TICKS x period_s: the speed loop's step, s (0.8 ms) */
     real_t speed_ramp_step_rad_s; /**< speed.ramp_rad_s2 x speed_T_s: the speed reference's slew per
                                    speed-loop step, rad/s */
+    real_t sup_T_s;           /**< CTL_SLOW_SLOTS x period_s: the slot cycle, the speed-deviation step, s (1.6 ms) */
+    real_t speed_dev_shrink_rad_s_per_s; /**< speed_dev_band_rad_s / speed_dev_time_s: the error's fall that
+                                   counts as a recovery in the speed-deviation windows, (rad/s)/s (0 when off) */
     real_t inv_speed_T_per_s; /**< inv_period_per_s / CTL_RBFN_TICKS (exact: a power of 2), 1/s */
     rs_ident_cfg rsid;        /**< constants of the Rs identification */
 } ctl_cfg;
 
-/** Fill @p cfg with the defaults for the 10 hp motor. Context: BG. */
+/**
+ * Fill @p cfg with the defaults: the reference drive's ratings (the 10 hp
+ * plate on 311 V and the board's inverter label, ratings_reference()), its
+ * motor's own model set (docs/motor-10hp.json), every other derivable value
+ * derived from the plate (ratings_derive_cfg), the values that are not
+ * derivable at the 10 hp drive's (ctl_cfg_fixed_default). The 10 hp plate
+ * derives exactly the 10 hp drive's tuned values. Context: BG.
+ */
 void ctl_cfg_default(ctl_cfg *cfg);
+
+/**
+ * The values no plate derives (the period, the controller's mode, the
+ * inverter's dead time and device drop, dimensionless tunings, switches;
+ * docs/commissioning.md "What stays absolute"), the rest zero or at
+ * speed_cfg_default's: the start of ctl_cfg_default(), complete only after
+ * ratings_derive_cfg. Context: BG.
+ */
+void ctl_cfg_fixed_default(ctl_cfg *cfg);
+
+/**
+ * Commit a changed configuration (background): with @c from_plate, every
+ * derivable value not in @c set derived again from @c plate
+ * (ratings_derive_cfg, which ends with ctl_cfg_derive); else, or when the
+ * plate is refused, ctl_cfg_derive() alone. Context: BG.
+ * @return true when the plate derived the configuration (or none was asked)
+ */
+bool ctl_cfg_rederive(ctl_cfg *cfg);
 
 /** Recompute derived quantities (IP gains from wn and zeta, ...) after a change. Context: BG. */
 void ctl_cfg_derive(ctl_cfg *cfg);

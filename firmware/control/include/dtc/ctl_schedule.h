@@ -10,6 +10,7 @@
  *   slot   0      1        2        3           4      5        6        7
  *          guard  speed    plaus    RBFN learn  guard  speed    plaus    RBFN learn
  *                 command  + stall  + supervise        command  + stall  + FSW + level
+ *                                                                        + speed dev
  *
  *  - guard: the loss-of-control monitor closes its window and judges
  *    (dtc/ctl_guard.h; it sums its inputs every tick), every
@@ -33,7 +34,9 @@
  *    cycle on the mean of the leg changes summed every tick;
  *  - level: the DTC decides its voltage level (the back-emf against the link
  *    voltage, with hysteresis; a division and two compares, beside the
- *    RBFN's learning, the lightest of the slow tasks).
+ *    RBFN's learning, the lightest of the slow tasks);
+ *  - speed dev: the speed-deviation supervision steps once per cycle (its
+ *    0.1 s windows need no more), in the slot of the lightest tasks.
  *
  * The slot advances once per tick that judges a sample (ctl_step: a fresh
  * sample whose values are all numbers), by ctl_schedule_next; the predicates
@@ -63,6 +66,7 @@ extern "C" {
 #define CTL_SLOT_SUPERVISE 3u /**< the supervision of the operating point */
 #define CTL_SLOT_FSW 7u      /**< the switching-frequency regulation */
 #define CTL_SLOT_LEVEL 7u    /**< the DTC's voltage level */
+#define CTL_SLOT_SPEED_DEV 7u /**< the speed-deviation supervision (beside the lightest tasks) */
 
 #ifndef __cplusplus
 _Static_assert(CTL_GUARD_WINDOW_MAX == CTL_MONITOR_SLOTS && PLAUS_CHECK_TICKS == CTL_MONITOR_SLOTS &&
@@ -99,6 +103,9 @@ static inline bool ctl_slot_supervise(uint8_t slot) { return slot == CTL_SLOT_SU
 
 /** True in the slot of the switching-frequency regulation's step. */
 static inline bool ctl_slot_fsw(uint8_t slot) { return slot == CTL_SLOT_FSW; }
+
+/** True in the slot of the speed-deviation supervision's step. */
+static inline bool ctl_slot_speed_dev(uint8_t slot) { return slot == CTL_SLOT_SPEED_DEV; }
 
 /** True in the slot where the DTC decides its voltage level. */
 static inline bool ctl_slot_level(uint8_t slot) { return slot == CTL_SLOT_LEVEL; }

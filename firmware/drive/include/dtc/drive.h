@@ -23,6 +23,7 @@
 #include "dtc/canopen/co_dev.h"
 #include "dtc/ctl.h"
 #include "dtc/drive_isr.h"
+#include "dtc/ident.h"
 #include "dtc/persist.h"
 #include "dtc/scope.h"
 
@@ -51,7 +52,8 @@ typedef struct {
  * tick_missed, snap, snap_derived, timing, scope) follow the hand-over rules
  * of drive_isr.h; app, target_rad_s, halt, drive_faults, co, co_app,
  * reset_cause, reset_cause_sent and bg_snap are the binding's, persist and
- * params_edit the store's and its interface's (background only).
+ * params_edit the store's and its interface's (background only); the
+ * identification run's (ident_*) follow dtc/drive_ident.h.
  */
 typedef struct drive {
     ctl_cfg cfg[2];                 /**< configuration: the published copy and the one being edited */
@@ -90,6 +92,17 @@ typedef struct drive {
     uint8_t reset_cause;            /**< hal_reset_cause() at drive_init (0x2510:7) */
     bool reset_cause_sent;          /**< the EMCY of a watchdog reset went out (once per start) */
     drive_snapshot bg_snap;         /**< background copy of snap, taken once per drive_background pass */
+    uint32_t warnings_seen;         /**< ctl_warning bits of the last pass (a rising bit sends its EMCY once) */
+    /* the identification run (drive_ident.c, dtc/drive_ident.h) */
+    volatile bool ident_on;         /**< BG: a run is going on: the interrupt calls ctl_ident_step, not ctl_step */
+    volatile bool ident_run;        /**< BG: the run's command (false: the interrupt aborts the run) */
+    ident ident;                    /**< the run's state (shared as dtc/ident.h says) */
+    ident_cfg ident_cfg;            /**< its constants (BG, fixed while the run lasts) */
+    ident_result ident_res;         /**< its results (BG) */
+    ident_plate ident_plate;        /**< the plate the next run sizes itself with (BG) */
+    int32_t ident_error;            /**< BG: the last start's refusal (enum ident_error, drive_ident_error) or 0 */
+    uint8_t ident_outcome;          /**< BG: drive_ident_outcome of the last run */
+    uint8_t ident_applied;          /**< BG: enum ident_applied bits the last run wrote */
 } drive;
 
 /**

@@ -36,7 +36,10 @@ extern "C" {
 #endif
 
 #define PERSIST_MAGIC 0x50435444u /**< "DTCP" */
-#define PERSIST_FORMAT 1u
+/** Format 2: the configuration is derived from the ratings (the mask of set
+ *  values 0x2321 stored with them); a format-1 set, whose derivable values
+ *  were all absolute, is not loaded (PERSIST_OLD_FORMAT). */
+#define PERSIST_FORMAT 2u
 #define PERSIST_HEADER_SIZE 20u
 #define PERSIST_RECORD_HEADER 4u /**< index, subindex, length */
 #define PERSIST_VALUE_MAX 4u     /**< longest value the store hands back, bytes (a longer record is skipped) */
@@ -49,6 +52,8 @@ typedef enum {
     PERSIST_CORRUPT = 3,     /**< both slots corrupt: defaults, EMCY 0x6300 */
     PERSIST_PARTIAL = 4,     /**< loaded, but some records were skipped (unknown or refused) */
     PERSIST_NO_NVM = 5,      /**< the NVM could not be read: defaults */
+    PERSIST_OLD_FORMAT = 6,  /**< only a set of an older store format (an older firmware's): not loaded,
+                                  defaults (EMCY 0x6300) until a save; its values are not guessed at */
 } persist_status;
 
 /** One stored value: whose it is (a dictionary index and subindex) and its bytes. */

@@ -146,6 +146,15 @@ typedef struct {
      * no longer than the DC link's time constant R C1 C2/(C1+C2).
      */
     double h_max_s;
+    /**
+     * The state at t = 0 (a shaft that turns before the drive starts): the
+     * mechanical speed, rad/s (|x| <= 2000; default 0), and a residual rotor
+     * flux as a fraction of the nameplate supply's stator flux
+     * sqrt(2/3) sine.v_ll_rms_V / (2 pi sine.f_Hz) (0..1.2; default 0), with no
+     * stator current (stator flux Lm / Lr of it), along the alpha axis.
+     */
+    double initial_omega_m_rad_s;
+    double initial_flux_frac;
 } plant_config;
 
 /** Integration state and scheduled-change targets. Owned by the caller. */
