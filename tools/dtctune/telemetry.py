@@ -245,7 +245,7 @@ class Capture:
         """Record `seconds` of receive timestamps from the first frame of a whole telemetry
         cycle (the first TPDO in cycle order) received from now on: the window is judged by the
         frames alone, so the wait for the first frame (or for the drive to reach NMT
-        operational) takes nothing from it, and no clock of this PC is compared with the
+        operational) takes nothing from it; it holds the whole cycles that begin within it, and no clock of this PC is compared with the
         kernel's receive timestamps at its start. Call before start(); t_from and t_until are
         known once a frame opened it (wait_window_open)."""
         with self._lock:
@@ -286,8 +286,12 @@ class Capture:
                 self._t_until = timestamp + self._window_s
                 self._opened.set()
             if self._t_until is not None and timestamp >= self._t_until:
-                self._reached_until = True
-                return
+                # The window holds whole cycles: those whose first TPDO came before its end. The
+                # rest of the last one may be stamped after the end (a sender that spreads a
+                # cycle's frames, a busy machine); the next cycle's first TPDO ends it.
+                if self._window_s is None or can_id == self._window_cob or self._reached_until:
+                    self._reached_until = True
+                    return
             if self._t_from is not None and timestamp < self._t_from:
                 return
             if self.keep:
@@ -300,15 +304,24 @@ class Capture:
                 self._seen.set()
 
     def _drop_received_from(self, until: float) -> None:
-        """Forget the kept frames received at or after `until` (call with the lock held): the
+        """Forget the kept frames received at or after `until` (in a window: from the first cycle
+        that begins at or after it; call with the lock held): the
         capture thread may have read past the window's end before stop() named it (a sender
         faster than this process, or a caller that stops late). Their counts and first/last
         times go with them. With keep off the frames are not stored, so the counts cannot be
         corrected: they may include frames read after `until` before stop()."""
         if not self.keep or not any(f[0] >= until for f in self.frames):
             return
-        kept = [f for f in self.frames if f[0] < until]
-        for _, cid, _ in (f for f in self.frames if f[0] >= until):
+        if self._window_s is not None:  # whole cycles (_on_frame): cut at the next cycle's start
+            cut = next((i for i, f in enumerate(self.frames) if f[0] >= until and f[1] == self._window_cob),
+                       len(self.frames))
+            if cut == len(self.frames):
+                return
+            kept, dropped = self.frames[:cut], self.frames[cut:]
+        else:
+            kept = [f for f in self.frames if f[0] < until]
+            dropped = [f for f in self.frames if f[0] >= until]
+        for _, cid, _ in dropped:
             self.counts[cid] -= 1
         self.frames = kept
         self.first.clear()

@@ -174,3 +174,26 @@ def test_stop_waits_for_frames_of_the_window_still_on_their_way():
     cap.stop(until=cap.t_until)
     ts = [f[0] for f in cap.frames]
     assert len(ts) == 3 * 1000 and min(ts) == t0 and max(ts) < t0 + 1.0
+
+
+def test_the_window_holds_whole_cycles_whose_first_tpdo_came_before_its_end():
+    """A sender that spreads a cycle's frames (a busy machine: the fake drive's thread, a loaded
+    User-Mode Linux) may stamp the rest of the last cycle after the window's end: the window
+    keeps it, so the CSV's last row is whole (tools.dtctune_unit failed once with an empty
+    tel.tick there under a parallel ctest); the next cycle's first TPDO ends the window."""
+    t0 = 200.0
+    # 1 kHz cycles, the second and third TPDO 0.6 and 0.8 ms after the first
+    frames = [(t0 + k / 1000.0 + off, cob, bytes(8)) for k in range(1500)
+              for cob, off in zip(COBS, (0.0, 6e-4, 8e-4))]
+    src = ListSource(frames)
+    cap = telemetry.Capture(link=None, tpdos=[_Tpdo(c) for c in COBS],
+                            source_factory=lambda ids: src, poll_s=0.001)
+    cap.open_window(1.0005)  # ends between the 1001st cycle's first TPDO and its second
+    cap.start()
+    assert cap.wait_window_open(2.0)
+    deadline = time.monotonic() + 5.0
+    while src.frames and time.monotonic() < deadline:
+        time.sleep(0.01)
+    cap.stop(until=cap.t_until)
+    assert [c for _, c, _ in cap.frames] == list(COBS) * 1001
+    assert max(f[0] for f in cap.frames if f[1] == COBS[0]) < cap.t_until
