@@ -12,9 +12,12 @@
 #include "dtc/ctl_schedule.h"
 #include "dtc/npc.h"
 
-void ctl_ident_step(ctl_state *s, const ctl_cfg *cfg, ident *id, const ident_cfg *ic, const ctl_in *in,
-                    ctl_out *out)
+void ctl_ident_step(const ctl_ident_call *c)
 {
+    ctl_state *s = c->s;
+    const ctl_cfg *cfg = c->cfg;
+    const ctl_in *in = c->in;
+    ctl_out *out = c->out;
     /* the protection exactly as ctl_step runs it: the slot advances on a judged sample */
     bool judged;
     uint32_t f = ctl_protect_detect(s, cfg, in, &judged);
@@ -45,7 +48,7 @@ void ctl_ident_step(ctl_state *s, const ctl_cfg *cfg, ident *id, const ident_cfg
     ii.control_running = false;
 
     ident_out io;
-    ident_step(id, ic, &ii, &io);
+    ident_step(c->id, c->ic, &ii, &io);
     if (trip || io.mode != IDENT_OUT_ACTUATE) {
         ctl_output_off(s, out);
         return;

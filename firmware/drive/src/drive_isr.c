@@ -40,6 +40,8 @@ void drive_isr_init(drive *d)
     d->period_cycles[0] = d->period_cycles[1] = period_in_cycles(&d->cfg[0]);
     d->cfg_active = 0u;
     scope_init(&d->scope);
+    /* the identification tick's arguments, fixed but for the configuration (set per tick) */
+    d->ident_call = (ctl_ident_call){&d->ctl, &d->cfg[0], &d->ident, &d->ident_cfg, &d->snap.in, &d->out};
 }
 
 const ctl_cfg *drive_cfg(const drive *d) { return &d->cfg[d->cfg_active & 1u]; }
@@ -204,7 +206,8 @@ void drive_isr(void *ctx)
 
     if (d->ident_on) { /* the identification run state (dtc/drive_ident.h) */
         in->run = d->ident_run;
-        ctl_ident_step(&d->ctl, cfg, &d->ident, &d->ident_cfg, in, &d->out);
+        d->ident_call.cfg = cfg; /* the rest points into d (drive_isr_init) */
+        ctl_ident_step(&d->ident_call);
     } else {
         ctl_step(&d->ctl, cfg, in, &d->out);
     }

@@ -29,23 +29,28 @@
 extern "C" {
 #endif
 
+/** What one tick of the identification run works on (ctl_ident_step). */
+typedef struct {
+    ctl_state *s;             /**< control state: its protection, applied period and telemetry;
+                                   run_state stays CTL_STOPPED (or CTL_FAULTED on a fault) */
+    const ctl_cfg *cfg;       /**< configuration (the inverter model, the protection levels) */
+    ident *id;                /**< the run (ident_step's state) */
+    const ident_cfg *ic;      /**< its constants (ident_cfg_derive) */
+    const ctl_in *in;         /**< this tick's inputs; in->run false aborts the run */
+    ctl_out *out;             /**< actuation for the next period and telemetry */
+} ctl_ident_call;
+
 /**
  * One tick of the identification run state, in place of ctl_step().
  * Order: protect (as ctl_step: a fault latches, gates off this tick) ->
  * the voltage of the period now applied -> ident_step (with in->run as the
  * run's command, the core's latched faults as its fault input) -> the run's
  * actuation latched for the next period, or gates off.
- * @param s   control state: its protection, applied period and telemetry;
- *            run_state stays CTL_STOPPED (or CTL_FAULTED on a fault)
- * @param cfg configuration (the inverter model, the protection levels)
- * @param id  the run (ident_step's state)
- * @param ic  its constants (ident_cfg_derive)
- * @param in  this tick's inputs; in->run false aborts the run
- * @param out actuation for the next period and telemetry
+ * One argument, so that the interrupt's common path (ctl_step) pays no
+ * stack arguments for this rarely taken call.
  * Context: ISR. Bounded work (ident_step's).
  */
-void ctl_ident_step(ctl_state *s, const ctl_cfg *cfg, ident *id, const ident_cfg *ic, const ctl_in *in,
-                    ctl_out *out);
+void ctl_ident_step(const ctl_ident_call *c);
 
 #ifdef __cplusplus
 }

@@ -22,8 +22,8 @@
 
 #include "dtc/canopen/co_dev.h"
 #include "dtc/ctl.h"
+#include "dtc/ctl_ident.h"
 #include "dtc/drive_isr.h"
-#include "dtc/ident.h"
 #include "dtc/persist.h"
 #include "dtc/scope.h"
 
@@ -65,6 +65,9 @@ typedef struct drive {
     volatile bool run;              /**< run command from background */
     volatile bool clear_faults_req; /**< background asks the ISR to clear faults */
     volatile bool quick_stop_req;   /**< background asks the ISR to ramp down, then stop */
+    /* the identification run's flags beside the other commands: the tick tests ident_on each time */
+    volatile bool ident_on;         /**< BG: a run is going on: the interrupt calls ctl_ident_step, not ctl_step */
+    volatile bool ident_run;        /**< BG: the run's command (false: the interrupt aborts the run) */
     drive_quick_stop qs;            /**< the quick stop ramp (decel set in BG, the rest ISR-owned) */
     drive_app_cfg app;              /**< CiA 402 settings (background) */
     float target_rad_s;             /**< the bus's target velocity before 0x6046 limits and halt, rad/s */
@@ -94,10 +97,11 @@ typedef struct drive {
     drive_snapshot bg_snap;         /**< background copy of snap, taken once per drive_background pass */
     uint32_t warnings_seen;         /**< ctl_warning bits of the last pass (a rising bit sends its EMCY once) */
     /* the identification run (drive_ident.c, dtc/drive_ident.h) */
-    volatile bool ident_on;         /**< BG: a run is going on: the interrupt calls ctl_ident_step, not ctl_step */
-    volatile bool ident_run;        /**< BG: the run's command (false: the interrupt aborts the run) */
     ident ident;                    /**< the run's state (shared as dtc/ident.h says) */
     ident_cfg ident_cfg;            /**< its constants (BG, fixed while the run lasts) */
+    ctl_ident_call ident_call;      /**< ctl_ident_step's argument: pointers into this drive, set by
+                                         drive_init (a drive is initialised in place, never copied), and
+                                         the configuration, set by the interrupt before each call */
     ident_result ident_res;         /**< its results (BG) */
     ident_plate ident_plate;        /**< the plate the next run sizes itself with (BG) */
     int32_t ident_error;            /**< BG: the last start's refusal (enum ident_error, drive_ident_error) or 0 */
