@@ -17,7 +17,10 @@ from __future__ import annotations
 import csv
 import os
 import random
+import shutil
 import struct
+import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -256,6 +259,60 @@ def test_basenode402_drives_the_state_machine():
             assert node.state == "SWITCH ON DISABLED"
         finally:
             net.disconnect()
+    rows = r.trace()
+    assert at(rows, t_qs - 0.05)[1] == pytest.approx(300.0, abs=15.0), "operation enabled at 300 rpm"
+    t_stop = first_stop(rows, t_qs)
+    assert t_stop is not None and t_stop < t_qs + STOP_WITHIN_S
+    assert first_stop(rows, t_fault) is not None
+
+
+def dtctune_cli(*args):
+    """The dtctune command line, as a user runs it: (status, stdout, stderr)."""
+    exe = shutil.which("dtctune", path=str(Path(sys.executable).parent)) or shutil.which("dtctune")
+    cmd = ([exe] if exe else [sys.executable, "-m", "dtctune"]) + \
+        ["--channel", CHANNEL, "--node", str(NODE), "--eds", str(EDS), "--timeout", "2.0"] + list(args)
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    return r.returncode, r.stdout.strip(), r.stderr.strip()
+
+
+def state_cli(*args):
+    st, out, err = dtctune_cli("state", *args)
+    assert st == 0, "dtctune state %s -> %d: %s %s" % (" ".join(args), st, out, err)
+    return out
+
+
+def test_dtctune_state_commands_drive_the_state_machine():
+    """The same walk as BaseNode402's above, with `dtctune state`: disable, enable (the motor
+    at the bus's 300 rpm), quick stop (the motor stops within the quick stop's time), a fault
+    (the master lost with 0x6007 = 1) and its reset; each printed state is the statusword's."""
+    with Run("dtctune_state") as r:
+        assert state_cli("disable").startswith("SWITCH ON DISABLED")
+        assert state_cli().startswith("SWITCH ON DISABLED")
+        assert "nothing to stop" in state_cli("quick-stop")
+        assert "nothing to reset" in state_cli("fault-reset")
+        time.sleep(max(0.0, 1.5 - r.now()))  # case1.ini's own ramp to 500 rpm over first
+        assert dtctune_cli("set", "target_velocity", "300")[0] == 0
+        assert state_cli("enable").startswith("OPERATION ENABLED")
+        time.sleep(1.5)
+        t_qs = r.now()
+        out = state_cli("quick-stop")
+        assert out.startswith("QUICK STOP ACTIVE") or out.startswith("SWITCH ON DISABLED"), out
+        deadline = time.monotonic() + STOP_WITHIN_S + 1.0
+        while not state_cli().startswith("SWITCH ON DISABLED") and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert state_cli().startswith("SWITCH ON DISABLED"), "the quick stop did not end"
+        # a fault: the master's heartbeat lost with the abort connection option 1 (fault)
+        assert dtctune_cli("set", "abort_connection_option", "1")[0] == 0
+        assert dtctune_cli("set", "hb_consumer", str((MASTER << 16) | 200))[0] == 0
+        assert state_cli("enable").startswith("OPERATION ENABLED")
+        r.sleep_sending(0.5, heartbeat=True)
+        t_fault = r.now()
+        deadline = time.monotonic() + 3.0
+        while not state_cli().startswith("FAULT") and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert state_cli().startswith("FAULT"), "not in the fault state"
+        assert dtctune_cli("set", "hb_consumer", "0")[0] == 0
+        assert state_cli("fault-reset").startswith("SWITCH ON DISABLED")
     rows = r.trace()
     assert at(rows, t_qs - 0.05)[1] == pytest.approx(300.0, abs=15.0), "operation enabled at 300 rpm"
     t_stop = first_stop(rows, t_qs)

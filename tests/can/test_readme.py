@@ -217,7 +217,7 @@ def test_readme_walkthrough():
             assert status == 0, "'%s' -> status %d\n%s%s" % (cmd, status, out, err)
             tool, verb = (argv[0], argv[1]) if len(argv) >= 2 else (None, None)
             if "&&" in cmd:
-                # dtctune set controlword 6 && dtctune restore-defaults
+                # dtctune state disable && dtctune restore-defaults
                 assert "restore-defaults" in cmd and "restored" in out
                 for name in values:
                     if name in ("controlword", "speed_ref_rpm"):  # commands, not stored parameters
@@ -249,6 +249,9 @@ def test_readme_walkthrough():
             elif verb == "scope":
                 assert "armed" in out, out
                 pending_png.append(work / argv[argv.index("--png") + 1])
+            elif verb == "state":
+                assert out.strip() == comment.split(": ", 1)[1].strip(), \
+                    "'%s' printed %r, README says %s" % (cmd, out, comment)
             elif verb == "save":
                 assert "saved" in out
                 saved = dict(values)

@@ -97,6 +97,60 @@ def cmd_restore(args, dic, out) -> int:
     return EXIT_OK
 
 
+def cmd_state(args, dic, out) -> int:
+    """The CiA 402 state (statusword 0x6041); with a target, the controlwords (0x6040) that walk
+    the drive there, one transition at a time, each confirmed by the statusword."""
+    from . import cia402
+    sw, cw = dic.lookup("statusword"), dic.lookup("controlword")
+    with _open(args, dic) as link:
+        def read_state():
+            word = int(link.read(sw))
+            return word, cia402.state_of(word)
+
+        def describe(word, state):
+            return "%s (statusword 0x%04X)" % (state or "an undefined state", word)
+
+        word, state = read_state()
+        if args.target is None:
+            print(describe(word, state), file=out)
+            return EXIT_OK
+        target = cia402.TARGETS[args.target]
+        if args.target == "fault-reset" and state != cia402.FAULT:
+            print("not in FAULT, nothing to reset: %s" % describe(word, state), file=out)
+            return EXIT_OK
+        if target == cia402.QUICK_STOP_ACTIVE and state != cia402.OPERATION_ENABLED:
+            print("operation not enabled, nothing to stop: %s" % describe(word, state), file=out)
+            return EXIT_OK
+        sent = None
+        for _ in range(8):  # the longest walk is four transitions; waits in between count too
+            if state == target:
+                break
+            if target == cia402.QUICK_STOP_ACTIVE and sent == cia402.CW_QUICK_STOP and \
+                    state == cia402.SWITCH_ON_DISABLED:
+                break  # the quick stop already ended: the drive leaves QUICK STOP ACTIVE by itself
+            code = cia402.next_controlword(state, target) if state is not None else None
+            if code is not None:
+                if code == cia402.CW_FAULT_RESET:
+                    link.write(cw, 0)  # bit 7 low first: the reset is its rising edge
+                link.write(cw, code)
+                sent = code
+            before = state
+            deadline = time.monotonic() + args.wait
+            while True:
+                word, state = read_state()
+                if state != before or time.monotonic() >= deadline:
+                    break
+                time.sleep(0.02)
+            if state == before:
+                raise DtctuneError("the drive stayed in %s for %.1f s%s; wanted %s" % (
+                    describe(word, state), args.wait,
+                    " after controlword 0x%04X" % code if code is not None else "", target))
+        if state != target and not (target == cia402.QUICK_STOP_ACTIVE and state == cia402.SWITCH_ON_DISABLED):
+            raise DtctuneError("the drive went to %s; wanted %s" % (describe(word, state), target))
+        print(describe(word, state), file=out)
+    return EXIT_OK
+
+
 def _telemetry_setup(args, dic, link, window_s=None):
     from . import telemetry
     tpdos = telemetry.read_layout(dic, None if args.from_eds else link)
@@ -254,7 +308,7 @@ def cmd_scope(args, dic, out) -> int:
 
 COMMANDS = {
     "list": cmd_list, "get": cmd_get, "set": cmd_set, "save": cmd_save,
-    "restore-defaults": cmd_restore, "monitor": cmd_monitor, "record": cmd_record, "scope": cmd_scope,
+    "restore-defaults": cmd_restore, "state": cmd_state, "monitor": cmd_monitor, "record": cmd_record, "scope": cmd_scope,
 }
 
 

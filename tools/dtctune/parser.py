@@ -9,7 +9,7 @@ import argparse
 import os
 import sys
 
-from . import __version__, quick_args
+from . import __version__, cia402, quick_args
 from .errors import DtctuneError, EXIT_USAGE
 
 DESCRIPTION = ("dtctune: read, set, save parameters of the DTC drive over CANopen; watch and record "
@@ -96,6 +96,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     sub.add_parser("save", help="store parameters in non-volatile memory")
     sub.add_parser("restore-defaults", help="apply and store the default parameters")
+
+    c = sub.add_parser("state", help="the CiA 402 state; with a target, walk the drive there")
+    c.add_argument("target", nargs="?", default=None, metavar="TARGET",
+                   choices=list(cia402.TARGETS),
+                   help="enable (operation enabled: the motor runs), switch-on, shutdown (ready to switch "
+                        "on), disable (switch on disabled: gates off), quick-stop, fault-reset; the long "
+                        "names of the states are accepted too")
+    c.add_argument("--wait", type=positive, default=5.0,
+                   help="how long each transition may take, s (default 5)")
 
     c = sub.add_parser("monitor", help="live telemetry table")
     c.add_argument("--once", action="store_true", help="print one table and exit")
