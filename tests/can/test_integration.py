@@ -171,6 +171,22 @@ def test_identity_and_list(drive):
     assert "rbfn_gamma_w" in names and "telemetry_hz" in names and "tel_speed_est_rpm" in names
 
 
+def test_the_tool_alone_with_its_packaged_eds_reads_the_drive(drive, tmp_path):
+    """dtctune as a PC next to a board has it: the package copied out of the checkout (no build
+    tree, no --eds, no $DTCTUNE_EDS), run from a directory outside it. It takes its packaged EDS,
+    the drive's dictionary signature (0x2510:8) fits it, and the read works."""
+    pkg = tmp_path / "site"
+    shutil.copytree(REPO / "tools" / "dtctune", pkg / "dtctune",
+                    ignore=shutil.ignore_patterns("tests", "__pycache__"))
+    env = {k: v for k, v in os.environ.items() if k != "DTCTUNE_EDS"}
+    env["PYTHONPATH"] = str(pkg)
+    r = subprocess.run([sys.executable, "-m", "dtctune", "--channel", CHANNEL, "--node", str(NODE),
+                        "get", "rbfn_gamma_w"], capture_output=True, text=True, timeout=60, cwd=str(tmp_path),
+                       env=env)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "rbfn_gamma_w = 4000.0", r.stdout
+
+
 def test_set_and_read_back_a_gain(drive):
     _, out, _ = dtctune("set", "rbfn_gamma_w", "2500", check=0)
     assert value_of(out) == 2500.0

@@ -10,7 +10,7 @@ import sys
 import time
 
 from . import quick_args
-from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_OK
+from .errors import DtctuneError, EXIT_NO_ANSWER, EXIT_OK, EXIT_USAGE
 
 # ---------------------------------------------------------------------------- commands
 
@@ -18,7 +18,39 @@ def _open(args, dic):
     from .link import Link, SdoLock, lock_path, open_transport
     transport = open_transport(args.interface, args.channel, args.bitrate)
     lock = SdoLock(lock_path(args.interface, args.channel, args.node))
-    return Link(transport, dic, args.node, args.timeout, channel=args.channel, lock=lock)
+    link = Link(transport, dic, args.node, args.timeout, channel=args.channel, lock=lock)
+    try:
+        _check_signature(args, dic, link)
+    except BaseException:
+        link.close()
+        raise
+    return link
+
+
+SIGNATURE = "dictionary_signature"  # 0x2510:8, computed by tools/params/gen_params.py
+
+
+def _check_signature(args, dic, link) -> None:
+    """The EDS must be the drive's: its dictionary signature (the CRC of every entry, the same
+    in the EDS and in the firmware built from one table) against the drive's. An EDS without
+    the entry (written by hand, an older table) is taken as given."""
+    try:
+        p = dic.lookup(SIGNATURE)
+    except DtctuneError:
+        return
+    try:
+        theirs = int(link.read(p))
+    except DtctuneError as e:
+        if e.status == EXIT_NO_ANSWER:
+            raise
+        if args.eds:
+            return  # a drive without the entry, and an EDS the user chose: as given
+        raise DtctuneError("the drive has no dictionary signature (%s, 0x2510:8): an older firmware; pass the "
+                           "drive.eds of its build with --eds" % SIGNATURE, EXIT_USAGE) from None
+    if theirs != p.var.default:
+        raise DtctuneError("the EDS %s is not this drive's (dictionary signature 0x%08X, the drive's 0x%08X): "
+                           "pass the drive.eds of the firmware on the drive with --eds" % (
+                               dic.path, p.var.default, theirs), EXIT_USAGE)
 
 
 def _fmt(p, raw) -> str:

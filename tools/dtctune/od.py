@@ -107,6 +107,7 @@ class Var:
 # Where the build puts the EDS, relative to the repository root. (Paths are plain strings
 # here: pathlib alone costs ~0.1 s of start-up inside User-Mode Linux.)
 REPO_EDS = os.path.join("build", "host", "drive.eds")
+PACKAGED_EDS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "drive.eds")
 
 
 _INT_RANGES = {
@@ -158,6 +159,9 @@ def eds_candidates() -> List[str]:
             break
         d = parent
     out.append(os.path.join(sys.prefix, "share", "dtctune", "drive.eds"))
+    # The EDS this version of dtctune was released with (tools/dtctune/data, kept equal to the
+    # table's by ctest tools.generated_files_current): the drive's signature decides whether it fits.
+    out.append(PACKAGED_EDS)
     seen, unique = set(), []
     for p in out:
         key = os.path.realpath(p) if os.path.exists(p) else p

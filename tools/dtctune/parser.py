@@ -34,7 +34,8 @@ flock on $DTCTUNE_LOCK_DIR/dtctune-sdo-INTERFACE-CHANNEL-nodeN.lock, default $TM
 
 exit status: 0 ok, 2 bad arguments / unknown name / value refused before sending / EDS problem,
 3 no answer (timeout) or CAN interface unusable, 4 the drive refused (SDO abort, shown in words).
-The EDS is --eds PATH, else $DTCTUNE_EDS, else build/host/drive.eds in the repository.
+The EDS is --eds PATH, else $DTCTUNE_EDS, else build/host/drive.eds in the repository, else the
+EDS packaged with dtctune; the drive's dictionary signature (0x2510:8) must be the EDS's.
 """
 
 
@@ -72,7 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--channel", default="vcan0", help="CAN channel (default vcan0)")
     p.add_argument("--bitrate", type=int, default=None, help="bit rate for interfaces that set it")
     p.add_argument("--node", type=node_id, default=1, help="CANopen node id of the drive, 1..127 (default 1)")
-    p.add_argument("--eds", default=None, help="EDS of the drive (default build/host/drive.eds)")
+    p.add_argument("--eds", default=None, help="EDS of the drive (default: build/host/drive.eds, else the packaged one)")
     p.add_argument("--timeout", type=positive, default=1.0, help="SDO answer timeout, s (default 1.0)")
     p.add_argument("--version", action="version", version="dtctune " + __version__)
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)

@@ -11,6 +11,8 @@ these outputs (each optional on the command line):
   --dbc       telemetry.dbc       the telemetry TPDOs for the default node id
   --md        parameters.md       the parameter reference (docs/parameters.md)
   --check-md  PATH                exit 1 unless PATH equals the generated reference
+  --check-eds PATH                exit 1 unless PATH equals the generated EDS (its modification
+                                  date and time aside): dtctune's packaged copy
 
 Standard library only (Python 3.11: tomllib). Any inconsistency in the table
 (duplicate name or index, default outside the limits, a PDO longer than 8
@@ -26,6 +28,7 @@ import os
 import re
 import struct
 import sys
+import zlib
 import tomllib
 
 # ---------------------------------------------------------------- data types
@@ -344,9 +347,27 @@ class Table:
         self._check_objects()
         self.params.sort(key=lambda p: (p.index, p.sub))
         self.by_name = {p.name: p for p in self.params}
+        self._set_signature()
         self._check_unique()
         self._check_scope()
         self._check_ranges()
+
+    # The entry that carries the dictionary's signature (its default is computed here).
+    SIGNATURE = "dictionary_signature"
+
+    def _set_signature(self):
+        """CRC-32 of what a tool on the bus relies on, entry by entry (address, name, type,
+        access, unit, scale, range, allowed values, default, PDO mapping), the signature entry
+        itself excepted: the EDS and the firmware built from one table carry the same value, so
+        dtctune refuses an EDS of another firmware instead of misreading the drive."""
+        sig = self.by_name.get(self.SIGNATURE)
+        if sig is None:
+            raise TableError(f"the table needs the '{self.SIGNATURE}' entry (bind const, UNSIGNED32)")
+        if sig.type != "UNSIGNED32" or sig.bind != "const":
+            raise TableError(f"{self.SIGNATURE}: must be an UNSIGNED32 constant")
+        rows = [repr((p.index, p.sub, p.name, p.type, p.access, p.unit, p.scale, p.min, p.max, p.allowed,
+                      p.default, p.pdo)) for p in self.params if p is not sig]
+        sig.default = sig.raw_def = zlib.crc32("\n".join(rows).encode("utf-8"))
 
     def _pdos(self, raw, what, cob_base, comm_base, map_base, access):
         out = []
@@ -1040,6 +1061,7 @@ def main(argv=None) -> int:
     ap.add_argument("--dbc")
     ap.add_argument("--md")
     ap.add_argument("--check-md", help="exit 1 unless this file equals the generated reference")
+    ap.add_argument("--check-eds", help="exit 1 unless this file equals the generated EDS (dates aside)")
     args = ap.parse_args(argv)
     try:
         table = Table(load_table(args.table))
@@ -1065,6 +1087,19 @@ def main(argv=None) -> int:
         if current != gen_md(table):
             print(f"{args.check_md} is out of date: regenerate it with tools/params/gen_params.py "
                   f"--table {args.table} --md {args.check_md}", file=sys.stderr)
+            return 1
+    if args.check_eds:
+        def undated(text):
+            return [l for l in text.splitlines() if not l.startswith(("ModificationTime=", "ModificationDate="))]
+        try:
+            with open(args.check_eds, encoding="utf-8") as fh:
+                current = fh.read()
+        except OSError as e:
+            print(f"{args.check_eds}: {e.strerror}", file=sys.stderr)
+            return 1
+        if undated(current) != undated(gen_eds(table, modified)):
+            print(f"{args.check_eds} is out of date: regenerate it with tools/params/gen_params.py "
+                  f"--table {args.table} --eds {args.check_eds}", file=sys.stderr)
             return 1
     return 0
 

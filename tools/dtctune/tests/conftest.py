@@ -37,13 +37,13 @@ def _eds_limits(path):
 class FakeDrive:
     """SDO server for node 1 that refuses what the real drive refuses (ranges, read-only)."""
 
-    def __init__(self, channel: str, node_id: int = 1):
+    def __init__(self, channel: str, node_id: int = 1, eds=EDS):
         self.channel = channel
         self.network = canopen.Network()
         self.network.NOTIFIER_CYCLE = 0.05
         self.network.connect(interface="virtual", channel=channel, receive_own_messages=False)
-        self.node = self.network.create_node(node_id, str(EDS))
-        self.limits = _eds_limits(EDS)
+        self.node = self.network.create_node(node_id, str(eds))
+        self.limits = _eds_limits(eds)
         self.node.add_write_callback(self._on_write)
         self.writes = []      # (index, subindex, bytes) of accepted writes
         self.stored = []      # signatures written to 0x1010 / 0x1011
