@@ -175,6 +175,36 @@ TEST_P(IdentDrive, StandstillThroughTheDriveWithinTheTolerancesAndWritten)
 INSTANTIATE_TEST_SUITE_P(Motors, IdentDrive, testing::Values(1, 2),
                          [](const testing::TestParamInfo<int> &i) { return i.param == 1 ? "m10hp" : "m50hp"; });
 
+// A run started without a plate (the CAN object 0x2800:1 does this) sizes itself with the
+// plate of the motor the drive is configured for (ctl_cfg.plate): the 50 hp 460 V one here,
+// not the 10 hp reference; it ends within the same tolerances.
+TEST(IdentDriveCan, WithoutAPlateTheRunTakesTheConfiguredRatings)
+{
+    const Motor m = motors()[2];
+    Options o;
+    o.rotating = false;
+    auto x = make_bench(m, o);
+    const ident_plate pl = plate_for_ident(m);
+    ctl_cfg *c = drive_cfg_edit(&x->d);
+    c->plate.P_W = pl.p_W;
+    c->plate.V_ll_V = pl.v_ll_V;
+    c->plate.I_A = pl.i_A;
+    c->plate.f_Hz = pl.f_Hz;
+    c->plate.n_rpm = pl.speed_rpm;
+    c->plate.cos_phi = pl.cos_phi;
+    c->plate.vdc_nom_V = float(m.vdc);
+    drive_cfg_commit(&x->d);
+    for (int i = 0; i < 10; ++i)
+        tick(*x);
+    ASSERT_EQ(drive_ident_start(&x->d, nullptr, false), 0);
+    EXPECT_EQ(std::memcmp(&x->d.ident_cfg.plate, &pl, sizeof pl), 0);
+    run_until_ended(*x, 40.0, [](double) {});
+    ASSERT_EQ(x->d.ident_outcome, DRIVE_IDENT_DONE) << "abort reason " << int(x->d.ident.abort_reason);
+    const Truth t = truth_of(m);
+    expect_within(x->d.ident_res.rs_ohm.value, t.rs, 3.0, "Rs");
+    expect_within(x->d.ident_res.rr_ohm.value, t.rr, 10.0, "Rr");
+}
+
 TEST(IdentDriveAbort, AFaultMidRunLeavesTheConfigurationAndTheStoredSetUnchanged)
 {
     const Motor m = motors()[1];

@@ -25,7 +25,6 @@ void drive_init(drive *d)
     memset(d, 0, sizeof *d);
     drive_isr_init(d);
     d->reset_cause = (uint8_t)hal_reset_cause();
-    drive_ident_default_plate(&d->ident_plate);
     drive_co_init(d);
     persist_init(&d->persist, &drive_params, d);
     (void)persist_load(&d->persist); /* defaults, then the stored set; status in d->persist */

@@ -12,20 +12,26 @@
 #include "dtc/drive.h"
 #include "dtc/ident_apply.h"
 #include "dtc/num.h"
+#include "dtc/ratings.h"
 
 /* as drive_isr.c: plain stores fenced against the volatile word that publishes them */
 static inline void ident_fence(void) { atomic_signal_fence(memory_order_seq_cst); }
 
-void drive_ident_default_plate(ident_plate *p)
+void drive_ident_plate_of(const ratings *r, ident_plate *p)
 {
-    /* the 10 hp motor's T-equivalent circuit at 7.457 kW shaft power, 220 V, 60 Hz:
-     * 24.86 A rms, cos phi 0.888, 1743 rpm (the plate tests/common/ident_rig.hpp works out) */
-    p->p_W = R(7457.0);
-    p->v_ll_V = R(220.0);
-    p->i_A = R(24.86);
-    p->f_Hz = R(60.0);
-    p->speed_rpm = R(1743.0);
-    p->cos_phi = R(0.888);
+    p->p_W = r->P_W;
+    p->v_ll_V = r->V_ll_V;
+    p->i_A = r->I_A;
+    p->f_Hz = r->f_Hz;
+    p->speed_rpm = r->n_rpm;
+    if (r->cos_phi > R(0.0)) {
+        p->cos_phi = r->cos_phi;
+    } else { /* not on the plate: the ratings' own estimate (ratings_base_of) */
+        ratings_base b;
+        ratings_base_of(r, &b);
+        p->cos_phi = b.cos_phi;
+    }
+    p->cos_phi = num_sat(p->cos_phi, R(0.3), R(0.99)); /* ident_plate's range */
 }
 
 static int refuse(drive *d, int rc)
@@ -44,7 +50,10 @@ int drive_ident_start(drive *d, const ident_plate *plate, bool rotating)
     const ctl_cfg *cfg = drive_cfg(d);
     ident_cfg *ic = &d->ident_cfg;
     memset(ic, 0, sizeof *ic);
-    ic->plate = plate != NULL ? *plate : d->ident_plate;
+    if (plate != NULL)
+        ic->plate = *plate;
+    else
+        drive_ident_plate_of(&cfg->plate, &ic->plate); /* the motor the drive is configured for */
     ic->i_max_A = R(0.0); /* the rated peak */
     ic->period_s = cfg->period_s;
     ic->vdc_nom_V = cfg->vdc_nom_V;

@@ -103,7 +103,6 @@ typedef struct drive {
                                          drive_init (a drive is initialised in place, never copied), and
                                          the configuration, set by the interrupt before each call */
     ident_result ident_res;         /**< its results (BG) */
-    ident_plate ident_plate;        /**< the plate the next run sizes itself with (BG) */
     int32_t ident_error;            /**< BG: the last start's refusal (enum ident_error, drive_ident_error) or 0 */
     uint8_t ident_outcome;          /**< BG: drive_ident_outcome of the last run */
     uint8_t ident_applied;          /**< BG: enum ident_applied bits the last run wrote */

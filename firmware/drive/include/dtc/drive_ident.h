@@ -12,7 +12,7 @@
  *     off (a CiA 402 disable, a quick stop, a lost master);
  *   - ident, ident_cfg, ident_res: dtc/ident.h's sharing rules (the
  *     interrupt writes the phase and the sums, the background the rest);
- *   - ident_plate, ident_error, ident_outcome, ident_applied: background.
+ *   - ident_error, ident_outcome, ident_applied: background.
  *
  * The run is refused unless the drive is stopped (no run command, the core
  * stopped with no fault latched, no quick stop), the rotor at rest (the last
@@ -33,6 +33,7 @@
 #include <stdint.h>
 
 #include "dtc/ident.h"
+#include "dtc/ratings_types.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -57,15 +58,14 @@ typedef enum {
 } drive_ident_outcome;
 
 /**
- * The plate the 10 hp motor's run sizes itself with (docs/motor-10hp.json:
- * 7.457 kW, 220 V, 60 Hz; current, power factor and speed of its
- * equivalent circuit at the rated power). drive_init puts it in
- * drive.ident_plate. Context: ANY.
+ * The identification's plate from the configuration's ratings (ctl_cfg.plate:
+ * power, voltage, current, frequency, speed; cos phi the plate's, else the
+ * ratings' estimate, held to 0.3..0.99). Context: ANY.
  */
-void drive_ident_default_plate(ident_plate *p);
+void drive_ident_plate_of(const ratings *r, ident_plate *p);
 
 /**
- * Start a run on the plate @p plate (NULL: drive.ident_plate), the
+ * Start a run on the plate @p plate (NULL: the configuration's ratings, drive_ident_plate_of), the
  * standstill part only (@p rotating must be false). Refused (nothing
  * changes but drive.ident_error / ident_outcome) while a run is going on,
  * unless the drive is stopped, while the rotor turns, with the link below
