@@ -248,16 +248,18 @@ def watchdog(exe, elf, eds, work, stall_elf):
 def running(exe, elf, eds, work, case2):
     """Tuning while the emulated motor runs: dtc-board run CASE2 (as flashed: no [control] keys,
     the plant with the 1 V device drop the firmware compensates) with the image's FDCAN1 on vcan0;
-    dtctune reads, sets and reads back a parameter during the run; the run ends normally, on
-    speed, without a fault, and its metrics are written."""
+    dtctune reads, sets and reads back a parameter during the run; SIGINT then ends the run
+    (as Ctrl-C does), which stops cleanly, on speed, without a fault, and writes its metrics."""
     import json
     flashed = as_flashed(case2, os.path.join(work, "case2_as_flashed.ini"))
     metrics = os.path.join(work, "running.json")
     if os.path.exists(metrics):
         os.remove(metrics)
     log = open(os.path.join(work, "running.log"), "w")
-    p = subprocess.Popen([exe, "run", flashed, "--elf", elf, "--can", "vcan0", "--realtime", "--metrics", metrics],
-                         stdout=log, stderr=log)
+    # Long enough for every command however slowly a busy machine starts them (each dtctune is a
+    # new process inside User-Mode Linux); SIGINT ends the run once they are done, outputs written.
+    p = subprocess.Popen([exe, "run", flashed, "--elf", elf, "--can", "vcan0", "--realtime", "--metrics", metrics,
+                          "--set", "sim.duration_s=120"], stdout=log, stderr=log)
     try:
         time.sleep(3.0)  # boot and the start of the run
         check(p.poll() is None, "dtc-board run is running")
@@ -273,7 +275,9 @@ def running(exe, elf, eds, work, case2):
         check(rc == 0 and value_of(out) is not None, "while running: an observer setting reads")
         rc, out = dtctune(eds, "set", "obs_k_gain", "2")
         check(rc != 0 and "0x08000022" in out.lower(), "while running: a stopped-only setting is refused (0x08000022)")
-        p.wait(timeout=200)
+        check(p.poll() is None, "dtc-board run still running after the commands")
+        p.send_signal(signal.SIGINT)
+        p.wait(timeout=60)
     finally:
         if p.poll() is None:
             p.kill()
