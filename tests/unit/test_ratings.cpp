@@ -9,6 +9,8 @@
 // over; and the derived configuration controls each machine in the plant.
 #include <gtest/gtest.h>
 
+#include <iterator>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -747,6 +749,7 @@ void expect_consistent(const Machine &m, const ratings &r, const ctl_cfg &c, con
 
 TEST(RatingsDerive, FiveMachinesDerivedValuesAreConsistent)
 {
+    ASSERT_EQ(std::size(kMachines), 5u); // expect_consistent judges each machine's values
     for (const Machine &m : kMachines) {
         ratings r = plate_of(m);
         expect_consistent(m, r, derived_with_model(m, r), "with its model");

@@ -1077,29 +1077,23 @@ def main(argv=None) -> int:
     texts = [(path, fn(table)) for path, fn in outputs if path]
     for path, text in texts:
         write_output(path, text)
-    if args.check_md:
+    def undated(text):  # an EDS's modification date follows the table file's time, not its content
+        return "\n".join(l for l in text.splitlines() if not l.startswith(("ModificationTime=", "ModificationDate=")))
+
+    checks = [(args.check_md, "--md", gen_md(table), lambda t: t),
+              (args.check_eds, "--eds", gen_eds(table, modified), undated)]
+    for path, option, expected, normal in checks:
+        if not path:
+            continue
         try:
-            with open(args.check_md, encoding="utf-8") as fh:
+            with open(path, encoding="utf-8") as fh:
                 current = fh.read()
         except OSError as e:
-            print(f"{args.check_md}: {e.strerror}", file=sys.stderr)
+            print(f"{path}: {e.strerror}", file=sys.stderr)
             return 1
-        if current != gen_md(table):
-            print(f"{args.check_md} is out of date: regenerate it with tools/params/gen_params.py "
-                  f"--table {args.table} --md {args.check_md}", file=sys.stderr)
-            return 1
-    if args.check_eds:
-        def undated(text):
-            return [l for l in text.splitlines() if not l.startswith(("ModificationTime=", "ModificationDate="))]
-        try:
-            with open(args.check_eds, encoding="utf-8") as fh:
-                current = fh.read()
-        except OSError as e:
-            print(f"{args.check_eds}: {e.strerror}", file=sys.stderr)
-            return 1
-        if undated(current) != undated(gen_eds(table, modified)):
-            print(f"{args.check_eds} is out of date: regenerate it with tools/params/gen_params.py "
-                  f"--table {args.table} --eds {args.check_eds}", file=sys.stderr)
+        if normal(current) != normal(expected):
+            print(f"{path} is out of date: regenerate it with tools/params/gen_params.py "
+                  f"--table {args.table} {option} {path}", file=sys.stderr)
             return 1
     return 0
 
