@@ -29,9 +29,13 @@ enum ident_applied {
 /**
  * A configuration @p to: @p from with the results @p r of the run @p s
  * whose verdict is IDENT_VERDICT_OK written into its motor model (each group
- * of enum ident_applied only when all its values are OK), then
- * ctl_cfg_derive() (the observer, the speed loop's gains from J, the Rs
- * identification, the flux ramp, the torque limits) and ctl_cfg_check().
+ * of enum ident_applied only when all its values are OK) and marked set in
+ * the ratings mask (an identified value is no longer the plate's estimate: a
+ * later commit keeps it; an identified Rs also sets rs_ident_tol to 1: the
+ * estimate while magnetising no longer replaces it), then ctl_cfg_rederive() (with a plate: every
+ * derived value again from the plate and the identified model; the observer,
+ * the speed loop's gains from J, the Rs identification, the flux ramp, the
+ * torque limits) and ctl_cfg_check().
  * Only when the run is at IDENT_WAIT_APPLY (the standstill values: the trial
  * configuration the rotating part runs on) or IDENT_DONE. @p from is never
  * written; on a refusal @p to is a copy of it. @p from and @p to must be
